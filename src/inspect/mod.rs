@@ -1,0 +1,104 @@
+//! The Rerun inspector: sink choice and what each command records.
+//!
+//! The physics never imports this module: commands compute their results first, then hand them to
+//! a recorder here. Conventions of every recording:
+//! * lengths in **mm** (the unit engineers read profiles in), angles in rad unless the entity
+//!   name says otherwise;
+//! * cross-sections are stored in track coordinates (Y to the left, Z up) as points
+//!   `[Y, −Z]`, because Rerun's 2D views are Y-down: the picture is the cross-section seen
+//!   from ahead of the vehicle (left rail on the right of the screen), and hovering shows Y in mm
+//!   and the depth below the top-of-rail plane;
+//! * the wall-clock `log_time` timeline is disabled, so recordings of the same input are
+//!   reproducible;
+//! * every recording carries a blueprint (its layout is chosen here, not guessed by the viewer).
+//!
+//! The `.rrd` file footer is written only when every handle of the stream is dropped; commands
+//! keep the stream in a local so that early returns (errors) still drop it and flush the file.
+
+pub mod profiles;
+
+use std::path::PathBuf;
+
+use rerun::blueprint::Blueprint;
+use rerun::RecordingStream;
+
+/// Where a recording goes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Sink {
+    /// Write an `.rrd` file.
+    Save(PathBuf),
+    /// Start a viewer (`rerun` on PATH) and stream to it; falls back to saving `kecsim.rrd`.
+    Spawn,
+    /// Stream to a running viewer at this gRPC URL.
+    Connect(String),
+}
+
+/// Default file of `--save`.
+pub const DEFAULT_RRD: &str = "kecsim.rrd";
+/// Default gRPC URL of `--connect`.
+pub const DEFAULT_CONNECT_URL: &str = "rerun+http://127.0.0.1:9876/proxy";
+
+/// Inspector errors.
+#[derive(Debug, thiserror::Error)]
+pub enum InspectError {
+    #[error("cannot open the recording ({what}): {source}")]
+    Open {
+        what: String,
+        #[source]
+        source: rerun::RecordingStreamError,
+    },
+    #[error("cannot log {entity}: {source}")]
+    Log {
+        entity: String,
+        #[source]
+        source: rerun::RecordingStreamError,
+    },
+}
+
+/// Opens a recording stream on `sink` with the layout `blueprint()` builds. A `Spawn` that cannot
+/// start a viewer falls back to saving [`DEFAULT_RRD`] and says so on stderr.
+pub fn open_recording(
+    app_id: &'static str,
+    sink: &Sink,
+    blueprint: impl Fn() -> Blueprint,
+) -> Result<RecordingStream, InspectError> {
+    let builder = || rerun::RecordingStreamBuilder::new(app_id).with_blueprint(blueprint());
+    let rec = match sink {
+        Sink::Save(path) => builder().save(path).map_err(|source| InspectError::Open {
+            what: format!("saving to {}", path.display()),
+            source,
+        })?,
+        Sink::Connect(url) => builder().connect_grpc_opts(url.clone()).map_err(|source| InspectError::Open {
+            what: format!("connecting to {url}"),
+            source,
+        })?,
+        Sink::Spawn => match builder().spawn() {
+            Ok(rec) => rec,
+            Err(e) => {
+                eprintln!("kecsim: cannot spawn a Rerun viewer ({e}); saving to {DEFAULT_RRD} instead");
+                builder().save(DEFAULT_RRD).map_err(|source| InspectError::Open {
+                    what: format!("saving to {DEFAULT_RRD}"),
+                    source,
+                })?
+            }
+        },
+    };
+    rec.set_log_time_enabled(false);
+    Ok(rec)
+}
+
+/// Logs a static archetype, mapping the error to one that names the entity.
+pub(crate) fn log_static(
+    rec: &RecordingStream,
+    entity: &str,
+    what: &impl rerun::AsComponents,
+) -> Result<(), InspectError> {
+    rec.log_static(entity, what)
+        .map_err(|source| InspectError::Log { entity: entity.to_string(), source })
+}
+
+/// A cross-section point (Y, Z) in m → stored `[Y, −Z]` in mm (see the module doc).
+#[inline]
+pub fn section_mm(y: f64, z: f64) -> [f32; 2] {
+    [(y * 1e3) as f32, (-z * 1e3) as f32]
+}

@@ -1,0 +1,204 @@
+//! The `kecsim` command line: parses arguments and calls the library, nothing else.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+
+use kecsim::inspect::{self, Sink};
+use kecsim::profile::placement::{Inclination, TrackGauge, WheelRailPair, WheelsetGeometry};
+use kecsim::profile::{io, Profile, ProfileKind, StandardProfile};
+use kecsim::scenario::{Scenario, DEFAULT_SCENARIO};
+
+#[derive(Parser)]
+#[command(name = "kecsim", version, about = "Railway vehicle dynamics with the KEC contact method, inspected in Rerun")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario (the embedded default when none is given) and record it.
+    Run {
+        /// Scenario file (TOML); omit to run the embedded default.
+        scenario: Option<PathBuf>,
+        #[command(flatten)]
+        sink: SinkArgs,
+    },
+    /// Record the wheel and rail profiles of both sides placed on the track cross-section.
+    Profiles {
+        #[command(flatten)]
+        pair: PairArgs,
+        #[command(flatten)]
+        sink: SinkArgs,
+    },
+    /// Write the standard profiles (S1002, 60E1, 54E1) as CSV files, mm.
+    GenerateProfiles {
+        /// Output directory.
+        #[arg(long, default_value = "profiles")]
+        dir: PathBuf,
+    },
+    /// Print measured speed and error of the building blocks (release builds).
+    Bench {
+        /// What to measure.
+        #[arg(value_enum, default_value = "profiles")]
+        target: BenchTarget,
+        /// Calls per measurement.
+        #[arg(long, default_value_t = 5_000_000)]
+        calls: usize,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum BenchTarget {
+    /// Profile evaluation: spline vs analytic definition.
+    Profiles,
+}
+
+/// A wheel/rail pair and its placement.
+#[derive(Args)]
+struct PairArgs {
+    /// Wheel profile: standard name (s1002) or file (.csv, .dat, .prw).
+    #[arg(long, default_value = "s1002")]
+    wheel: String,
+    /// Rail profile: standard name (60e1, 54e1) or file (.csv, .dat, .prr).
+    #[arg(long, default_value = "60e1")]
+    rail: String,
+    /// Rail inclination: 1:N or "upright" (use "upright" for files that are already inclined).
+    #[arg(long, default_value = "1:40")]
+    inclination: Inclination,
+    /// Track gauge, mm (measured 14 mm below the top of rail).
+    #[arg(long, default_value_t = 1435.0)]
+    gauge: f64,
+    /// Wheelset back-to-back distance, mm.
+    #[arg(long, default_value_t = 1360.0)]
+    back_to_back: f64,
+    /// Nominal wheel radius at the taping line, mm.
+    #[arg(long, default_value_t = 460.0)]
+    wheel_radius: f64,
+}
+
+impl PairArgs {
+    fn pair(&self) -> Result<WheelRailPair> {
+        let wheel = Profile::resolve(&self.wheel, ProfileKind::Wheel)?;
+        let rail = Profile::resolve(&self.rail, ProfileKind::Rail)?;
+        let gauge = TrackGauge { gauge_m: self.gauge * 1e-3, ..TrackGauge::default() };
+        let wheelset = WheelsetGeometry {
+            back_to_back_m: self.back_to_back * 1e-3,
+            nominal_radius_m: self.wheel_radius * 1e-3,
+            ..WheelsetGeometry::default()
+        };
+        Ok(WheelRailPair::new(wheel, rail, self.inclination, gauge, wheelset)?)
+    }
+}
+
+/// Where the recording goes (default: `--save kecsim.rrd`).
+#[derive(Args)]
+struct SinkArgs {
+    /// Save the recording to this .rrd file [default: kecsim.rrd].
+    #[arg(long, value_name = "FILE", group = "sink")]
+    save: Option<PathBuf>,
+    /// Start a Rerun viewer (`rerun` on PATH) and stream to it.
+    #[arg(long, group = "sink")]
+    spawn: bool,
+    /// Stream to a running viewer [default URL: rerun+http://127.0.0.1:9876/proxy].
+    #[arg(long, value_name = "URL", group = "sink", num_args = 0..=1, default_missing_value = inspect::DEFAULT_CONNECT_URL)]
+    connect: Option<String>,
+}
+
+impl SinkArgs {
+    fn sink(&self) -> Sink {
+        if self.spawn {
+            Sink::Spawn
+        } else if let Some(url) = &self.connect {
+            Sink::Connect(url.clone())
+        } else {
+            Sink::Save(self.save.clone().unwrap_or_else(|| PathBuf::from(inspect::DEFAULT_RRD)))
+        }
+    }
+}
+
+fn describe(sink: &Sink) -> String {
+    match sink {
+        Sink::Save(p) => format!("saved {}", p.display()),
+        Sink::Spawn => "streamed to the spawned viewer".into(),
+        Sink::Connect(u) => format!("streamed to {u}"),
+    }
+}
+
+fn record_pair(pair: &WheelRailPair, sink: &Sink) -> Result<()> {
+    // The stream lives in this scope: returning (even with an error) drops it and writes the footer.
+    let rec = inspect::open_recording("kecsim", sink, inspect::profiles::blueprint)?;
+    inspect::profiles::record(&rec, pair)?;
+    Ok(())
+}
+
+fn print_pair(pair: &WheelRailPair) {
+    println!("{}", inspect::profiles::summary_markdown(pair).replace("**", "").replace('`', ""));
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Run { scenario, sink } => {
+            let (parsed, origin, base) = match &scenario {
+                Some(path) => (
+                    Scenario::read(path)?,
+                    path.display().to_string(),
+                    path.parent().unwrap_or(Path::new(".")).to_path_buf(),
+                ),
+                None => (
+                    Scenario::parse(DEFAULT_SCENARIO, "<embedded default scenario>")?,
+                    "<embedded default scenario>".to_string(),
+                    PathBuf::from("."),
+                ),
+            };
+            let scene = parsed.compile(&origin, &base)?;
+            println!("scenario: {} ({origin})", scene.name);
+            let t = std::time::Instant::now();
+            let sink = sink.sink();
+            record_pair(&scene.pair, &sink)?;
+            print_pair(&scene.pair);
+            println!(
+                "scene preprocessed (profiles placed) in {:.3} s wall; {}",
+                t.elapsed().as_secs_f64(),
+                describe(&sink)
+            );
+        }
+        Command::Profiles { pair, sink } => {
+            let pair = pair.pair()?;
+            let sink = sink.sink();
+            record_pair(&pair, &sink)?;
+            print_pair(&pair);
+            println!("{}", describe(&sink));
+        }
+        Command::GenerateProfiles { dir } => {
+            std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+            for std in StandardProfile::ALL {
+                let path = dir.join(format!("{}.csv", std.name()));
+                io::write_csv(&std.profile(), &path).with_context(|| format!("cannot write {}", path.display()))?;
+                println!("wrote {}", path.display());
+            }
+        }
+        Command::Bench { target, calls } => match target {
+            BenchTarget::Profiles => {
+                if cfg!(debug_assertions) {
+                    eprintln!("kecsim: warning: debug build, timings are not representative (use --release)");
+                }
+                print!("{}", kecsim::bench::table(&kecsim::bench::profiles(calls)));
+            }
+        },
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("kecsim: error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

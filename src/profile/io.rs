@@ -1,0 +1,441 @@
+//! Profile files: reading (plain CSV, two-column `.dat`, SIMPACK `.prw`/`.prr`) and writing CSV.
+//!
+//! All formats are read into points (y, z) in mm, z **up**, lateral y increasing towards the
+//! field side of a left-side profile (see [`super`]), then checked and converted to SI once:
+//!
+//! | format | recognised by | columns | vertical |
+//! |---|---|---|---|
+//! | CSV | `.csv` | `y,z` in mm; optional header row; `#` comment lines | z up |
+//! | columns | any other extension (`.dat`, `.txt`) | two numbers per line, whitespace/comma separated; `#`, `!`, `%` comments | z up |
+//! | SIMPACK | `.prw` (wheel), `.prr` (rail) | `point.begin` … `point.end`, `y z [weight]`; `!` comments | z down (SIMPACK); `units.len.f`, `shift.y/z`, `mirror.y/z` applied |
+//!
+//! Checks (each error names the file and, where it applies, the line): unreadable or empty file,
+//! non-numeric cell, NaN/inf, fewer than 4 points, a lateral extent under 1 mm (data apparently in
+//! metres), a lateral coordinate that goes back (self-overlapping or undercut profile).
+//! Exactly vertical (or steeper than [`MAX_END_SLOPE`]) runs at either *end* — the vertical sides
+//! of a rail head, a wheel's flange back — cannot be a function z(y) and carry no contact: they
+//! are trimmed, and the profile's notes say so. A wheel profile is shifted vertically so that its
+//! taping line (y = 0) is at z = 0 (the nominal radius is then r0 at y = 0).
+
+use std::fs;
+use std::io::Write;
+use std::path::Path;
+
+use super::spline::SplineError;
+use super::{Profile, ProfileError, ProfileKind};
+
+/// End segments steeper than this |dz/dy| (88.9°) are trimmed.
+pub const MAX_END_SLOPE: f64 = 50.0;
+/// Smallest lateral extent accepted, mm; less means the file is probably in metres.
+pub const MIN_EXTENT_MM: f64 = 1.0;
+
+/// A point as read, mm, with its 1-based line number.
+#[derive(Debug, Clone, Copy)]
+struct RawPoint {
+    y: f64,
+    z: f64,
+    line: usize,
+}
+
+/// Reads a profile file of any supported format.
+pub fn read_profile(path: &Path, expected: ProfileKind) -> Result<Profile, ProfileError> {
+    let p = path.display().to_string();
+    let text = fs::read_to_string(path).map_err(|source| ProfileError::Io { path: p.clone(), source })?;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let (points, mut notes) = match ext.as_str() {
+        "prw" | "prr" => read_simpack(&p, &text, expected)?,
+        "csv" => (read_csv(&p, &text)?, Vec::new()),
+        _ => (read_columns(&p, &text)?, Vec::new()),
+    };
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("profile");
+    let (s, z, more) = check_points(&p, points, expected)?;
+    notes.extend(more);
+    let mut profile = Profile::from_points(name, expected, &p, s, z).map_err(|e| ProfileError::InFile {
+        path: p.clone(),
+        problem: match e {
+            SplineError::TooFewPoints(n) => format!("only {n} usable points; a profile needs at least 4"),
+            other => format!("invalid points: {other:?}"),
+        },
+    })?;
+    profile.notes = notes;
+    Ok(profile)
+}
+
+fn at(path: &str, line: usize, problem: impl Into<String>) -> ProfileError {
+    ProfileError::AtLine { path: path.to_string(), line, problem: problem.into() }
+}
+
+fn parse_number(path: &str, line: usize, col: usize, cell: &str) -> Result<f64, ProfileError> {
+    let v: f64 = cell
+        .trim()
+        .parse()
+        .map_err(|_| at(path, line, format!("column {col}: '{}' is not a number", cell.trim())))?;
+    if !v.is_finite() {
+        return Err(at(path, line, format!("column {col}: {v} is not a finite number")));
+    }
+    Ok(v)
+}
+
+/// Plain CSV, `y,z` in mm, z up; optional header row (first record, non-numeric), `#` comments.
+fn read_csv(path: &str, text: &str) -> Result<Vec<RawPoint>, ProfileError> {
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .comment(Some(b'#'))
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let mut pts = Vec::new();
+    for (k, rec) in rdr.records().enumerate() {
+        let rec = rec.map_err(|e| {
+            let line = e.position().map(|p| p.line() as usize).unwrap_or(0);
+            at(path, line, format!("malformed CSV: {e}"))
+        })?;
+        let line = rec.position().map(|p| p.line() as usize).unwrap_or(0);
+        if rec.iter().all(|c| c.is_empty()) {
+            continue;
+        }
+        if k == 0 && rec.get(0).is_some_and(|c| c.parse::<f64>().is_err()) {
+            continue; // header row
+        }
+        if rec.len() < 2 {
+            return Err(at(path, line, format!("expected 2 columns (y_mm, z_mm), found {}", rec.len())));
+        }
+        let y = parse_number(path, line, 1, &rec[0])?;
+        let z = parse_number(path, line, 2, &rec[1])?;
+        pts.push(RawPoint { y, z, line });
+    }
+    Ok(pts)
+}
+
+/// Two numeric columns per line, whitespace or comma separated; `#`, `!`, `%` start comments.
+fn read_columns(path: &str, text: &str) -> Result<Vec<RawPoint>, ProfileError> {
+    let mut pts = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let body = raw.split(['#', '!', '%']).next().unwrap_or("").trim();
+        if body.is_empty() {
+            continue;
+        }
+        let cells: Vec<&str> = body.split(|c: char| c.is_whitespace() || c == ',' || c == ';').filter(|c| !c.is_empty()).collect();
+        if cells.len() < 2 {
+            return Err(at(path, line, format!("expected 2 columns (y z in mm), found {}", cells.len())));
+        }
+        let y = parse_number(path, line, 1, cells[0])?;
+        let z = parse_number(path, line, 2, cells[1])?;
+        pts.push(RawPoint { y, z, line });
+    }
+    Ok(pts)
+}
+
+/// SIMPACK `.prw`/`.prr` profile: header `type` (0 rail, 1 wheel), spline block settings, and
+/// the `point.begin`…`point.end` list. Applies `shift.y/z`, `mirror.y/z` and `units.len.f`
+/// (length units per metre); converts SIMPACK's downward z to kecsim's upward z.
+fn read_simpack(
+    path: &str,
+    text: &str,
+    expected: ProfileKind,
+) -> Result<(Vec<RawPoint>, Vec<String>), ProfileError> {
+    let mut in_points = false;
+    let mut seen_points = false;
+    let mut kind: Option<(ProfileKind, usize)> = None;
+    let (mut shift_y, mut shift_z, mut mirror_y, mut mirror_z) = (0.0, 0.0, false, false);
+    let mut len_factor = 1000.0;
+    let mut pts = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let body = raw.split('!').next().unwrap_or("").trim();
+        if body.is_empty() {
+            continue;
+        }
+        if body == "point.begin" {
+            in_points = true;
+            seen_points = true;
+            continue;
+        }
+        if body == "point.end" {
+            in_points = false;
+            continue;
+        }
+        if in_points {
+            let cells: Vec<&str> = body.split_whitespace().collect();
+            if cells.len() < 2 {
+                return Err(at(path, line, format!("expected 'y z [weight]', found {}", cells.len())));
+            }
+            let y = parse_number(path, line, 1, cells[0])?;
+            let z = parse_number(path, line, 2, cells[1])?;
+            pts.push(RawPoint { y, z, line });
+            continue;
+        }
+        if let Some((key, value)) = body.split_once('=') {
+            let (key, value) = (key.trim(), value.trim().trim_matches('\''));
+            let num = || parse_number(path, line, 1, value);
+            match key {
+                "type" => {
+                    let k = match num()? as i64 {
+                        0 => ProfileKind::Rail,
+                        1 => ProfileKind::Wheel,
+                        t => return Err(at(path, line, format!("unknown profile type {t} (0 = rail, 1 = wheel)"))),
+                    };
+                    kind = Some((k, line));
+                }
+                "shift.y" => shift_y = num()?,
+                "shift.z" => shift_z = num()?,
+                "mirror.y" => mirror_y = num()? != 0.0,
+                "mirror.z" => mirror_z = num()? != 0.0,
+                "units.len.f" => {
+                    len_factor = num()?;
+                    if len_factor <= 0.0 {
+                        return Err(at(path, line, "units.len.f must be positive"));
+                    }
+                }
+                "rotate" if num()? != 0.0 => {
+                    return Err(at(
+                        path,
+                        line,
+                        "rotate ≠ 0 is not supported: give the profile unrotated and set the rail inclination in kecsim",
+                    ));
+                }
+                _ => {}
+            }
+        }
+    }
+    if !seen_points {
+        return Err(ProfileError::InFile { path: path.into(), problem: "no 'point.begin' block: not a SIMPACK profile".into() });
+    }
+    if let Some((k, _)) = kind {
+        if k != expected {
+            return Err(ProfileError::WrongKind { path: path.into(), expected, found: k });
+        }
+    }
+    let mut notes = Vec::new();
+    if mirror_y {
+        notes.push("SIMPACK mirror.y applied".to_string());
+    }
+    let to_mm = 1000.0 / len_factor;
+    for p in &mut pts {
+        let (mut y, mut z) = (p.y + shift_y, p.z + shift_z);
+        if mirror_y {
+            y = -y;
+        }
+        if mirror_z {
+            z = -z;
+        }
+        p.y = y * to_mm;
+        p.z = -z * to_mm; // SIMPACK z points down
+    }
+    Ok((pts, notes))
+}
+
+/// Checks raw points and converts them to SI: returns (s, z) in m, increasing s, and notes.
+fn check_points(
+    path: &str,
+    mut pts: Vec<RawPoint>,
+    kind: ProfileKind,
+) -> Result<(Vec<f64>, Vec<f64>, Vec<String>), ProfileError> {
+    let mut notes = Vec::new();
+    if pts.is_empty() {
+        return Err(ProfileError::InFile { path: path.into(), problem: "no profile points (empty file)".into() });
+    }
+    let last_line = pts[pts.len() - 1].line;
+    if pts.len() < 4 {
+        return Err(at(path, last_line, format!("only {} points; a profile needs at least 4", pts.len())));
+    }
+    let (ymin, ymax) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.y), b.max(p.y)));
+    if ymax - ymin < MIN_EXTENT_MM {
+        return Err(at(
+            path,
+            pts[0].line,
+            format!(
+                "lateral extent is only {:.4} mm: the file looks like metres; profile files are in mm",
+                ymax - ymin
+            ),
+        ));
+    }
+    if pts[pts.len() - 1].y < pts[0].y {
+        pts.reverse();
+    }
+    // Drop exact duplicates (repeated points are common in exported files).
+    let before = pts.len();
+    pts.dedup_by(|b, a| b.y == a.y && b.z == a.z);
+    if pts.len() < before {
+        notes.push(format!("{} repeated points dropped", before - pts.len()));
+    }
+    // Trim vertical (or steeper than MAX_END_SLOPE) runs at both ends.
+    let steep = |a: &RawPoint, b: &RawPoint| {
+        let dy = b.y - a.y;
+        dy <= 0.0 || ((b.z - a.z) / dy).abs() > MAX_END_SLOPE
+    };
+    let mut lo = 0;
+    while lo + 1 < pts.len() && steep(&pts[lo], &pts[lo + 1]) {
+        lo += 1;
+    }
+    let mut hi = pts.len() - 1;
+    while hi > lo && steep(&pts[hi - 1], &pts[hi]) {
+        hi -= 1;
+    }
+    if lo > 0 {
+        notes.push(format!("{lo} points of a vertical end trimmed (lines {}–{})", pts[0].line, pts[lo - 1].line));
+    }
+    if hi < pts.len() - 1 {
+        notes.push(format!(
+            "{} points of a vertical end trimmed (lines {}–{})",
+            pts.len() - 1 - hi,
+            pts[hi + 1].line,
+            pts[pts.len() - 1].line
+        ));
+    }
+    let pts = &pts[lo..=hi];
+    for w in pts.windows(2) {
+        if w[1].y <= w[0].y {
+            return Err(at(
+                path,
+                w[1].line,
+                format!(
+                    "lateral coordinate goes back from y = {} mm (line {}) to y = {} mm: the profile overlaps itself or is undercut, and is not a function z(y)",
+                    w[0].y, w[0].line, w[1].y
+                ),
+            ));
+        }
+    }
+    if pts.len() < 4 {
+        return Err(at(path, last_line, format!("only {} usable points after trimming vertical ends; a profile needs at least 4", pts.len())));
+    }
+    let s: Vec<f64> = pts.iter().map(|p| p.y * 1e-3).collect();
+    let mut z: Vec<f64> = pts.iter().map(|p| p.z * 1e-3).collect();
+    if kind == ProfileKind::Wheel {
+        if s[0] > 0.0 || s[s.len() - 1] < 0.0 {
+            return Err(ProfileError::InFile {
+                path: path.into(),
+                problem: format!(
+                    "wheel profile spans y = {:.3}..{:.3} mm and does not contain its taping line y = 0",
+                    s[0] * 1e3,
+                    s[s.len() - 1] * 1e3
+                ),
+            });
+        }
+        // Height of the taping line by the same spline the profile will use.
+        let z0 = super::CubicSpline::new(s.clone(), z.clone())
+            .map_err(|e| ProfileError::InFile { path: path.into(), problem: format!("invalid points: {e:?}") })?
+            .eval(0.0)
+            .z;
+        if z0 != 0.0 {
+            z.iter_mut().for_each(|v| *v -= z0);
+            notes.push(format!("shifted {:.4} mm vertically so the taping line y = 0 is at z = 0", -z0 * 1e3));
+        }
+    }
+    Ok((s, z, notes))
+}
+
+/// Writes a profile as CSV (`y_mm,z_mm`, z up, left-side orientation) with `#` comment lines
+/// naming its source; the points are the spline's knots, so reading the file back gives the same
+/// profile.
+pub fn write_csv(profile: &Profile, path: &Path) -> std::io::Result<()> {
+    let mut f = std::io::BufWriter::new(fs::File::create(path)?);
+    writeln!(f, "# kecsim {} profile '{}'", profile.kind, profile.name)?;
+    writeln!(f, "# source: {}", profile.source)?;
+    writeln!(f, "# y lateral towards the field side of a left-side profile, z up, both in mm")?;
+    if profile.kind == ProfileKind::Wheel {
+        writeln!(f, "# wheel: y = 0 is the taping line (nominal rolling circle), radius = r0 - z")?;
+    }
+    let mut w = csv::Writer::from_writer(f);
+    w.write_record(["y_mm", "z_mm"])?;
+    let (s, z) = profile.knots();
+    for (a, b) in s.iter().zip(z) {
+        w.write_record([format!("{:.6}", a * 1e3), format!("{:.6}", b * 1e3)])?;
+    }
+    w.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::StandardProfile;
+
+    fn tmp(name: &str, content: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("kecsim-io-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(name);
+        fs::write(&p, content).unwrap();
+        p
+    }
+
+    fn err(name: &str, content: &str, kind: ProfileKind) -> String {
+        read_profile(&tmp(name, content), kind).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn csv_round_trip_reproduces_the_profile() {
+        let p = StandardProfile::Rail60E1.profile();
+        let path = std::env::temp_dir().join(format!("kecsim-rt-{}.csv", std::process::id()));
+        write_csv(&p, &path).unwrap();
+        let q = read_profile(&path, ProfileKind::Rail).unwrap();
+        for k in 0..1000 {
+            let s = -0.035 + 0.07 * k as f64 / 999.0;
+            assert!((p.eval(s).z - q.eval(s).z).abs() < 1e-9, "at {s}");
+        }
+    }
+
+    #[test]
+    fn bad_input_names_file_line_and_problem() {
+        let missing = read_profile(Path::new("/nonexistent/x.csv"), ProfileKind::Rail).unwrap_err().to_string();
+        assert!(missing.contains("/nonexistent/x.csv") && missing.contains("cannot read"), "{missing}");
+
+        let e = err("empty.csv", "", ProfileKind::Rail);
+        assert!(e.contains("empty.csv") && e.contains("empty file"), "{e}");
+
+        let e = err("cell.csv", "y_mm,z_mm\n0,0\n1,abc\n2,0\n3,0\n", ProfileKind::Rail);
+        assert!(e.contains("cell.csv:3:") && e.contains("'abc' is not a number"), "{e}");
+
+        let e = err("few.csv", "y,z\n0,0\n1,0\n2,0\n", ProfileKind::Rail);
+        assert!(e.contains("few.csv:4:") && e.contains("only 3 points"), "{e}");
+
+        let e = err("nan.dat", "0 0\n1 NaN\n2 0\n3 0\n", ProfileKind::Rail);
+        assert!(e.contains("nan.dat:2:") && e.contains("not a finite number"), "{e}");
+        let e = err("inf.csv", "0,0\n1,0\n2,inf\n3,0\n", ProfileKind::Rail);
+        assert!(e.contains("inf.csv:3:") && e.contains("not a finite"), "{e}");
+
+        let e = err("back.csv", "0,0\n1,0\n2,0.1\n1.5,0.2\n3,0\n4,0\n", ProfileKind::Rail);
+        assert!(e.contains("back.csv:4:") && e.contains("goes back"), "{e}");
+
+        let e = err("metres.csv", "-0.03,0\n-0.01,0.001\n0,0.0012\n0.01,0.001\n0.03,0\n", ProfileKind::Rail);
+        assert!(e.contains("metres.csv:1:") && e.contains("looks like metres"), "{e}");
+
+        let e = err("wheel.dat", "5 0\n6 0\n7 0\n8 0\n", ProfileKind::Wheel);
+        assert!(e.contains("taping line"), "{e}");
+
+        let e = err("cols.dat", "0 0\n1\n", ProfileKind::Rail);
+        assert!(e.contains("cols.dat:2:") && e.contains("expected 2 columns"), "{e}");
+    }
+
+    #[test]
+    fn simpack_kind_mismatch_and_rotation_are_reported() {
+        let body = "header.begin\n type = 0\nheader.end\nspline.begin\n point.begin\n -1 0\n 0 0\n 1 0\n 2 0\n point.end\nspline.end\n";
+        let e = err("r.prr", body, ProfileKind::Wheel);
+        assert!(e.contains("r.prr") && e.contains("holds a rail profile"), "{e}");
+        let rot = body.replace("spline.begin\n", "spline.begin\n rotate = 0.1\n");
+        let e = err("rot.prr", &rot, ProfileKind::Rail);
+        assert!(e.contains("rot.prr:5:") && e.contains("rotate"), "{e}");
+        let e = err("nopts.prr", "header.begin\n type = 0\nheader.end\n", ProfileKind::Rail);
+        assert!(e.contains("no 'point.begin'"), "{e}");
+    }
+
+    #[test]
+    fn vertical_ends_are_trimmed_with_a_note() {
+        // Vertical side (constant y) then a parabola head.
+        let mut t = String::new();
+        for k in 0..5 {
+            t += &format!("-10 {}\n", -10.0 + k as f64);
+        }
+        for k in 0..=20 {
+            let y = -10.0 + k as f64;
+            t += &format!("{y} {}\n", -0.01 * y * y);
+        }
+        let p = read_profile(&tmp("side.dat", &t), ProfileKind::Rail).unwrap();
+        assert!((p.domain().0 + 0.010).abs() < 1e-12);
+        assert!(p.notes.iter().any(|n| n.contains("vertical end trimmed")), "{:?}", p.notes);
+    }
+}

@@ -1,0 +1,241 @@
+//! Scenario files (TOML): plain serde types, validated into a scene before anything runs.
+//!
+//! Rules (README, "Scenario files"): SI units with the unit in each field name, unknown keys are
+//! errors that name the file, line and column, paths are relative to the scenario file, and
+//! `schema_version` says which format the file follows. Validation collects every problem it finds
+//! rather than stopping at the first.
+//!
+//! The schema grows with the product: today a scene is the placed wheel/rail pair of one wheelset
+//! (profiles, track gauge, wheelset dimensions); track, vehicle, contact model and integrator
+//! sections arrive with those capabilities.
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::profile::placement::{Inclination, TrackGauge, WheelRailPair, WheelsetGeometry};
+use crate::profile::{Profile, ProfileKind};
+
+/// The schema version this build reads.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// The default scenario, embedded in the binary.
+pub const DEFAULT_SCENARIO: &str = include_str!("../assets/default.toml");
+
+/// A scenario file as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    pub schema_version: u32,
+    pub name: String,
+    pub profiles: ProfilesSpec,
+    #[serde(default)]
+    pub track: TrackSpec,
+    #[serde(default)]
+    pub wheelset: WheelsetSpec,
+}
+
+/// Wheel and rail profiles.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProfilesSpec {
+    /// Standard name or path.
+    pub wheel: String,
+    /// Standard name or path.
+    pub rail: String,
+    /// `1:N` or `upright`.
+    pub inclination: String,
+}
+
+/// Track cross-section.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackSpec {
+    #[serde(default = "default_gauge")]
+    pub gauge_m: f64,
+    #[serde(default = "default_depth")]
+    pub gauge_measuring_depth_m: f64,
+}
+
+impl Default for TrackSpec {
+    fn default() -> Self {
+        TrackSpec { gauge_m: default_gauge(), gauge_measuring_depth_m: default_depth() }
+    }
+}
+
+fn default_gauge() -> f64 {
+    TrackGauge::default().gauge_m
+}
+fn default_depth() -> f64 {
+    TrackGauge::default().measuring_depth_m
+}
+
+/// Wheelset dimensions.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetSpec {
+    #[serde(default = "default_b2b")]
+    pub back_to_back_m: f64,
+    #[serde(default = "default_tape")]
+    pub rolling_circle_from_back_m: f64,
+    #[serde(default = "default_r0")]
+    pub nominal_radius_m: f64,
+}
+
+impl Default for WheelsetSpec {
+    fn default() -> Self {
+        WheelsetSpec {
+            back_to_back_m: default_b2b(),
+            rolling_circle_from_back_m: default_tape(),
+            nominal_radius_m: default_r0(),
+        }
+    }
+}
+
+fn default_b2b() -> f64 {
+    WheelsetGeometry::default().back_to_back_m
+}
+fn default_tape() -> f64 {
+    WheelsetGeometry::default().rolling_circle_from_back_m
+}
+fn default_r0() -> f64 {
+    WheelsetGeometry::default().nominal_radius_m
+}
+
+/// A scenario problem, naming the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    #[error("{path}: cannot read scenario: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    /// Syntax, unknown key, wrong type: the TOML message carries line and column.
+    #[error("{path}: {message}")]
+    Parse { path: String, message: String },
+    /// Every validation problem found, one per line.
+    #[error("{path}: invalid scenario:\n  - {}", problems.join("\n  - "))]
+    Invalid { path: String, problems: Vec<String> },
+}
+
+/// A scenario ready to run: profiles loaded and placed.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub name: String,
+    pub pair: WheelRailPair,
+}
+
+impl Scenario {
+    /// Parses scenario text; `origin` names it in errors (a path or `<embedded default>`).
+    pub fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
+        toml::from_str(text).map_err(|e| ScenarioError::Parse {
+            path: origin.to_string(),
+            message: e.to_string().trim_end().to_string(),
+        })
+    }
+
+    /// Reads and parses a scenario file.
+    pub fn read(path: &Path) -> Result<Self, ScenarioError> {
+        let p = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io { path: p.clone(), source })?;
+        Self::parse(&text, &p)
+    }
+
+    /// Validates and assembles the scene. `base` is the directory relative paths start from.
+    /// Collects all problems before failing.
+    pub fn compile(&self, origin: &str, base: &Path) -> Result<Scene, ScenarioError> {
+        let mut problems = Vec::new();
+        if self.schema_version != SCHEMA_VERSION {
+            problems.push(format!(
+                "schema_version = {}: this kecsim reads schema_version = {SCHEMA_VERSION}",
+                self.schema_version
+            ));
+        }
+        let mut positive = |name: &str, v: f64, lo: f64, hi: f64| {
+            if !(v.is_finite() && v >= lo && v <= hi) {
+                problems.push(format!("{name} = {v}: expected a value in [{lo}, {hi}]"));
+            }
+        };
+        positive("track.gauge_m", self.track.gauge_m, 0.5, 2.0);
+        positive("track.gauge_measuring_depth_m", self.track.gauge_measuring_depth_m, 0.001, 0.03);
+        positive("wheelset.back_to_back_m", self.wheelset.back_to_back_m, 0.4, 2.0);
+        positive("wheelset.rolling_circle_from_back_m", self.wheelset.rolling_circle_from_back_m, 0.0, 0.2);
+        positive("wheelset.nominal_radius_m", self.wheelset.nominal_radius_m, 0.1, 1.0);
+        let inclination = match self.profiles.inclination.parse::<Inclination>() {
+            Ok(i) => Some(i),
+            Err(e) => {
+                problems.push(format!("profiles.inclination: {e}"));
+                None
+            }
+        };
+        let mut load = |spec: &str, kind: ProfileKind| {
+            let resolved = resolve_path(spec, base);
+            match Profile::resolve(&resolved, kind) {
+                Ok(p) => Some(p),
+                Err(e) => {
+                    problems.push(format!("profiles.{kind}: {e}"));
+                    None
+                }
+            }
+        };
+        let wheel = load(&self.profiles.wheel, ProfileKind::Wheel);
+        let rail = load(&self.profiles.rail, ProfileKind::Rail);
+        let invalid = |problems: Vec<String>| ScenarioError::Invalid { path: origin.to_string(), problems };
+        let (Some(wheel), Some(rail), Some(inclination), true) = (wheel, rail, inclination, problems.is_empty()) else {
+            return Err(invalid(problems));
+        };
+        let gauge = TrackGauge { gauge_m: self.track.gauge_m, measuring_depth_m: self.track.gauge_measuring_depth_m };
+        let wheelset = WheelsetGeometry {
+            back_to_back_m: self.wheelset.back_to_back_m,
+            rolling_circle_from_back_m: self.wheelset.rolling_circle_from_back_m,
+            nominal_radius_m: self.wheelset.nominal_radius_m,
+        };
+        let pair = WheelRailPair::new(wheel, rail, inclination, gauge, wheelset).map_err(|e| invalid(vec![e.to_string()]))?;
+        Ok(Scene { name: self.name.clone(), pair })
+    }
+}
+
+/// A standard profile name stays as it is; anything else is a path relative to `base`.
+fn resolve_path(spec: &str, base: &Path) -> String {
+    if crate::profile::StandardProfile::from_name(spec).is_some() || Path::new(spec).is_absolute() {
+        return spec.to_string();
+    }
+    let p: PathBuf = base.join(spec);
+    p.display().to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_scenario_compiles() {
+        let s = Scenario::parse(DEFAULT_SCENARIO, "<default>").unwrap();
+        let scene = s.compile("<default>", Path::new(".")).unwrap();
+        assert_eq!(scene.pair.wheel.name, "s1002");
+        assert_eq!(scene.pair.rail.name, "60e1");
+    }
+
+    #[test]
+    fn unknown_key_is_reported_with_line_and_column() {
+        let text = DEFAULT_SCENARIO.replace("gauge_m = 1.435", "gauge_m = 1.435\ngauge_mm = 1435");
+        let e = Scenario::parse(&text, "s.toml").unwrap_err().to_string();
+        assert!(e.starts_with("s.toml: "), "{e}");
+        assert!(e.contains("line 15") && e.contains("unknown field `gauge_mm`"), "{e}");
+    }
+
+    #[test]
+    fn validation_collects_every_problem() {
+        let text = DEFAULT_SCENARIO
+            .replace("schema_version = 1", "schema_version = 7")
+            .replace("\"1:40\"", "\"1/40\"")
+            .replace("rail = \"60e1\"", "rail = \"no_such_rail.csv\"")
+            .replace("nominal_radius_m = 0.460", "nominal_radius_m = -1.0");
+        let s = Scenario::parse(&text, "s.toml").unwrap();
+        let e = s.compile("s.toml", Path::new("/tmp")).unwrap_err().to_string();
+        for needle in ["schema_version = 7", "inclination", "no_such_rail.csv", "nominal_radius_m = -1"] {
+            assert!(e.contains(needle), "missing '{needle}' in:\n{e}");
+        }
+    }
+}
