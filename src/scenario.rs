@@ -222,7 +222,7 @@ mod tests {
         let text = DEFAULT_SCENARIO.replace("gauge_m = 1.435", "gauge_m = 1.435\ngauge_mm = 1435");
         let e = Scenario::parse(&text, "s.toml").unwrap_err().to_string();
         assert!(e.starts_with("s.toml: "), "{e}");
-        assert!(e.contains("line 15") && e.contains("unknown field `gauge_mm`"), "{e}");
+        assert!(e.contains("line 13") && e.contains("unknown field `gauge_mm`"), "{e}");
     }
 
     #[test]

@@ -16,6 +16,7 @@
 //! keep the stream in a local so that early returns (errors) still drop it and flush the file.
 
 pub mod profiles;
+pub mod readback;
 
 use std::path::PathBuf;
 

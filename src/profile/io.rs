@@ -345,7 +345,7 @@ pub fn write_csv(profile: &Profile, path: &Path) -> std::io::Result<()> {
     w.write_record(["y_mm", "z_mm"])?;
     let (s, z) = profile.knots();
     for (a, b) in s.iter().zip(z) {
-        w.write_record([format!("{:.6}", a * 1e3), format!("{:.6}", b * 1e3)])?;
+        w.write_record([format!("{:.9}", a * 1e3), format!("{:.9}", b * 1e3)])?;
     }
     w.flush()
 }
