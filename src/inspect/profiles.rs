@@ -9,7 +9,8 @@
 //! | `profiles/real/{left,right}/markers` | Points2D | gauge point, highest point of the rail, taping line (labelled) |
 //! | `profiles/summary` | TextDocument | profiles, sources, placement figures, notes |
 
-use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, TextDocumentView, Vertical};
+use rerun::blueprint::components::PanelState;
+use rerun::blueprint::{Blueprint, Horizontal, SelectionPanel, Spatial2DView, TextDocumentView, TimePanel, Vertical};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, section_mm, InspectError};
@@ -39,8 +40,11 @@ pub fn blueprint() -> Blueprint {
             Horizontal::new([side_view(Side::Right), side_view(Side::Left)]).into(),
             TextDocumentView::new("Summary").with_origin("/profiles/summary").into(),
         ])
-        .with_row_shares([3.0, 1.0]),
+        .with_row_shares([3.0, 2.0]),
     )
+    // Everything here is static: no timeline to show.
+    .with_time_panel(TimePanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
 }
 
 /// Markdown summary of a placed pair.
@@ -92,16 +96,14 @@ pub fn record(rec: &RecordingStream, pair: &WheelRailPair) -> Result<(), Inspect
             &format!("{base}/rail"),
             &LineStrips2D::new([mm(pair.rail_positions(side))])
                 .with_colors([color(RAIL_RGB)])
-                .with_radii([Radius::new_ui_points(1.5)])
-                .with_labels([format!("{} rail ({})", pair.rail.name, side.name())]),
+                .with_radii([Radius::new_ui_points(1.5)]),
         )?;
         log_static(
             rec,
             &format!("{base}/wheel"),
             &LineStrips2D::new([mm(pair.centred_wheel_positions(side))])
                 .with_colors([color(WHEEL_RGB)])
-                .with_radii([Radius::new_ui_points(1.5)])
-                .with_labels([format!("{} wheel ({})", pair.wheel.name, side.name())]),
+                .with_radii([Radius::new_ui_points(1.5)]),
         )?;
         let rp = &pair.rail_placement;
         let (yg, zg) = rp.gauge_point(&pair.rail, side);

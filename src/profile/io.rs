@@ -140,6 +140,7 @@ fn read_simpack(
     expected: ProfileKind,
 ) -> Result<(Vec<RawPoint>, Vec<String>), ProfileError> {
     let mut in_points = false;
+    let mut in_header = false;
     let mut seen_points = false;
     let mut kind: Option<(ProfileKind, usize)> = None;
     let (mut shift_y, mut shift_z, mut mirror_y, mut mirror_z) = (0.0, 0.0, false, false);
@@ -149,6 +150,10 @@ fn read_simpack(
         let line = i + 1;
         let body = raw.split('!').next().unwrap_or("").trim();
         if body.is_empty() {
+            continue;
+        }
+        if body == "header.begin" || body == "header.end" {
+            in_header = body == "header.begin";
             continue;
         }
         if body == "point.begin" {
@@ -174,7 +179,9 @@ fn read_simpack(
             let (key, value) = (key.trim(), value.trim().trim_matches('\''));
             let num = || parse_number(path, line, 1, value);
             match key {
-                "type" => {
+                // `type` in the header is the profile type; in the spline block it is the
+                // original data-file type, which does not concern us.
+                "type" if in_header => {
                     let k = match num()? as i64 {
                         0 => ProfileKind::Rail,
                         1 => ProfileKind::Wheel,
