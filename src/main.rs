@@ -12,7 +12,11 @@ use kecsim::profile::{io, Profile, ProfileKind, StandardProfile};
 use kecsim::scenario::{Scenario, DEFAULT_SCENARIO};
 
 #[derive(Parser)]
-#[command(name = "kecsim", version, about = "Railway vehicle dynamics with the KEC contact method, inspected in Rerun")]
+#[command(
+    name = "kecsim",
+    version,
+    about = "Railway vehicle dynamics with the KEC contact method, inspected in Rerun"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -84,13 +88,22 @@ impl PairArgs {
     fn pair(&self) -> Result<WheelRailPair> {
         let wheel = Profile::resolve(&self.wheel, ProfileKind::Wheel)?;
         let rail = Profile::resolve(&self.rail, ProfileKind::Rail)?;
-        let gauge = TrackGauge { gauge_m: self.gauge * 1e-3, ..TrackGauge::default() };
+        let gauge = TrackGauge {
+            gauge_m: self.gauge * 1e-3,
+            ..TrackGauge::default()
+        };
         let wheelset = WheelsetGeometry {
             back_to_back_m: self.back_to_back * 1e-3,
             nominal_radius_m: self.wheel_radius * 1e-3,
             ..WheelsetGeometry::default()
         };
-        Ok(WheelRailPair::new(wheel, rail, self.inclination, gauge, wheelset)?)
+        Ok(WheelRailPair::new(
+            wheel,
+            rail,
+            self.inclination,
+            gauge,
+            wheelset,
+        )?)
     }
 }
 
@@ -115,7 +128,11 @@ impl SinkArgs {
         } else if let Some(url) = &self.connect {
             Sink::Connect(url.clone())
         } else {
-            Sink::Save(self.save.clone().unwrap_or_else(|| PathBuf::from(inspect::DEFAULT_RRD)))
+            Sink::Save(
+                self.save
+                    .clone()
+                    .unwrap_or_else(|| PathBuf::from(inspect::DEFAULT_RRD)),
+            )
         }
     }
 }
@@ -136,7 +153,12 @@ fn record_pair(pair: &WheelRailPair, sink: &Sink) -> Result<()> {
 }
 
 fn print_pair(pair: &WheelRailPair) {
-    println!("{}", inspect::profiles::summary_markdown(pair).replace("**", "").replace('`', ""));
+    println!(
+        "{}",
+        inspect::profiles::summary_markdown(pair)
+            .replace("**", "")
+            .replace('`', "")
+    );
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -177,7 +199,8 @@ fn run(cli: Cli) -> Result<()> {
             std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
             for std in StandardProfile::ALL {
                 let path = dir.join(format!("{}.csv", std.name()));
-                io::write_csv(&std.profile(), &path).with_context(|| format!("cannot write {}", path.display()))?;
+                io::write_csv(&std.profile(), &path)
+                    .with_context(|| format!("cannot write {}", path.display()))?;
                 println!("wrote {}", path.display());
             }
         }

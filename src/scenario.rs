@@ -59,7 +59,10 @@ pub struct TrackSpec {
 
 impl Default for TrackSpec {
     fn default() -> Self {
-        TrackSpec { gauge_m: default_gauge(), gauge_measuring_depth_m: default_depth() }
+        TrackSpec {
+            gauge_m: default_gauge(),
+            gauge_measuring_depth_m: default_depth(),
+        }
     }
 }
 
@@ -138,7 +141,10 @@ impl Scenario {
     /// Reads and parses a scenario file.
     pub fn read(path: &Path) -> Result<Self, ScenarioError> {
         let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io { path: p.clone(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+            path: p.clone(),
+            source,
+        })?;
         Self::parse(&text, &p)
     }
 
@@ -158,10 +164,25 @@ impl Scenario {
             }
         };
         positive("track.gauge_m", self.track.gauge_m, 0.5, 2.0);
-        positive("track.gauge_measuring_depth_m", self.track.gauge_measuring_depth_m, 0.001, 0.03);
+        positive(
+            "track.gauge_measuring_depth_m",
+            self.track.gauge_measuring_depth_m,
+            0.001,
+            0.03,
+        );
         positive("wheelset.back_to_back_m", self.wheelset.back_to_back_m, 0.4, 2.0);
-        positive("wheelset.rolling_circle_from_back_m", self.wheelset.rolling_circle_from_back_m, 0.0, 0.2);
-        positive("wheelset.nominal_radius_m", self.wheelset.nominal_radius_m, 0.1, 1.0);
+        positive(
+            "wheelset.rolling_circle_from_back_m",
+            self.wheelset.rolling_circle_from_back_m,
+            0.0,
+            0.2,
+        );
+        positive(
+            "wheelset.nominal_radius_m",
+            self.wheelset.nominal_radius_m,
+            0.1,
+            1.0,
+        );
         let inclination = match self.profiles.inclination.parse::<Inclination>() {
             Ok(i) => Some(i),
             Err(e) => {
@@ -181,18 +202,30 @@ impl Scenario {
         };
         let wheel = load(&self.profiles.wheel, ProfileKind::Wheel);
         let rail = load(&self.profiles.rail, ProfileKind::Rail);
-        let invalid = |problems: Vec<String>| ScenarioError::Invalid { path: origin.to_string(), problems };
-        let (Some(wheel), Some(rail), Some(inclination), true) = (wheel, rail, inclination, problems.is_empty()) else {
+        let invalid = |problems: Vec<String>| ScenarioError::Invalid {
+            path: origin.to_string(),
+            problems,
+        };
+        let (Some(wheel), Some(rail), Some(inclination), true) =
+            (wheel, rail, inclination, problems.is_empty())
+        else {
             return Err(invalid(problems));
         };
-        let gauge = TrackGauge { gauge_m: self.track.gauge_m, measuring_depth_m: self.track.gauge_measuring_depth_m };
+        let gauge = TrackGauge {
+            gauge_m: self.track.gauge_m,
+            measuring_depth_m: self.track.gauge_measuring_depth_m,
+        };
         let wheelset = WheelsetGeometry {
             back_to_back_m: self.wheelset.back_to_back_m,
             rolling_circle_from_back_m: self.wheelset.rolling_circle_from_back_m,
             nominal_radius_m: self.wheelset.nominal_radius_m,
         };
-        let pair = WheelRailPair::new(wheel, rail, inclination, gauge, wheelset).map_err(|e| invalid(vec![e.to_string()]))?;
-        Ok(Scene { name: self.name.clone(), pair })
+        let pair = WheelRailPair::new(wheel, rail, inclination, gauge, wheelset)
+            .map_err(|e| invalid(vec![e.to_string()]))?;
+        Ok(Scene {
+            name: self.name.clone(),
+            pair,
+        })
     }
 }
 
@@ -222,7 +255,10 @@ mod tests {
         let text = DEFAULT_SCENARIO.replace("gauge_m = 1.435", "gauge_m = 1.435\ngauge_mm = 1435");
         let e = Scenario::parse(&text, "s.toml").unwrap_err().to_string();
         assert!(e.starts_with("s.toml: "), "{e}");
-        assert!(e.contains("line 13") && e.contains("unknown field `gauge_mm`"), "{e}");
+        assert!(
+            e.contains("line 13") && e.contains("unknown field `gauge_mm`"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -234,7 +270,12 @@ mod tests {
             .replace("nominal_radius_m = 0.460", "nominal_radius_m = -1.0");
         let s = Scenario::parse(&text, "s.toml").unwrap();
         let e = s.compile("s.toml", Path::new("/tmp")).unwrap_err().to_string();
-        for needle in ["schema_version = 7", "inclination", "no_such_rail.csv", "nominal_radius_m = -1"] {
+        for needle in [
+            "schema_version = 7",
+            "inclination",
+            "no_such_rail.csv",
+            "nominal_radius_m = -1",
+        ] {
             assert!(e.contains(needle), "missing '{needle}' in:\n{e}");
         }
     }

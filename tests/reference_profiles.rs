@@ -8,7 +8,9 @@ use kecsim::profile::placement::{Inclination, RailPlacement, TrackGauge};
 use kecsim::profile::{Profile, ProfileKind, Side, StandardProfile};
 
 fn reference(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/profiles").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/reference/profiles")
+        .join(name)
 }
 
 /// Shortest distance from point `p` to the polyline `line` (both in the same plane), m.
@@ -25,15 +27,22 @@ fn distance_to_polyline(p: (f64, f64), line: &[(f64, f64)]) -> f64 {
 
 /// Max and RMS normal deviation (mm) of `file` points from `generated`, both placed on the track
 /// cross-section (left side), over the points within `depth_mm` of the top of rail.
-fn rail_deviation(generated: &Profile, gen_incl: &str, file: &Profile, file_incl: &str, depth_mm: f64) -> (f64, f64, usize) {
+fn rail_deviation(
+    generated: &Profile,
+    gen_incl: &str,
+    file: &Profile,
+    file_incl: &str,
+    depth_mm: f64,
+) -> (f64, f64, usize) {
     let g = TrackGauge::default();
     let pg = RailPlacement::new(generated, gen_incl.parse::<Inclination>().unwrap(), g).unwrap();
     let pf = RailPlacement::new(file, file_incl.parse::<Inclination>().unwrap(), g).unwrap();
     // Dense generated polyline (0.01 mm spacing) so that chord error is negligible.
     let (a, b) = generated.domain();
     let n = ((b - a) / 1e-5) as usize;
-    let line: Vec<(f64, f64)> =
-        (0..=n).map(|k| pg.rail_point(generated, Side::Left, a + (b - a) * k as f64 / n as f64)).collect();
+    let line: Vec<(f64, f64)> = (0..=n)
+        .map(|k| pg.rail_point(generated, Side::Left, a + (b - a) * k as f64 / n as f64))
+        .collect();
     let (s, _) = file.knots();
     let devs: Vec<f64> = s
         .iter()
@@ -48,7 +57,11 @@ fn rail_deviation(generated: &Profile, gen_incl: &str, file: &Profile, file_incl
 
 #[test]
 fn s1002_matches_manchester_benchmark_prw() {
-    let file = Profile::resolve(reference("MBench_S1002_v3.prw").to_str().unwrap(), ProfileKind::Wheel).unwrap();
+    let file = Profile::resolve(
+        reference("MBench_S1002_v3.prw").to_str().unwrap(),
+        ProfileKind::Wheel,
+    )
+    .unwrap();
     let gen = StandardProfile::S1002.profile();
     let (a, b) = gen.domain();
     let (s, z) = file.knots();
@@ -74,13 +87,21 @@ fn s1002_matches_manchester_benchmark_prw() {
     assert!(count > 300);
     assert!(max_n < 0.03, "max normal deviation {max_n} mm");
     // The file's flange back is at −70 mm, the S1002 definition's.
-    assert!((file.domain().0 * 1e3 + 70.0).abs() < 0.5, "flange back at {}", file.domain().0 * 1e3);
+    assert!(
+        (file.domain().0 * 1e3 + 70.0).abs() < 0.5,
+        "flange back at {}",
+        file.domain().0 * 1e3
+    );
 }
 
 #[test]
 fn uic60_at_1_40_matches_manchester_benchmark_prr() {
     // The MBench rail is already canted 1:40: place it upright, the generated one at 1:40.
-    let file = Profile::resolve(reference("MBench_UIC60_v3.prr").to_str().unwrap(), ProfileKind::Rail).unwrap();
+    let file = Profile::resolve(
+        reference("MBench_UIC60_v3.prr").to_str().unwrap(),
+        ProfileKind::Rail,
+    )
+    .unwrap();
     let gen = StandardProfile::Rail60E1.profile();
     let (max, rms, n) = rail_deviation(&gen, "1:40", &file, "upright", 20.0);
     println!("60E1 1:40 generated vs MBench_UIC60_v3.prr (top 20 mm, gauged): {n} points, max {max:.4} mm, RMS {rms:.4} mm");
@@ -105,7 +126,11 @@ fn contact_testbank_uic60_loads_with_vertical_sides_trimmed() {
     // the head (5 mm deeper gauge corner in 60E1 at |y| = 31.7 mm): it is checked for loading, the
     // trimming of its vertical sides, and the crown only.
     let file = Profile::resolve(reference("uic60_true.prr").to_str().unwrap(), ProfileKind::Rail).unwrap();
-    assert!(file.notes.iter().any(|n| n.contains("vertical end trimmed")), "{:?}", file.notes);
+    assert!(
+        file.notes.iter().any(|n| n.contains("vertical end trimmed")),
+        "{:?}",
+        file.notes
+    );
     let (a, b) = file.domain();
     assert!(a > -0.0405 && b < 0.0405 && b - a > 0.07, "domain {a}..{b}");
     let gen = StandardProfile::Rail60E1.profile();
@@ -143,14 +168,20 @@ fn en15302_wheel_a_equals_s1002_on_the_flange() {
 #[test]
 fn committed_profile_csvs_match_the_generator() {
     for std in StandardProfile::ALL {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles").join(format!("{}.csv", std.name()));
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("profiles")
+            .join(format!("{}.csv", std.name()));
         let file = Profile::resolve(path.to_str().unwrap(), std.kind())
             .unwrap_or_else(|e| panic!("{e} (regenerate with `kecsim generate-profiles`)"));
         let gen = std.profile();
         let (a, b) = gen.domain();
         for k in 0..=2000 {
             let s = a + (b - a) * k as f64 / 2000.0;
-            assert!((file.eval(s).z - gen.eval(s).z).abs() < 1e-9, "{}: stale at {s}", path.display());
+            assert!(
+                (file.eval(s).z - gen.eval(s).z).abs() < 1e-9,
+                "{}: stale at {s}",
+                path.display()
+            );
         }
     }
 }

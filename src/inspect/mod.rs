@@ -69,10 +69,14 @@ pub fn open_recording(
             what: format!("saving to {}", path.display()),
             source,
         })?,
-        Sink::Connect(url) => builder().connect_grpc_opts(url.clone()).map_err(|source| InspectError::Open {
-            what: format!("connecting to {url}"),
-            source,
-        })?,
+        Sink::Connect(url) => {
+            builder()
+                .connect_grpc_opts(url.clone())
+                .map_err(|source| InspectError::Open {
+                    what: format!("connecting to {url}"),
+                    source,
+                })?
+        }
         Sink::Spawn => match builder().spawn() {
             Ok(rec) => rec,
             Err(e) => {
@@ -94,8 +98,10 @@ pub(crate) fn log_static(
     entity: &str,
     what: &impl rerun::AsComponents,
 ) -> Result<(), InspectError> {
-    rec.log_static(entity, what)
-        .map_err(|source| InspectError::Log { entity: entity.to_string(), source })
+    rec.log_static(entity, what).map_err(|source| InspectError::Log {
+        entity: entity.to_string(),
+        source,
+    })
 }
 
 /// A cross-section point (Y, Z) in m → stored `[Y, −Z]` in mm (see the module doc).

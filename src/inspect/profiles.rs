@@ -10,7 +10,9 @@
 //! | `profiles/summary` | TextDocument | profiles, sources, placement figures, notes |
 
 use rerun::blueprint::components::PanelState;
-use rerun::blueprint::{Blueprint, Horizontal, SelectionPanel, Spatial2DView, TextDocumentView, TimePanel, Vertical};
+use rerun::blueprint::{
+    Blueprint, Horizontal, SelectionPanel, Spatial2DView, TextDocumentView, TimePanel, Vertical,
+};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, section_mm, InspectError};
@@ -33,12 +35,16 @@ pub fn blueprint() -> Blueprint {
             Side::Left => "Left wheel and rail (+Y)",
             Side::Right => "Right wheel and rail (−Y)",
         };
-        Spatial2DView::new(title).with_origin(format!("/profiles/real/{}", side.name())).into()
+        Spatial2DView::new(title)
+            .with_origin(format!("/profiles/real/{}", side.name()))
+            .into()
     };
     Blueprint::new(
         Vertical::new([
             Horizontal::new([side_view(Side::Right), side_view(Side::Left)]).into(),
-            TextDocumentView::new("Summary").with_origin("/profiles/summary").into(),
+            TextDocumentView::new("Summary")
+                .with_origin("/profiles/summary")
+                .into(),
         ])
         .with_row_shares([3.0, 2.0]),
     )
@@ -108,7 +114,9 @@ pub fn record(rec: &RecordingStream, pair: &WheelRailPair) -> Result<(), Inspect
         let rp = &pair.rail_placement;
         let (yg, zg) = rp.gauge_point(&pair.rail, side);
         let (yt, zt) = rp.top_point(&pair.rail, side);
-        let tape = pair.wheelset.wheel_point(&pair.wheel, side, 0.0, 0.0, pair.wheelset.nominal_radius_m, 0.0);
+        let tape =
+            pair.wheelset
+                .wheel_point(&pair.wheel, side, 0.0, 0.0, pair.wheelset.nominal_radius_m, 0.0);
         log_static(
             rec,
             &format!("{base}/markers"),
@@ -118,5 +126,9 @@ pub fn record(rec: &RecordingStream, pair: &WheelRailPair) -> Result<(), Inspect
                 .with_radii([Radius::new_ui_points(4.0)]),
         )?;
     }
-    log_static(rec, "profiles/summary", &TextDocument::from_markdown(summary_markdown(pair)))
+    log_static(
+        rec,
+        "profiles/summary",
+        &TextDocument::from_markdown(summary_markdown(pair)),
+    )
 }

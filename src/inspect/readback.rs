@@ -23,16 +23,24 @@ pub enum ReadbackError {
 /// All data chunks of the recording store (blueprint chunks excluded), in file order.
 pub fn recording_chunks(path: &Path) -> Result<Vec<Chunk>, ReadbackError> {
     let p = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|source| ReadbackError::Io { path: p.clone(), source })?;
+    let file = std::fs::File::open(path).map_err(|source| ReadbackError::Io {
+        path: p.clone(),
+        source,
+    })?;
     let mut chunks = Vec::new();
     for msg in DecoderApp::decode_lazy(BufReader::new(file)) {
-        let msg = msg.map_err(|e| ReadbackError::Decode { path: p.clone(), message: e.to_string() })?;
+        let msg = msg.map_err(|e| ReadbackError::Decode {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
         if let LogMsg::ArrowMsg(store, arrow) = msg {
             if store.kind() != StoreKind::Recording {
                 continue;
             }
-            let chunk = Chunk::from_arrow_msg(&arrow)
-                .map_err(|e| ReadbackError::Decode { path: p.clone(), message: e.to_string() })?;
+            let chunk = Chunk::from_arrow_msg(&arrow).map_err(|e| ReadbackError::Decode {
+                path: p.clone(),
+                message: e.to_string(),
+            })?;
             chunks.push(chunk);
         }
     }

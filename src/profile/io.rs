@@ -40,7 +40,10 @@ struct RawPoint {
 /// Reads a profile file of any supported format.
 pub fn read_profile(path: &Path, expected: ProfileKind) -> Result<Profile, ProfileError> {
     let p = path.display().to_string();
-    let text = fs::read_to_string(path).map_err(|source| ProfileError::Io { path: p.clone(), source })?;
+    let text = fs::read_to_string(path).map_err(|source| ProfileError::Io {
+        path: p.clone(),
+        source,
+    })?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -52,7 +55,7 @@ pub fn read_profile(path: &Path, expected: ProfileKind) -> Result<Profile, Profi
         _ => (read_columns(&p, &text)?, Vec::new()),
     };
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("profile");
-    let (s, z, more) = check_points(&p, points, expected)?;
+    let CheckedPoints { s, z, notes: more } = check_points(&p, points, expected)?;
     notes.extend(more);
     let mut profile = Profile::from_points(name, expected, &p, s, z).map_err(|e| ProfileError::InFile {
         path: p.clone(),
@@ -66,16 +69,27 @@ pub fn read_profile(path: &Path, expected: ProfileKind) -> Result<Profile, Profi
 }
 
 fn at(path: &str, line: usize, problem: impl Into<String>) -> ProfileError {
-    ProfileError::AtLine { path: path.to_string(), line, problem: problem.into() }
+    ProfileError::AtLine {
+        path: path.to_string(),
+        line,
+        problem: problem.into(),
+    }
 }
 
 fn parse_number(path: &str, line: usize, col: usize, cell: &str) -> Result<f64, ProfileError> {
-    let v: f64 = cell
-        .trim()
-        .parse()
-        .map_err(|_| at(path, line, format!("column {col}: '{}' is not a number", cell.trim())))?;
+    let v: f64 = cell.trim().parse().map_err(|_| {
+        at(
+            path,
+            line,
+            format!("column {col}: '{}' is not a number", cell.trim()),
+        )
+    })?;
     if !v.is_finite() {
-        return Err(at(path, line, format!("column {col}: {v} is not a finite number")));
+        return Err(at(
+            path,
+            line,
+            format!("column {col}: {v} is not a finite number"),
+        ));
     }
     Ok(v)
 }
@@ -102,7 +116,11 @@ fn read_csv(path: &str, text: &str) -> Result<Vec<RawPoint>, ProfileError> {
             continue; // header row
         }
         if rec.len() < 2 {
-            return Err(at(path, line, format!("expected 2 columns (y_mm, z_mm), found {}", rec.len())));
+            return Err(at(
+                path,
+                line,
+                format!("expected 2 columns (y_mm, z_mm), found {}", rec.len()),
+            ));
         }
         let y = parse_number(path, line, 1, &rec[0])?;
         let z = parse_number(path, line, 2, &rec[1])?;
@@ -120,9 +138,16 @@ fn read_columns(path: &str, text: &str) -> Result<Vec<RawPoint>, ProfileError> {
         if body.is_empty() {
             continue;
         }
-        let cells: Vec<&str> = body.split(|c: char| c.is_whitespace() || c == ',' || c == ';').filter(|c| !c.is_empty()).collect();
+        let cells: Vec<&str> = body
+            .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
+            .filter(|c| !c.is_empty())
+            .collect();
         if cells.len() < 2 {
-            return Err(at(path, line, format!("expected 2 columns (y z in mm), found {}", cells.len())));
+            return Err(at(
+                path,
+                line,
+                format!("expected 2 columns (y z in mm), found {}", cells.len()),
+            ));
         }
         let y = parse_number(path, line, 1, cells[0])?;
         let z = parse_number(path, line, 2, cells[1])?;
@@ -168,7 +193,11 @@ fn read_simpack(
         if in_points {
             let cells: Vec<&str> = body.split_whitespace().collect();
             if cells.len() < 2 {
-                return Err(at(path, line, format!("expected 'y z [weight]', found {}", cells.len())));
+                return Err(at(
+                    path,
+                    line,
+                    format!("expected 'y z [weight]', found {}", cells.len()),
+                ));
             }
             let y = parse_number(path, line, 1, cells[0])?;
             let z = parse_number(path, line, 2, cells[1])?;
@@ -185,7 +214,13 @@ fn read_simpack(
                     let k = match num()? as i64 {
                         0 => ProfileKind::Rail,
                         1 => ProfileKind::Wheel,
-                        t => return Err(at(path, line, format!("unknown profile type {t} (0 = rail, 1 = wheel)"))),
+                        t => {
+                            return Err(at(
+                                path,
+                                line,
+                                format!("unknown profile type {t} (0 = rail, 1 = wheel)"),
+                            ))
+                        }
                     };
                     kind = Some((k, line));
                 }
@@ -211,11 +246,18 @@ fn read_simpack(
         }
     }
     if !seen_points {
-        return Err(ProfileError::InFile { path: path.into(), problem: "no 'point.begin' block: not a SIMPACK profile".into() });
+        return Err(ProfileError::InFile {
+            path: path.into(),
+            problem: "no 'point.begin' block: not a SIMPACK profile".into(),
+        });
     }
     if let Some((k, _)) = kind {
         if k != expected {
-            return Err(ProfileError::WrongKind { path: path.into(), expected, found: k });
+            return Err(ProfileError::WrongKind {
+                path: path.into(),
+                expected,
+                found: k,
+            });
         }
     }
     let mut notes = Vec::new();
@@ -237,21 +279,37 @@ fn read_simpack(
     Ok((pts, notes))
 }
 
-/// Checks raw points and converts them to SI: returns (s, z) in m, increasing s, and notes.
+/// Points that passed the checks, SI, increasing s, with what was done to them.
+struct CheckedPoints {
+    s: Vec<f64>,
+    z: Vec<f64>,
+    notes: Vec<String>,
+}
+
+/// Checks raw points and converts them to SI.
 fn check_points(
     path: &str,
     mut pts: Vec<RawPoint>,
     kind: ProfileKind,
-) -> Result<(Vec<f64>, Vec<f64>, Vec<String>), ProfileError> {
+) -> Result<CheckedPoints, ProfileError> {
     let mut notes = Vec::new();
     if pts.is_empty() {
-        return Err(ProfileError::InFile { path: path.into(), problem: "no profile points (empty file)".into() });
+        return Err(ProfileError::InFile {
+            path: path.into(),
+            problem: "no profile points (empty file)".into(),
+        });
     }
     let last_line = pts[pts.len() - 1].line;
     if pts.len() < 4 {
-        return Err(at(path, last_line, format!("only {} points; a profile needs at least 4", pts.len())));
+        return Err(at(
+            path,
+            last_line,
+            format!("only {} points; a profile needs at least 4", pts.len()),
+        ));
     }
-    let (ymin, ymax) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.y), b.max(p.y)));
+    let (ymin, ymax) = pts
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.y), b.max(p.y)));
     if ymax - ymin < MIN_EXTENT_MM {
         return Err(at(
             path,
@@ -285,7 +343,11 @@ fn check_points(
         hi -= 1;
     }
     if lo > 0 {
-        notes.push(format!("{lo} points of a vertical end trimmed (lines {}–{})", pts[0].line, pts[lo - 1].line));
+        notes.push(format!(
+            "{lo} points of a vertical end trimmed (lines {}–{})",
+            pts[0].line,
+            pts[lo - 1].line
+        ));
     }
     if hi < pts.len() - 1 {
         notes.push(format!(
@@ -309,7 +371,14 @@ fn check_points(
         }
     }
     if pts.len() < 4 {
-        return Err(at(path, last_line, format!("only {} usable points after trimming vertical ends; a profile needs at least 4", pts.len())));
+        return Err(at(
+            path,
+            last_line,
+            format!(
+                "only {} usable points after trimming vertical ends; a profile needs at least 4",
+                pts.len()
+            ),
+        ));
     }
     let s: Vec<f64> = pts.iter().map(|p| p.y * 1e-3).collect();
     let mut z: Vec<f64> = pts.iter().map(|p| p.z * 1e-3).collect();
@@ -326,15 +395,21 @@ fn check_points(
         }
         // Height of the taping line by the same spline the profile will use.
         let z0 = super::CubicSpline::new(s.clone(), z.clone())
-            .map_err(|e| ProfileError::InFile { path: path.into(), problem: format!("invalid points: {e:?}") })?
+            .map_err(|e| ProfileError::InFile {
+                path: path.into(),
+                problem: format!("invalid points: {e:?}"),
+            })?
             .eval(0.0)
             .z;
         if z0 != 0.0 {
             z.iter_mut().for_each(|v| *v -= z0);
-            notes.push(format!("shifted {:.4} mm vertically so the taping line y = 0 is at z = 0", -z0 * 1e3));
+            notes.push(format!(
+                "shifted {:.4} mm vertically so the taping line y = 0 is at z = 0",
+                -z0 * 1e3
+            ));
         }
     }
-    Ok((s, z, notes))
+    Ok(CheckedPoints { s, z, notes })
 }
 
 /// Writes a profile as CSV (`y_mm,z_mm`, z up, left-side orientation) with `#` comment lines
@@ -344,9 +419,15 @@ pub fn write_csv(profile: &Profile, path: &Path) -> std::io::Result<()> {
     let mut f = std::io::BufWriter::new(fs::File::create(path)?);
     writeln!(f, "# kecsim {} profile '{}'", profile.kind, profile.name)?;
     writeln!(f, "# source: {}", profile.source)?;
-    writeln!(f, "# y lateral towards the field side of a left-side profile, z up, both in mm")?;
+    writeln!(
+        f,
+        "# y lateral towards the field side of a left-side profile, z up, both in mm"
+    )?;
     if profile.kind == ProfileKind::Wheel {
-        writeln!(f, "# wheel: y = 0 is the taping line (nominal rolling circle), radius = r0 - z")?;
+        writeln!(
+            f,
+            "# wheel: y = 0 is the taping line (nominal rolling circle), radius = r0 - z"
+        )?;
     }
     let mut w = csv::Writer::from_writer(f);
     w.write_record(["y_mm", "z_mm"])?;
@@ -388,34 +469,59 @@ mod tests {
 
     #[test]
     fn bad_input_names_file_line_and_problem() {
-        let missing = read_profile(Path::new("/nonexistent/x.csv"), ProfileKind::Rail).unwrap_err().to_string();
-        assert!(missing.contains("/nonexistent/x.csv") && missing.contains("cannot read"), "{missing}");
+        let missing = read_profile(Path::new("/nonexistent/x.csv"), ProfileKind::Rail)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            missing.contains("/nonexistent/x.csv") && missing.contains("cannot read"),
+            "{missing}"
+        );
 
         let e = err("empty.csv", "", ProfileKind::Rail);
         assert!(e.contains("empty.csv") && e.contains("empty file"), "{e}");
 
         let e = err("cell.csv", "y_mm,z_mm\n0,0\n1,abc\n2,0\n3,0\n", ProfileKind::Rail);
-        assert!(e.contains("cell.csv:3:") && e.contains("'abc' is not a number"), "{e}");
+        assert!(
+            e.contains("cell.csv:3:") && e.contains("'abc' is not a number"),
+            "{e}"
+        );
 
         let e = err("few.csv", "y,z\n0,0\n1,0\n2,0\n", ProfileKind::Rail);
         assert!(e.contains("few.csv:4:") && e.contains("only 3 points"), "{e}");
 
         let e = err("nan.dat", "0 0\n1 NaN\n2 0\n3 0\n", ProfileKind::Rail);
-        assert!(e.contains("nan.dat:2:") && e.contains("not a finite number"), "{e}");
+        assert!(
+            e.contains("nan.dat:2:") && e.contains("not a finite number"),
+            "{e}"
+        );
         let e = err("inf.csv", "0,0\n1,0\n2,inf\n3,0\n", ProfileKind::Rail);
         assert!(e.contains("inf.csv:3:") && e.contains("not a finite"), "{e}");
 
-        let e = err("back.csv", "0,0\n1,0\n2,0.1\n1.5,0.2\n3,0\n4,0\n", ProfileKind::Rail);
+        let e = err(
+            "back.csv",
+            "0,0\n1,0\n2,0.1\n1.5,0.2\n3,0\n4,0\n",
+            ProfileKind::Rail,
+        );
         assert!(e.contains("back.csv:4:") && e.contains("goes back"), "{e}");
 
-        let e = err("metres.csv", "-0.03,0\n-0.01,0.001\n0,0.0012\n0.01,0.001\n0.03,0\n", ProfileKind::Rail);
-        assert!(e.contains("metres.csv:1:") && e.contains("looks like metres"), "{e}");
+        let e = err(
+            "metres.csv",
+            "-0.03,0\n-0.01,0.001\n0,0.0012\n0.01,0.001\n0.03,0\n",
+            ProfileKind::Rail,
+        );
+        assert!(
+            e.contains("metres.csv:1:") && e.contains("looks like metres"),
+            "{e}"
+        );
 
         let e = err("wheel.dat", "5 0\n6 0\n7 0\n8 0\n", ProfileKind::Wheel);
         assert!(e.contains("taping line"), "{e}");
 
         let e = err("cols.dat", "0 0\n1\n", ProfileKind::Rail);
-        assert!(e.contains("cols.dat:2:") && e.contains("expected 2 columns"), "{e}");
+        assert!(
+            e.contains("cols.dat:2:") && e.contains("expected 2 columns"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -426,7 +532,11 @@ mod tests {
         let rot = body.replace("spline.begin\n", "spline.begin\n rotate = 0.1\n");
         let e = err("rot.prr", &rot, ProfileKind::Rail);
         assert!(e.contains("rot.prr:5:") && e.contains("rotate"), "{e}");
-        let e = err("nopts.prr", "header.begin\n type = 0\nheader.end\n", ProfileKind::Rail);
+        let e = err(
+            "nopts.prr",
+            "header.begin\n type = 0\nheader.end\n",
+            ProfileKind::Rail,
+        );
         assert!(e.contains("no 'point.begin'"), "{e}");
     }
 
@@ -443,6 +553,10 @@ mod tests {
         }
         let p = read_profile(&tmp("side.dat", &t), ProfileKind::Rail).unwrap();
         assert!((p.domain().0 + 0.010).abs() < 1e-12);
-        assert!(p.notes.iter().any(|n| n.contains("vertical end trimmed")), "{:?}", p.notes);
+        assert!(
+            p.notes.iter().any(|n| n.contains("vertical end trimmed")),
+            "{:?}",
+            p.notes
+        );
     }
 }

@@ -80,7 +80,11 @@ pub enum ProfileError {
         source: std::io::Error,
     },
     #[error("{path}:{line}: {problem}")]
-    AtLine { path: String, line: usize, problem: String },
+    AtLine {
+        path: String,
+        line: usize,
+        problem: String,
+    },
     #[error("{path}: {problem}")]
     InFile { path: String, problem: String },
     #[error(
@@ -145,7 +149,11 @@ impl Profile {
             Side::Left => self.curve.eval(s),
             Side::Right => {
                 let p = self.curve.eval(-s);
-                CurvePoint { z: p.z, dz: -p.dz, d2z: p.d2z }
+                CurvePoint {
+                    z: p.z,
+                    dz: -p.dz,
+                    d2z: p.d2z,
+                }
             }
         }
     }
@@ -195,7 +203,9 @@ impl Profile {
         }
         let path = Path::new(spec);
         if !path.exists() && path.extension().is_none() {
-            return Err(ProfileError::UnknownName { name: spec.to_string() });
+            return Err(ProfileError::UnknownName {
+                name: spec.to_string(),
+            });
         }
         io::read_profile(path, expected)
     }
@@ -236,7 +246,10 @@ mod tests {
                 worst = worst.max(vertical / (1.0 + dg * dg).sqrt());
             }
             // 0.1 µm: far below any measured profile's accuracy.
-            assert!(worst < 1e-7, "{std:?}: spline vs analytic {worst:e} m (normal distance)");
+            assert!(
+                worst < 1e-7,
+                "{std:?}: spline vs analytic {worst:e} m (normal distance)"
+            );
         }
     }
 

@@ -41,11 +41,17 @@ pub struct Inclination {
 }
 
 impl Inclination {
-    pub const UPRIGHT: Inclination = Inclination { angle_rad: 0.0, ratio: None };
+    pub const UPRIGHT: Inclination = Inclination {
+        angle_rad: 0.0,
+        ratio: None,
+    };
 
     /// `1:N`.
     pub fn one_in(n: f64) -> Self {
-        Inclination { angle_rad: (1.0 / n).atan(), ratio: Some(n) }
+        Inclination {
+            angle_rad: (1.0 / n).atan(),
+            ratio: Some(n),
+        }
     }
 }
 
@@ -68,7 +74,10 @@ impl FromStr for Inclination {
         }
         let bad = || format!("inclination '{s}': expected 1:N (e.g. 1:40, 1:20) or 'upright'");
         let (one, n) = t.split_once(':').ok_or_else(bad)?;
-        let (one, n): (f64, f64) = (one.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+        let (one, n): (f64, f64) = (
+            one.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
         if one != 1.0 || !n.is_finite() || n < 1.0 {
             return Err(bad());
         }
@@ -87,7 +96,10 @@ pub struct TrackGauge {
 
 impl Default for TrackGauge {
     fn default() -> Self {
-        TrackGauge { gauge_m: 1.435, measuring_depth_m: 0.014 }
+        TrackGauge {
+            gauge_m: 1.435,
+            measuring_depth_m: 0.014,
+        }
     }
 }
 
@@ -104,7 +116,11 @@ pub struct WheelsetGeometry {
 
 impl Default for WheelsetGeometry {
     fn default() -> Self {
-        WheelsetGeometry { back_to_back_m: 1.360, rolling_circle_from_back_m: 0.070, nominal_radius_m: 0.460 }
+        WheelsetGeometry {
+            back_to_back_m: 1.360,
+            rolling_circle_from_back_m: 0.070,
+            nominal_radius_m: 0.460,
+        }
     }
 }
 
@@ -168,11 +184,16 @@ impl RailPlacement {
             (s * cb - z * sb, s * sb + z * cb)
         };
         let (a, b) = rail.domain();
-        let fail = |problem: String| PlacementError::Rail { name: rail.name.clone(), problem };
+        let fail = |problem: String| PlacementError::Rail {
+            name: rail.name.clone(),
+            problem,
+        };
         // Highest point: dense scan, then bisection on dZ/ds = sinβ + z'(s) cosβ = 0.
         let n = ((b - a) / SEARCH_STEP_M).ceil() as usize;
         let s_at = |k: usize| a + (b - a) * k as f64 / n as f64;
-        let k_top = (0..=n).max_by(|&i, &j| rel(s_at(i)).1.total_cmp(&rel(s_at(j)).1)).unwrap_or(0);
+        let k_top = (0..=n)
+            .max_by(|&i, &j| rel(s_at(i)).1.total_cmp(&rel(s_at(j)).1))
+            .unwrap_or(0);
         let slope = |s: f64| sb + rail.eval(s).dz * cb;
         let (mut lo, mut hi) = (s_at(k_top.saturating_sub(1)), s_at((k_top + 1).min(n)));
         let top_s = if slope(lo) > 0.0 && slope(hi) < 0.0 {
@@ -241,7 +262,10 @@ impl RailPlacement {
         let z = rail.eval_side(side, s).z;
         let beta = side.sign() * self.inclination_rad;
         let (sb, cb) = beta.sin_cos();
-        (side.sign() * self.lateral_m + s * cb - z * sb, self.vertical_m + s * sb + z * cb)
+        (
+            side.sign() * self.lateral_m + s * cb - z * sb,
+            self.vertical_m + s * sb + z * cb,
+        )
     }
 
     /// The gauge point of a side in track coordinates.
@@ -278,11 +302,20 @@ impl WheelRailPair {
         if wheel.kind != ProfileKind::Wheel || rail.kind != ProfileKind::Rail {
             return Err(PlacementError::Rail {
                 name: rail.name.clone(),
-                problem: format!("expected a wheel and a rail profile, got a {} and a {}", wheel.kind, rail.kind),
+                problem: format!(
+                    "expected a wheel and a rail profile, got a {} and a {}",
+                    wheel.kind, rail.kind
+                ),
             });
         }
         let rail_placement = RailPlacement::new(&rail, inclination, gauge)?;
-        Ok(WheelRailPair { wheel, rail, inclination, wheelset, rail_placement })
+        Ok(WheelRailPair {
+            wheel,
+            rail,
+            inclination,
+            wheelset,
+            rail_placement,
+        })
     }
 
     /// The wheel of a side in track coordinates, at the profile's knots, with the wheelset centred
@@ -291,7 +324,10 @@ impl WheelRailPair {
         let r0 = self.wheelset.nominal_radius_m;
         let (s, _) = self.wheel.knots();
         s.iter()
-            .map(|&sk| self.wheelset.wheel_point(&self.wheel, side, side.sign() * sk, 0.0, r0, 0.0))
+            .map(|&sk| {
+                self.wheelset
+                    .wheel_point(&self.wheel, side, side.sign() * sk, 0.0, r0, 0.0)
+            })
             .collect()
     }
 
@@ -330,17 +366,30 @@ mod tests {
         let g = TrackGauge::default();
         // At 1:20 the gauge point lies on the (then vertical) flank, whose position in the facts
         // recipe carries the rounding of its R13 end (1:20.1 instead of 1:20): 0.015 mm allowed.
-        for (incl, outboard_mm, tol) in [("upright", 35.981, 0.005), ("1:40", 43.03, 0.005), ("1:20", 46.515, 0.015)] {
+        for (incl, outboard_mm, tol) in [
+            ("upright", 35.981, 0.005),
+            ("1:40", 43.03, 0.005),
+            ("1:20", 46.515, 0.015),
+        ] {
             let p = RailPlacement::new(&rail, incl.parse().unwrap(), g).unwrap();
             for side in Side::BOTH {
                 let (yg, zg) = p.gauge_point(&rail, side);
                 let (yt, zt) = p.top_point(&rail, side);
-                assert!((yg - side.sign() * 0.7175).abs() < 1e-9, "{incl} {side:?} gauge Y {yg}");
+                assert!(
+                    (yg - side.sign() * 0.7175).abs() < 1e-9,
+                    "{incl} {side:?} gauge Y {yg}"
+                );
                 assert!(zt.abs() < 1e-12, "top at Z = 0");
-                assert!((zg + 0.014).abs() < 1e-6, "{incl}: gauge point at 14 mm below top, {zg}");
+                assert!(
+                    (zg + 0.014).abs() < 1e-6,
+                    "{incl}: gauge point at 14 mm below top, {zg}"
+                );
                 let out = side.sign() * (yt - yg) * 1e3;
                 eprintln!("{incl}: highest point {out:.4} mm outboard of the gauge point");
-                assert!((out - outboard_mm).abs() < tol, "{incl}: top {out} mm outboard, expected {outboard_mm}");
+                assert!(
+                    (out - outboard_mm).abs() < tol,
+                    "{incl}: top {out} mm outboard, expected {outboard_mm}"
+                );
             }
         }
     }
@@ -367,7 +416,10 @@ mod tests {
             assert!((y - side.sign() * 0.75).abs() < 1e-15 && z.abs() < 1e-12);
             // The flange is on the inner side and hangs 28 mm below the taping line.
             let (yf, zf) = g.wheel_point(&w, side, -side.sign() * 0.055, 0.0, 0.46, 0.0);
-            assert!(yf.abs() < 0.75 && (zf + 0.028).abs() < 1e-5, "{side:?}: flange at {yf}, {zf}");
+            assert!(
+                yf.abs() < 0.75 && (zf + 0.028).abs() < 1e-5,
+                "{side:?}: flange at {yf}, {zf}"
+            );
         }
     }
 }

@@ -21,7 +21,14 @@ pub enum Section {
     /// g = Σ c_k x^k (up to degree 8).
     Poly { x0: f64, x1: f64, c: [f64; 9] },
     /// g = gc + sign·sqrt(r² − (x − xc)²).
-    Circle { x0: f64, x1: f64, xc: f64, gc: f64, r: f64, sign: f64 },
+    Circle {
+        x0: f64,
+        x1: f64,
+        xc: f64,
+        gc: f64,
+        r: f64,
+        sign: f64,
+    },
 }
 
 impl Section {
@@ -65,7 +72,10 @@ pub struct SectionCurve {
 impl SectionCurve {
     /// Lateral range covered.
     pub fn range(&self) -> (f64, f64) {
-        (self.sections[0].range().0, self.sections[self.sections.len() - 1].range().1)
+        (
+            self.sections[0].range().0,
+            self.sections[self.sections.len() - 1].range().1,
+        )
     }
 
     /// Section joints (interior breakpoints), mm.
@@ -238,14 +248,58 @@ fn s1002_sections() -> SectionCurve {
     cham[0] = aa;
     cham[1] = -ba;
     let sections = vec![
-        Section::Circle { x0: x_start, x1: -62.764705882, xc: -ch, gc: ah, r: bh, sign: 1.0 },
-        Section::Circle { x0: -62.764705882, x1: -49.662510381, xc: -cg, gc: ag, r: bg, sign: 1.0 },
-        Section::Circle { x0: -49.662510381, x1: -39.764473993, xc: -cf, gc: af, r: bf, sign: 1.0 },
-        Section::Poly { x0: -39.764473993, x1: -38.426669071, c: line },
-        Section::Circle { x0: -38.426669071, x1: -35.0, xc: -cd, gc: ad, r: bd, sign: -1.0 },
-        Section::Poly { x0: -35.0, x1: -26.0, c },
-        Section::Poly { x0: -26.0, x1: 32.15796, c: b },
-        Section::Poly { x0: 32.15796, x1: 60.0, c: cham },
+        Section::Circle {
+            x0: x_start,
+            x1: -62.764705882,
+            xc: -ch,
+            gc: ah,
+            r: bh,
+            sign: 1.0,
+        },
+        Section::Circle {
+            x0: -62.764705882,
+            x1: -49.662510381,
+            xc: -cg,
+            gc: ag,
+            r: bg,
+            sign: 1.0,
+        },
+        Section::Circle {
+            x0: -49.662510381,
+            x1: -39.764473993,
+            xc: -cf,
+            gc: af,
+            r: bf,
+            sign: 1.0,
+        },
+        Section::Poly {
+            x0: -39.764473993,
+            x1: -38.426669071,
+            c: line,
+        },
+        Section::Circle {
+            x0: -38.426669071,
+            x1: -35.0,
+            xc: -cd,
+            gc: ad,
+            r: bd,
+            sign: -1.0,
+        },
+        Section::Poly {
+            x0: -35.0,
+            x1: -26.0,
+            c,
+        },
+        Section::Poly {
+            x0: -26.0,
+            x1: 32.15796,
+            c: b,
+        },
+        Section::Poly {
+            x0: 32.15796,
+            x1: 60.0,
+            c: cham,
+        },
     ];
     SectionCurve { sections }
 }
@@ -277,13 +331,56 @@ fn rail_head_sections(x1: f64, x2: f64) -> SectionCurve {
         c
     };
     let sections = vec![
-        Section::Poly { x0: -x4, x1: -x3, c: line_left },
-        Section::Circle { x0: -x3, x1: -x2, xc: -x30, gc: z30, r: r3, sign: -1.0 },
-        Section::Circle { x0: -x2, x1: -x1, xc: -x20, gc: z20, r: r2, sign: -1.0 },
-        Section::Circle { x0: -x1, x1, xc: 0.0, gc: r1, r: r1, sign: -1.0 },
-        Section::Circle { x0: x1, x1: x2, xc: x20, gc: z20, r: r2, sign: -1.0 },
-        Section::Circle { x0: x2, x1: x3, xc: x30, gc: z30, r: r3, sign: -1.0 },
-        Section::Poly { x0: x3, x1: x4, c: line_right },
+        Section::Poly {
+            x0: -x4,
+            x1: -x3,
+            c: line_left,
+        },
+        Section::Circle {
+            x0: -x3,
+            x1: -x2,
+            xc: -x30,
+            gc: z30,
+            r: r3,
+            sign: -1.0,
+        },
+        Section::Circle {
+            x0: -x2,
+            x1: -x1,
+            xc: -x20,
+            gc: z20,
+            r: r2,
+            sign: -1.0,
+        },
+        Section::Circle {
+            x0: -x1,
+            x1,
+            xc: 0.0,
+            gc: r1,
+            r: r1,
+            sign: -1.0,
+        },
+        Section::Circle {
+            x0: x1,
+            x1: x2,
+            xc: x20,
+            gc: z20,
+            r: r2,
+            sign: -1.0,
+        },
+        Section::Circle {
+            x0: x2,
+            x1: x3,
+            xc: x30,
+            gc: z30,
+            r: r3,
+            sign: -1.0,
+        },
+        Section::Poly {
+            x0: x3,
+            x1: x4,
+            c: line_right,
+        },
     ];
     SectionCurve { sections }
 }
@@ -300,8 +397,15 @@ mod tests {
             assert_eq!(x, w[1].range().0, "{p:?}: sections not contiguous");
             let (ga, da, _) = w[0].eval(x);
             let (gb, db, _) = w[1].eval(x);
-            assert!((ga - gb).abs() < value_tol_mm, "{p:?} value jump {} at {x}", ga - gb);
-            assert!((da - db).abs() < slope_tol * (1.0 + da.abs()), "{p:?} slope {da} vs {db} at {x}");
+            assert!(
+                (ga - gb).abs() < value_tol_mm,
+                "{p:?} value jump {} at {x}",
+                ga - gb
+            );
+            assert!(
+                (da - db).abs() < slope_tol * (1.0 + da.abs()),
+                "{p:?} slope {da} vs {db} at {x}"
+            );
         }
     }
 
@@ -359,7 +463,13 @@ mod tests {
         let x3 = r60.sections[5].range().1;
         assert!((x3 - 36.0).abs() < 0.01, "60E1 R13 end {x3}");
         // Depths computed from the GENSYS recipe (facts/rails.txt).
-        for (y, d) in [(5.0, 0.0417), (15.0, 0.4802), (25.0, 2.0653), (30.0, 3.9845), (34.0, 7.9956)] {
+        for (y, d) in [
+            (5.0, 0.0417),
+            (15.0, 0.4802),
+            (25.0, 2.0653),
+            (30.0, 3.9845),
+            (34.0, 7.9956),
+        ] {
             let g = r60.eval(y).0;
             assert!((g - d).abs() < 2e-3, "60E1 depth at {y}: {g} vs {d}");
         }
@@ -373,7 +483,10 @@ mod tests {
         for p in StandardProfile::ALL {
             assert_eq!(StandardProfile::from_name(p.name()), Some(p));
         }
-        assert_eq!(StandardProfile::from_name("UIC60"), Some(StandardProfile::Rail60E1));
+        assert_eq!(
+            StandardProfile::from_name("UIC60"),
+            Some(StandardProfile::Rail60E1)
+        );
         assert_eq!(StandardProfile::from_name("s1003"), None);
     }
 }

@@ -1,0 +1,252 @@
+//! The `kecsim` binary end to end: recordings it writes are read back (entities and values), the
+//! `rerun` CLI verifies them, and bad input exits non-zero with a clear message, never a panic.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use kecsim::inspect::readback::recording_chunks;
+use rerun::components::{LineStrip2D, Position2D, Text};
+use rerun::{LineStrips2D, Points2D, TextDocument};
+
+fn kecsim(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kecsim"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("kecsim runs")
+}
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("kecsim-test-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Everything the recording holds, per entity: strips, points, texts.
+#[derive(Default, Debug)]
+struct Entity {
+    strips: Vec<Vec<[f32; 2]>>,
+    points: Vec<[f32; 2]>,
+    texts: Vec<String>,
+}
+
+fn read(path: &Path) -> BTreeMap<String, Entity> {
+    let mut out: BTreeMap<String, Entity> = BTreeMap::new();
+    for chunk in recording_chunks(path).unwrap() {
+        let e = out.entry(chunk.entity_path().to_string()).or_default();
+        for row in chunk.iter_component::<LineStrip2D>(LineStrips2D::descriptor_strips().component) {
+            e.strips.extend(
+                row.iter()
+                    .map(|s| s.0.iter().map(|v| [v.x(), v.y()]).collect::<Vec<_>>()),
+            );
+        }
+        for row in chunk.iter_component::<Position2D>(Points2D::descriptor_positions().component) {
+            e.points.extend(row.iter().map(|p| [p.x(), p.y()]));
+        }
+        for row in chunk.iter_component::<Text>(TextDocument::descriptor_text().component) {
+            e.texts.extend(row.iter().map(|t| t.as_str().to_string()));
+        }
+    }
+    out
+}
+
+fn near(a: [f32; 2], b: [f32; 2], tol: f32) -> bool {
+    (a[0] - b[0]).abs() < tol && (a[1] - b[1]).abs() < tol
+}
+
+/// `rerun rrd verify` on the file, when the CLI is available. CI sets KECSIM_REQUIRE_RERUN_CLI=1
+/// (after `pip install rerun-sdk`), which turns a missing CLI into a failure.
+fn rerun_verify(path: &Path) {
+    match Command::new("rerun").args(["rrd", "verify"]).arg(path).output() {
+        Ok(out) => assert!(
+            out.status.success(),
+            "rerun rrd verify failed:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        ),
+        Err(e) => {
+            assert!(
+                std::env::var_os("KECSIM_REQUIRE_RERUN_CLI").is_none(),
+                "rerun CLI required but not runnable: {e}"
+            );
+            eprintln!("note: `rerun` CLI not found ({e}); skipped `rerun rrd verify` (pip install rerun-sdk==0.36.3)");
+        }
+    }
+}
+
+#[test]
+fn profiles_recording_reads_back_with_expected_entities_and_values() {
+    let dir = tmpdir("profiles");
+    let rrd = dir.join("p.rrd");
+    let out = kecsim(
+        &[
+            "profiles",
+            "--wheel",
+            "s1002",
+            "--rail",
+            "60e1",
+            "--inclination",
+            "1:40",
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    rerun_verify(&rrd);
+    let rec = read(&rrd);
+    for side in ["left", "right"] {
+        for what in ["rail", "wheel", "markers"] {
+            assert!(
+                rec.contains_key(&format!("/profiles/real/{side}/{what}")),
+                "missing {side}/{what}: {:?}",
+                rec.keys()
+            );
+        }
+    }
+    for (side, sign) in [("left", 1.0f32), ("right", -1.0)] {
+        let m = &rec[&format!("/profiles/real/{side}/markers")].points;
+        // Gauge point at ±717.5 mm, 14 mm below the top (stored as [Y, −Z] in mm).
+        assert!(
+            near(m[0], [sign * 717.5, 14.0], 1e-3),
+            "{side} gauge point {:?}",
+            m[0]
+        );
+        // Taping line at ±750 mm on the top-of-rail plane.
+        assert!(
+            near(m[2], [sign * 750.0, 0.0], 1e-3),
+            "{side} taping line {:?}",
+            m[2]
+        );
+        let rail = &rec[&format!("/profiles/real/{side}/rail")].strips[0];
+        let wheel = &rec[&format!("/profiles/real/{side}/wheel")].strips[0];
+        // Right way up: the rail lies below its top (depth ≥ 0), the flange hangs 28 mm below
+        // the taping line on the inner side of the rail.
+        let top = rail.iter().map(|p| p[1]).fold(f32::MAX, f32::min);
+        assert!(top.abs() < 1e-3, "{side} rail top {top}");
+        let flange = wheel
+            .iter()
+            .fold([0.0f32, f32::MIN], |a, p| if p[1] > a[1] { *p } else { a });
+        assert!(
+            (flange[1] - 28.0).abs() < 0.01,
+            "{side} flange depth {}",
+            flange[1]
+        );
+        assert!(
+            sign * flange[0] < 717.5 && sign * flange[0] > 690.0,
+            "{side} flange at Y = {}",
+            flange[0]
+        );
+    }
+    let summary = &rec["/profiles/summary"].texts[0];
+    assert!(
+        summary.contains("s1002") && summary.contains("60e1") && summary.contains("1:40"),
+        "{summary}"
+    );
+}
+
+#[test]
+fn run_with_no_arguments_writes_kecsim_rrd() {
+    let dir = tmpdir("run");
+    let out = kecsim(&["run"], &dir);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("saved kecsim.rrd"), "{stdout}");
+    let rrd = dir.join("kecsim.rrd");
+    rerun_verify(&rrd);
+    assert!(read(&rrd).contains_key("/profiles/real/left/rail"));
+}
+
+#[test]
+fn profiles_load_by_path_in_every_format() {
+    let dir = tmpdir("formats");
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/profiles");
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (wheel, rail, incl) in [
+        (
+            repo.join("profiles/s1002.csv"),
+            repo.join("profiles/54e1.csv"),
+            "1:40",
+        ),
+        (
+            shared.join("MBench_S1002_v3.prw"),
+            shared.join("MBench_UIC60_v3.prr"),
+            "upright",
+        ),
+        (
+            shared.join("RUIC519A.dat"),
+            shared.join("SUIC519A.dat"),
+            "upright",
+        ),
+    ] {
+        let rrd = dir.join("f.rrd");
+        let out = kecsim(
+            &[
+                "profiles",
+                "--wheel",
+                wheel.to_str().unwrap(),
+                "--rail",
+                rail.to_str().unwrap(),
+                "--inclination",
+                incl,
+                "--save",
+                rrd.to_str().unwrap(),
+            ],
+            &dir,
+        );
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            wheel.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let m = &read(&rrd)["/profiles/real/left/markers"].points;
+        assert!(
+            near(m[0], [717.5, 14.0], 1e-3),
+            "{} gauge point {:?}",
+            rail.display(),
+            m[0]
+        );
+    }
+}
+
+#[test]
+fn bad_input_exits_nonzero_with_file_line_and_problem() {
+    let dir = tmpdir("bad");
+    std::fs::write(dir.join("cell.csv"), "y_mm,z_mm\n0,0\n1,x\n2,0\n3,0\n").unwrap();
+    std::fs::write(
+        dir.join("metres.dat"),
+        "-0.03 0\n-0.01 0.001\n0.0 0.0012\n0.01 0.001\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("bad.toml"),
+        "schema_version = 1\nname = \"x\"\nspeed = 3\n",
+    )
+    .unwrap();
+    let cases: [(&[&str], &str); 6] = [
+        (&["profiles", "--rail", "missing.csv"], "missing.csv: cannot read"),
+        (
+            &["profiles", "--rail", "cell.csv"],
+            "cell.csv:3: column 2: 'x' is not a number",
+        ),
+        (
+            &["profiles", "--rail", "metres.dat"],
+            "metres.dat:1: lateral extent",
+        ),
+        (&["profiles", "--wheel", "s1003"], "unknown profile 's1003'"),
+        (&["profiles", "--inclination", "1/40"], "inclination '1/40'"),
+        (&["run", "bad.toml"], "line 3"),
+    ];
+    for (args, needle) in cases {
+        let out = kecsim(args, &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: expected '{needle}' in:\n{stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{args:?} panicked:\n{stderr}");
+    }
+}
