@@ -94,30 +94,29 @@ fn s1002_matches_manchester_benchmark_prw() {
     );
 }
 
-#[test]
-fn uic60_at_1_40_matches_manchester_benchmark_prr() {
-    // The MBench rail is already canted 1:40: place it upright, the generated one at 1:40.
-    let file = Profile::resolve(
-        reference("MBench_UIC60_v3.prr").to_str().unwrap(),
-        ProfileKind::Rail,
-    )
-    .unwrap();
+/// Generated 60E1 at `gen_incl` against a rail file placed with `file_incl`, both gauged; asserts
+/// "a few hundredths" over the top 20 mm.
+fn check_60e1_against(file_name: &str, gen_incl: &str, file_incl: &str) {
+    let file = Profile::resolve(reference(file_name).to_str().unwrap(), ProfileKind::Rail).unwrap();
     let gen = StandardProfile::Rail60E1.profile();
-    let (max, rms, n) = rail_deviation(&gen, "1:40", &file, "upright", 20.0);
-    println!("60E1 1:40 generated vs MBench_UIC60_v3.prr (top 20 mm, gauged): {n} points, max {max:.4} mm, RMS {rms:.4} mm");
+    let (max, rms, n) = rail_deviation(&gen, gen_incl, &file, file_incl, 20.0);
+    println!(
+        "60E1 {gen_incl} generated vs {file_name} (top 20 mm, gauged): {n} points, max {max:.4} mm, RMS {rms:.4} mm"
+    );
     assert!(n > 100);
     assert!(max < 0.06 && rms < 0.03, "max {max} rms {rms}");
 }
 
 #[test]
+fn uic60_at_1_40_matches_manchester_benchmark_prr() {
+    // The MBench rail is already canted 1:40: place it upright, the generated one at 1:40.
+    check_60e1_against("MBench_UIC60_v3.prr", "1:40", "upright");
+}
+
+#[test]
 fn uic60_at_1_20_matches_en15302_rail_a() {
     // EN 15302 reference rail A = UIC60 inclined 1:20 (already inclined in the file).
-    let file = Profile::resolve(reference("SUIC519A.dat").to_str().unwrap(), ProfileKind::Rail).unwrap();
-    let gen = StandardProfile::Rail60E1.profile();
-    let (max, rms, n) = rail_deviation(&gen, "1:20", &file, "upright", 20.0);
-    println!("60E1 1:20 generated vs SUIC519A.dat (top 20 mm, gauged): {n} points, max {max:.4} mm, RMS {rms:.4} mm");
-    assert!(n > 100);
-    assert!(max < 0.06 && rms < 0.03, "max {max} rms {rms}");
+    check_60e1_against("SUIC519A.dat", "1:20", "upright");
 }
 
 #[test]

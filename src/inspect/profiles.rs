@@ -94,22 +94,20 @@ pub fn summary_markdown(pair: &WheelRailPair) -> String {
 
 /// Records the placed pair.
 pub fn record(rec: &RecordingStream, pair: &WheelRailPair) -> Result<(), InspectError> {
-    let mm = |pts: Vec<(f64, f64)>| pts.into_iter().map(|(y, z)| section_mm(y, z)).collect::<Vec<_>>();
+    let strip = |entity: String, pts: Vec<(f64, f64)>, rgb: [u8; 3]| {
+        let mm: Vec<[f32; 2]> = pts.into_iter().map(|(y, z)| section_mm(y, z)).collect();
+        let strips = LineStrips2D::new([mm])
+            .with_colors([color(rgb)])
+            .with_radii([Radius::new_ui_points(1.5)]);
+        log_static(rec, &entity, &strips)
+    };
     for side in Side::BOTH {
         let base = format!("profiles/real/{}", side.name());
-        log_static(
-            rec,
-            &format!("{base}/rail"),
-            &LineStrips2D::new([mm(pair.rail_positions(side))])
-                .with_colors([color(RAIL_RGB)])
-                .with_radii([Radius::new_ui_points(1.5)]),
-        )?;
-        log_static(
-            rec,
-            &format!("{base}/wheel"),
-            &LineStrips2D::new([mm(pair.centred_wheel_positions(side))])
-                .with_colors([color(WHEEL_RGB)])
-                .with_radii([Radius::new_ui_points(1.5)]),
+        strip(format!("{base}/rail"), pair.rail_positions(side), RAIL_RGB)?;
+        strip(
+            format!("{base}/wheel"),
+            pair.centred_wheel_positions(side),
+            WHEEL_RGB,
         )?;
         let rp = &pair.rail_placement;
         let (yg, zg) = rp.gauge_point(&pair.rail, side);
