@@ -4,12 +4,14 @@
 //! (KEC-method), inspected in Rerun. Modules follow the paper's order and data flows one way:
 //! track → profiles → contact → vehicle → dynamics → inspector.
 //!
+//! * [`contact`]: contact geometry (approximate constraints, Eq. 35–42) and what builds on it.
 //! * [`profile`]: wheel and rail profiles as C² curves, standard profiles, files, placement (§3).
 //! * [`scenario`]: scenario files (TOML) compiled into scenes.
 //! * [`bench`]: measured speed with its error, printed by `kecsim bench`.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
 
 pub mod bench;
+pub mod contact;
 pub mod inspect;
 pub mod profile;
 pub mod scenario;
