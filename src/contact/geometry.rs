@@ -452,18 +452,92 @@ impl ContactGeometry {
         }
     }
 
-    /// Global search: the roll at which both sides touch, with z and the surface parameters at the
-    /// minimum gaps — the seed of Newton.
-    pub fn seed(&self, y: f64, off: &RailOffsets) -> Result<[f64; 6], ContactError> {
+    /// Exact vertical gap at wheel parameter `sw` (wheelset at height 0, roll `phi`): the rail
+    /// height under the wheel point, found by Newton on R_Y(s^r) = W_Y from `sr_guess`.
+    fn exact_gap(
+        &self,
+        side: Side,
+        off: &RailOffsets,
+        y: f64,
+        phi: f64,
+        sw: f64,
+        sr_guess: f64,
+    ) -> (f64, f64) {
+        let (hw, _, _) = self.wheel(side, sw);
+        let lat = side.sign() * self.l_w() + sw;
+        let (wy, wz) = (y + lat + phi * hw, phi * lat - hw);
+        let (sa, ca) = self.alpha(side, off).sin_cos();
+        let (oy, oz) = self.rail_origin(side, off);
+        let mut sr = sr_guess;
+        for _ in 0..12 {
+            let (hr, hr1, _) = self.rail(side, sr);
+            let f = oy + ca * sr - sa * hr - wy;
+            let d = ca - sa * hr1;
+            if d.abs() < 1e-6 {
+                break;
+            }
+            let step = f / d;
+            sr -= step;
+            if step.abs() < 1e-15 {
+                break;
+            }
+        }
+        let (hr, _, _) = self.rail(side, sr);
+        (wz - (oz + sa * sr + ca * hr), sr)
+    }
+
+    /// Smallest gap of a side at roll `phi` (wheelset at height 0): `(gap, s^w, s^r)`, from the
+    /// sampled scan, and with `refine` polished by golden-section search on the exact gap.
+    fn min_gap(
+        &self,
+        side: Side,
+        env: &Envelope,
+        off: &RailOffsets,
+        y: f64,
+        phi: f64,
+        refine: bool,
+    ) -> Result<(f64, f64, f64), ContactError> {
+        let scan = self
+            .scan(side, env, y, 0.0, phi)
+            .ok_or_else(|| Self::no_overlap(y, side))?;
+        let (sw, sr, gap) = scan.samples[scan.min];
+        if !refine {
+            return Ok((gap, sw, sr));
+        }
+        let k = scan.min;
+        let (mut lo, mut hi) = (
+            scan.samples[k.saturating_sub(1)].0,
+            scan.samples[(k + 1).min(scan.samples.len() - 1)].0,
+        );
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let f = |s: f64| self.exact_gap(side, off, y, phi, s, sr);
+        while hi - lo > 1e-11 {
+            let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            if f(c).0 < f(d).0 {
+                hi = d
+            } else {
+                lo = c
+            }
+        }
+        let s = 0.5 * (lo + hi);
+        let (gap_exact, sr_exact) = f(s);
+        Ok((gap_exact.min(gap), s, sr_exact))
+    }
+
+    /// Global search: the roll at which both sides touch (bisection on G_L(φ) = G_R(φ) to
+    /// `phi_tolerance`), with z and the surface parameters at the minimum gaps. Unrefined, it is the
+    /// seed of Newton; refined, the minimum-gap solution itself.
+    fn search(
+        &self,
+        y: f64,
+        off: &RailOffsets,
+        refine: bool,
+        phi_tolerance: f64,
+    ) -> Result<[f64; 6], ContactError> {
         let envs = [self.envelope(Side::Left, off), self.envelope(Side::Right, off)];
-        let g = |side: Side, phi: f64| -> Result<GapScan, ContactError> {
-            self.scan(side, &envs[idx(side)], y, 0.0, phi)
-                .ok_or_else(|| Self::no_overlap(y, side))
-        };
-        let d = |phi: f64| -> Result<f64, ContactError> {
-            let (l, r) = (g(Side::Left, phi)?, g(Side::Right, phi)?);
-            Ok(l.samples[l.min].2 - r.samples[r.min].2)
-        };
+        let g = |side: Side, phi: f64| self.min_gap(side, &envs[idx(side)], off, y, phi, refine);
+        let d =
+            |phi: f64| -> Result<f64, ContactError> { Ok(g(Side::Left, phi)?.0 - g(Side::Right, phi)?.0) };
         let (mut lo, mut hi) = (-ROLL_LIMIT_RAD, ROLL_LIMIT_RAD);
         if d(lo)? > 0.0 || d(hi)? < 0.0 {
             return Err(ContactError::NoRollBracket {
@@ -471,8 +545,7 @@ impl ContactGeometry {
                 limit_rad: ROLL_LIMIT_RAD,
             });
         }
-        // 1e-7 rad: the seed only has to land Newton on the right branch; Newton polishes.
-        while hi - lo > 1e-7 {
+        while hi - lo > phi_tolerance {
             let m = 0.5 * (lo + hi);
             if d(m)? > 0.0 {
                 hi = m
@@ -481,19 +554,36 @@ impl ContactGeometry {
             }
         }
         let phi = 0.5 * (lo + hi);
-        let (l, r) = (g(Side::Left, phi)?, g(Side::Right, phi)?);
-        let z = -l.samples[l.min].2;
-        let (lw, lr) = (l.samples[l.min].0, l.samples[l.min].1);
-        let (rw, rr) = (r.samples[r.min].0, r.samples[r.min].1);
-        Ok([z, phi, lw, lr, rw, rr])
+        let (gl, lw, lr) = g(Side::Left, phi)?;
+        let (_, rw, rr) = g(Side::Right, phi)?;
+        Ok([-gl, phi, lw, lr, rw, rr])
+    }
+
+    /// The seed of Newton: the sampled global search to 1e-7 rad in roll.
+    pub fn seed(&self, y: f64, off: &RailOffsets) -> Result<[f64; 6], ContactError> {
+        self.search(y, off, false, 1e-7)
     }
 
     /// Solves the contact at lateral displacement `y` with rail offsets `off`: global seed, Newton,
     /// interpenetration check, secondary points, sensitivities.
+    ///
+    /// Where the wheel is locally more concave than the rail is convex (near-conformal flange-root
+    /// contact), the tangency condition Eq. (36) also holds at a local *maximum* of the gap, and
+    /// Newton may converge there with the profiles interpenetrating by a few µm on either side.
+    /// The check catches it, and the solution is then the refined minimum-gap search itself
+    /// (golden section on the exact gap, roll bisected to 1e-13 rad), which is the contact by
+    /// definition.
     pub fn solve(&self, y: f64, off: &RailOffsets) -> Result<ContactSolution, ContactError> {
         let x0 = self.seed(y, off)?;
         let (x, j, iterations) = self.newton(y, off, x0)?;
-        self.finish(y, off, x, j, iterations, true)
+        match self.finish(y, off, x, j, iterations, true) {
+            Err(ContactError::Interpenetration { .. }) => {
+                let x = self.search(y, off, true, 1e-13)?;
+                let (_, j) = self.residual(y, off, &x);
+                self.finish(y, off, x, j, 0, true)
+            }
+            other => other,
+        }
     }
 
     /// Warm-started solve for simulation: Newton from a previous solution, without the global

@@ -10,6 +10,7 @@
 //! own field-side coordinate).
 
 pub mod geometry;
+pub mod lookup;
 
 use crate::profile::Side;
 

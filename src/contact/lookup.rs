@@ -1,0 +1,972 @@
+//! Contact lookup tables (paper §4.3, Eq. 43–46).
+//!
+//! **1-entry table**: the contact configuration tabulated against the lateral displacement y on a
+//! track without irregularities, from flange contact on one side to flange contact on the other.
+//! **2-entry table**: the same against (y, gv), gv the gauge variation. In use (Eq. 44–46) the table
+//! is entered with ȳ = y − al, and then z = z_clu + vp, φ = φ_clu + cl/(2 L_r).
+//!
+//! **Interpolation.** Each row stores, besides z, φ and the four surface parameters, their exact
+//! derivatives with respect to y (and gv) from the implicit function theorem, so z, φ and the
+//! surface parameters are interpolated by cubic Hermite polynomials with those slopes: C¹ and
+//! fourth-order accurate where the geometry is smooth. Where the contact **jumps**, the jump
+//! location is found by bisection and the table holds two rows at the same y (the limits from
+//! either side), so that no interpolation ever runs across a jump: z and φ keep their kink, the
+//! surface parameters their step. The other stored quantities (contact angles, rolling radii,
+//! curvatures, contact positions) are interpolated by monotone piecewise-cubic Hermite (PCHIP,
+//! Fritsch–Carlson) between jumps. Across gv (2-entry) the same Hermite form is used with the
+//! stored gv-slopes; a jump whose location moves with gv is then smeared over one gv cell — the
+//! 2-entry table's inherent error, measured by `kecsim bench contact`.
+
+use std::path::Path;
+
+use super::geometry::{ContactError, ContactGeometry, ContactSolution};
+use super::RailOffsets;
+
+/// One tabulated contact configuration (SI). Also the result of a look-up.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TableRow {
+    /// Lateral displacement y, m.
+    pub y: f64,
+    /// Gauge variation gv the row belongs to, m.
+    pub gv: f64,
+    /// x = [z, φ, s^lw, s^lr, s^rw, s^rr] (z: wheelset centre height, m; φ rad; s in m).
+    pub x: [f64; 6],
+    /// dx/dy.
+    pub dx_dy: [f64; 6],
+    /// dx/dgv.
+    pub dx_dgv: [f64; 6],
+    /// Contact angle left, right, rad.
+    pub contact_angle: [f64; 2],
+    /// Rolling radius left, right, m.
+    pub rolling_radius: [f64; 2],
+    /// Wheel and rail lateral curvatures: [wheel left, rail left, wheel right, rail right], 1/m.
+    pub curvature: [f64; 4],
+    /// Contact point positions in the wheelset-track frame: [Y_l, Z_l, Y_r, Z_r], m.
+    pub position: [f64; 4],
+    /// Smallest gap of a secondary point within the two-point tolerance, left and right, m
+    /// (NaN where there is none).
+    pub two_point_gap: [f64; 2],
+}
+
+/// Number of "other" quantities interpolated by PCHIP.
+const N_OTHER: usize = 12;
+
+impl TableRow {
+    fn from_solution(s: &ContactSolution, gv: f64) -> Self {
+        let gap =
+            |p: &super::geometry::ContactPoint| p.secondary.iter().map(|q| q.gap).fold(f64::NAN, f64::min);
+        TableRow {
+            y: s.y,
+            gv,
+            x: s.x(),
+            dx_dy: s.dx_dy,
+            dx_dgv: s.dx_dgv,
+            contact_angle: [s.left.contact_angle, s.right.contact_angle],
+            rolling_radius: [s.left.rolling_radius, s.right.rolling_radius],
+            curvature: [
+                s.left.wheel_curvature,
+                s.left.rail_curvature,
+                s.right.wheel_curvature,
+                s.right.rail_curvature,
+            ],
+            position: [
+                s.left.position.0,
+                s.left.position.1,
+                s.right.position.0,
+                s.right.position.1,
+            ],
+            two_point_gap: [gap(&s.left), gap(&s.right)],
+        }
+    }
+
+    /// Height of the wheelset centre z, m.
+    pub fn z(&self) -> f64 {
+        self.x[0]
+    }
+    /// Roll angle φ, rad.
+    pub fn phi(&self) -> f64 {
+        self.x[1]
+    }
+    /// Rolling radius difference Δr = r_left − r_right, m.
+    pub fn delta_r(&self) -> f64 {
+        self.rolling_radius[0] - self.rolling_radius[1]
+    }
+
+    fn other(&self) -> [f64; N_OTHER] {
+        let mut o = [0.0; N_OTHER];
+        o[0..2].copy_from_slice(&self.contact_angle);
+        o[2..4].copy_from_slice(&self.rolling_radius);
+        o[4..8].copy_from_slice(&self.curvature);
+        o[8..12].copy_from_slice(&self.position);
+        o
+    }
+
+    fn set_other(&mut self, o: &[f64; N_OTHER]) {
+        self.contact_angle.copy_from_slice(&o[0..2]);
+        self.rolling_radius.copy_from_slice(&o[2..4]);
+        self.curvature.copy_from_slice(&o[4..8]);
+        self.position.copy_from_slice(&o[8..12]);
+    }
+}
+
+/// Lookup-table errors.
+#[derive(Debug, thiserror::Error)]
+pub enum TableError {
+    #[error("building the table: {0}")]
+    Contact(#[from] ContactError),
+    #[error("{what} = {value_mm:.4} mm is outside the table ({min_mm:.4} .. {max_mm:.4} mm)")]
+    OutOfRange {
+        what: &'static str,
+        value_mm: f64,
+        min_mm: f64,
+        max_mm: f64,
+    },
+    #[error("{path}: cannot read table: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}:{line}: {problem}")]
+    Format {
+        path: String,
+        line: usize,
+        problem: String,
+    },
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Table construction settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TableSettings {
+    /// Grid step in y, m (EN 15302 asks for ≤ 0.1 mm).
+    pub step_m: f64,
+    /// Largest |y| tabulated; `None`: up to flange contact on each side (see [`flange_contact_limit`]).
+    pub y_max_m: Option<f64>,
+    /// A surface parameter that departs from its Hermite prediction by more than this between two
+    /// grid nodes marks a contact jump, m.
+    pub jump_threshold_m: f64,
+    /// A grid interval is halved while the Hermite interpolation of z (m) or φ (rad) at its
+    /// midpoint misses the online solution by more than this.
+    pub refine_tolerance: f64,
+    /// At most this many halvings of a grid interval.
+    pub max_refinements: u32,
+}
+
+impl Default for TableSettings {
+    fn default() -> Self {
+        TableSettings {
+            step_m: 1e-4,
+            y_max_m: None,
+            jump_threshold_m: 2e-4,
+            refine_tolerance: 1e-8,
+            max_refinements: 6,
+        }
+    }
+}
+
+/// Surface parameters that differ by more than this at a located jump make it a real jump, m.
+const JUMP_MIN_STEP_M: f64 = 1e-5;
+
+/// A contact jump found while building a table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Jump {
+    /// Where, m.
+    pub y: f64,
+    /// Which side's contact jumps (true for left), and the wheel surface parameter before/after, m.
+    pub left: bool,
+    pub s_wheel_before: f64,
+    pub s_wheel_after: f64,
+}
+
+/// The 1-entry lookup table (at one gauge variation).
+#[derive(Debug, Clone)]
+pub struct LookupTable1 {
+    /// Gauge variation of this table, m (0 for the plain 1-entry table).
+    pub gv: f64,
+    /// Rows sorted by y; a jump is two consecutive rows with the same y.
+    pub rows: Vec<TableRow>,
+    /// PCHIP slopes d(other)/dy per row (one-sided at jumps and ends).
+    other_slopes: Vec<[f64; N_OTHER]>,
+    /// Jumps found.
+    pub jumps: Vec<Jump>,
+    /// Nominal rolling radius and rail lateral offset, m (for the Eq. 46 roll correction).
+    pub r0: f64,
+    pub l_r: f64,
+}
+
+/// The y at which flange contact is reached on the left (the contact angle reaches its largest
+/// value on the flange flank; beyond it the wheel would climb the flange), by a 0.1 mm scan from
+/// y = 0, refined by golden-section search. By symmetry of use, the table spans ±this on a
+/// symmetric pair; for an asymmetric pair both sides are scanned.
+pub fn flange_contact_limit(
+    geom: &ContactGeometry,
+    off: &RailOffsets,
+    left: bool,
+) -> Result<f64, TableError> {
+    let sign = if left { 1.0 } else { -1.0 };
+    let angle = |y: f64| -> Result<f64, TableError> {
+        let s = geom.solve(sign * y, off)?;
+        Ok(if left {
+            s.left.contact_angle
+        } else {
+            s.right.contact_angle
+        })
+    };
+    let step = 1e-4;
+    let mut prev = angle(0.0)?;
+    let mut y = 0.0;
+    loop {
+        let next_y = y + step;
+        let a = match angle(next_y) {
+            Ok(a) => a,
+            Err(_) if prev > 45f64.to_radians() => return Ok(y),
+            Err(e) => return Err(e),
+        };
+        if prev > 45f64.to_radians() && a < prev {
+            // Maximum between y − step and y + step: golden section.
+            let (mut lo, mut hi) = (y - step, next_y);
+            let g = 0.5 * (5f64.sqrt() - 1.0);
+            while hi - lo > 1e-7 {
+                let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
+                if angle(c)? > angle(d)? {
+                    hi = d
+                } else {
+                    lo = c
+                }
+            }
+            return Ok(0.5 * (lo + hi));
+        }
+        if next_y > 0.05 {
+            return Err(TableError::Invalid(
+                "no flange contact found within 50 mm of the centred position".into(),
+            ));
+        }
+        prev = a;
+        y = next_y;
+    }
+}
+
+fn hermite(y0: f64, y1: f64, v0: f64, v1: f64, d0: f64, d1: f64, y: f64) -> (f64, f64) {
+    let h = y1 - y0;
+    let t = (y - y0) / h;
+    let (t2, t3) = (t * t, t * t * t);
+    let (h00, h10, h01, h11) = (
+        2.0 * t3 - 3.0 * t2 + 1.0,
+        t3 - 2.0 * t2 + t,
+        -2.0 * t3 + 3.0 * t2,
+        t3 - t2,
+    );
+    let v = h00 * v0 + h10 * h * d0 + h01 * v1 + h11 * h * d1;
+    let (g00, g10, g01, g11) = (
+        6.0 * t2 - 6.0 * t,
+        3.0 * t2 - 4.0 * t + 1.0,
+        -6.0 * t2 + 6.0 * t,
+        3.0 * t2 - 2.0 * t,
+    );
+    let d = (g00 * v0 + g01 * v1) / h + g10 * d0 + g11 * d1;
+    (v, d)
+}
+
+/// Fritsch–Carlson PCHIP slopes of `v` over `y` (one piece, no jumps inside).
+fn pchip_slopes(y: &[f64], v: &[f64]) -> Vec<f64> {
+    let n = y.len();
+    if n < 2 {
+        return vec![0.0; n];
+    }
+    let del: Vec<f64> = (0..n - 1)
+        .map(|k| (v[k + 1] - v[k]) / (y[k + 1] - y[k]))
+        .collect();
+    if n == 2 {
+        return vec![del[0], del[0]];
+    }
+    let mut d = vec![0.0; n];
+    for k in 1..n - 1 {
+        if del[k - 1] * del[k] > 0.0 {
+            let (h0, h1) = (y[k] - y[k - 1], y[k + 1] - y[k]);
+            let (w1, w2) = (2.0 * h1 + h0, h1 + 2.0 * h0);
+            d[k] = (w1 + w2) / (w1 / del[k - 1] + w2 / del[k]);
+        }
+    }
+    let end = |h0: f64, h1: f64, d0: f64, d1: f64| {
+        let s = ((2.0 * h0 + h1) * d0 - h0 * d1) / (h0 + h1);
+        if s * d0 <= 0.0 {
+            0.0
+        } else if d0 * d1 <= 0.0 && s.abs() > 3.0 * d0.abs() {
+            3.0 * d0
+        } else {
+            s
+        }
+    };
+    d[0] = end(y[1] - y[0], y[2] - y[1], del[0], del[1]);
+    d[n - 1] = end(y[n - 1] - y[n - 2], y[n - 2] - y[n - 3], del[n - 2], del[n - 3]);
+    d
+}
+
+impl LookupTable1 {
+    /// Builds the table of `geom` at gauge variation `gv` over `[y_min, y_max]` with step `step`,
+    /// locating contact jumps exactly.
+    pub fn build_range(
+        geom: &ContactGeometry,
+        gv: f64,
+        y_min: f64,
+        y_max: f64,
+        settings: &TableSettings,
+    ) -> Result<Self, TableError> {
+        let off = RailOffsets::gauge_variation(gv);
+        let n = ((y_max - y_min) / settings.step_m).round().max(1.0) as usize;
+        let grid: Vec<f64> = (0..=n)
+            .map(|k| y_min + (y_max - y_min) * k as f64 / n as f64)
+            .collect();
+        let coarse = grid
+            .iter()
+            .map(|&y| geom.solve(y, &off))
+            .collect::<Result<Vec<_>, _>>()?;
+        // Between grid nodes: a contact jump is located by bisection and held as two rows at the
+        // same y; a sharp change of slope (the contact crossing a profile-curvature change) looks
+        // like a jump to the detector but has equal limits, and becomes an ordinary node; then
+        // intervals are halved where the Hermite cubic misses the online solution.
+        let mut sols = vec![coarse[0].clone()];
+        let mut jumps = Vec::new();
+        for w in coarse.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            match Self::jump_between(a, b, settings.jump_threshold_m) {
+                Some(left) => {
+                    let (sa, sb, yj) = Self::locate_jump(geom, &off, a, b, left)?;
+                    Self::refine(geom, &off, a, &sa, settings, settings.max_refinements, &mut sols)?;
+                    let step = (2..6).map(|k| (sa.x()[k] - sb.x()[k]).abs()).fold(0.0, f64::max);
+                    if step > JUMP_MIN_STEP_M {
+                        let k = if left { 2 } else { 4 };
+                        jumps.push(Jump {
+                            y: yj,
+                            left,
+                            s_wheel_before: sa.x()[k],
+                            s_wheel_after: sb.x()[k],
+                        });
+                        sols.push(sb.clone());
+                        Self::refine(geom, &off, &sb, b, settings, settings.max_refinements, &mut sols)?;
+                    } else {
+                        Self::refine(geom, &off, &sa, b, settings, settings.max_refinements, &mut sols)?;
+                    }
+                }
+                None => Self::refine(geom, &off, a, b, settings, settings.max_refinements, &mut sols)?,
+            }
+        }
+        let rows: Vec<TableRow> = sols.iter().map(|s| TableRow::from_solution(s, gv)).collect();
+        let pair = &geom.pair;
+        Ok(Self::from_rows(
+            gv,
+            rows,
+            jumps,
+            pair.wheelset.nominal_radius_m,
+            pair.rail_placement.lateral_m,
+        ))
+    }
+
+    /// The 1-entry table of `geom` (no irregularity) from flange contact on the right to flange
+    /// contact on the left, unless `settings.y_max_m` fixes the range.
+    pub fn build(geom: &ContactGeometry, settings: &TableSettings) -> Result<Self, TableError> {
+        let (lo, hi) = match settings.y_max_m {
+            Some(m) => (-m, m),
+            None => {
+                let off = RailOffsets::default();
+                (
+                    -flange_contact_limit(geom, &off, false)?,
+                    flange_contact_limit(geom, &off, true)?,
+                )
+            }
+        };
+        // Snap the range outwards to the grid through y = 0, so that y = 0 is a node.
+        let k = |v: f64| (v / settings.step_m).round() * settings.step_m;
+        Self::build_range(geom, 0.0, k(lo), k(hi), settings)
+    }
+
+    /// Appends the solutions strictly after `a` up to and including `b`, halving the interval
+    /// while the midpoint misses the Hermite prediction by more than the tolerance.
+    fn refine(
+        geom: &ContactGeometry,
+        off: &RailOffsets,
+        a: &ContactSolution,
+        b: &ContactSolution,
+        settings: &TableSettings,
+        depth: u32,
+        out: &mut Vec<ContactSolution>,
+    ) -> Result<(), TableError> {
+        if depth > 0 {
+            let ym = 0.5 * (a.y + b.y);
+            let mid = geom.solve(ym, off)?;
+            let miss = (0..2)
+                .map(|c| {
+                    (hermite(a.y, b.y, a.x()[c], b.x()[c], a.dx_dy[c], b.dx_dy[c], ym).0 - mid.x()[c]).abs()
+                })
+                .fold(0.0, f64::max);
+            if miss > settings.refine_tolerance {
+                Self::refine(geom, off, a, &mid, settings, depth - 1, out)?;
+                return Self::refine(geom, off, &mid, b, settings, depth - 1, out);
+            }
+        }
+        out.push(b.clone());
+        Ok(())
+    }
+
+    /// A jump between two grid solutions: a surface parameter departs from the Hermite-consistent
+    /// prediction. Returns which side (true = left).
+    fn jump_between(a: &ContactSolution, b: &ContactSolution, threshold: f64) -> Option<bool> {
+        let h = b.y - a.y;
+        for (k, left) in [(2usize, true), (3, true), (4, false), (5, false)] {
+            let predicted = 0.5 * (a.dx_dy[k] + b.dx_dy[k]) * h;
+            if ((b.x()[k] - a.x()[k]) - predicted).abs() > threshold {
+                return Some(left);
+            }
+        }
+        None
+    }
+
+    /// Bisection for the jump between `a` (before) and `b` (after): returns the branch-A and
+    /// branch-B solutions at the jump, and its y.
+    fn locate_jump(
+        geom: &ContactGeometry,
+        off: &RailOffsets,
+        a: &ContactSolution,
+        b: &ContactSolution,
+        left: bool,
+    ) -> Result<(ContactSolution, ContactSolution, f64), TableError> {
+        let k = if left { 2 } else { 4 };
+        let (mut lo, mut hi) = (a.y, b.y);
+        let (mut last_a, mut last_b) = (a.clone(), b.clone());
+        while hi - lo > 1e-10 {
+            let m = 0.5 * (lo + hi);
+            let s = geom.solve(m, off)?;
+            if (s.x()[k] - last_a.x()[k]).abs() < (s.x()[k] - last_b.x()[k]).abs() {
+                lo = m;
+                last_a = s;
+            } else {
+                hi = m;
+                last_b = s;
+            }
+        }
+        let yj = 0.5 * (lo + hi);
+        let sa = geom.solve_from(yj, off, &last_a)?;
+        let sb = geom.solve_from(yj, off, &last_b)?;
+        Ok((sa, sb, yj))
+    }
+
+    /// Assembles a table from rows (sorted by y, jumps as duplicate y), computing PCHIP slopes.
+    pub fn from_rows(gv: f64, rows: Vec<TableRow>, jumps: Vec<Jump>, r0: f64, l_r: f64) -> Self {
+        let mut other_slopes = vec![[0.0; N_OTHER]; rows.len()];
+        let mut start = 0;
+        for end in 1..=rows.len() {
+            if end == rows.len() || rows[end].y <= rows[end - 1].y {
+                let ys: Vec<f64> = rows[start..end].iter().map(|r| r.y).collect();
+                for c in 0..N_OTHER {
+                    let vs: Vec<f64> = rows[start..end].iter().map(|r| r.other()[c]).collect();
+                    for (i, d) in pchip_slopes(&ys, &vs).into_iter().enumerate() {
+                        other_slopes[start + i][c] = d;
+                    }
+                }
+                start = end;
+            }
+        }
+        LookupTable1 {
+            gv,
+            rows,
+            other_slopes,
+            jumps,
+            r0,
+            l_r,
+        }
+    }
+
+    /// Tabulated y range, m.
+    pub fn range(&self) -> (f64, f64) {
+        (self.rows[0].y, self.rows[self.rows.len() - 1].y)
+    }
+
+    /// Interpolated contact configuration at `y` (no irregularity). Out of range is an error.
+    pub fn lookup(&self, y: f64) -> Result<TableRow, TableError> {
+        let (lo, hi) = self.range();
+        if !(lo..=hi).contains(&y) {
+            return Err(TableError::OutOfRange {
+                what: "y",
+                value_mm: y * 1e3,
+                min_mm: lo * 1e3,
+                max_mm: hi * 1e3,
+            });
+        }
+        // Segment k with rows[k].y <= y < rows[k+1].y (the right-hand limit at a jump).
+        let k = match self.rows.partition_point(|r| r.y <= y) {
+            0 => 0,
+            p if p >= self.rows.len() => self.rows.len() - 2,
+            p => p - 1,
+        };
+        let k = if self.rows[k + 1].y == self.rows[k].y {
+            k.saturating_sub(1)
+        } else {
+            k
+        };
+        let (a, b) = (&self.rows[k], &self.rows[k + 1]);
+        let mut out = *a;
+        out.y = y;
+        for c in 0..6 {
+            let (v, d) = hermite(a.y, b.y, a.x[c], b.x[c], a.dx_dy[c], b.dx_dy[c], y);
+            out.x[c] = v;
+            out.dx_dy[c] = d;
+            let t = (y - a.y) / (b.y - a.y);
+            out.dx_dgv[c] = a.dx_dgv[c] + t * (b.dx_dgv[c] - a.dx_dgv[c]);
+        }
+        let (oa, ob) = (a.other(), b.other());
+        let mut o = [0.0; N_OTHER];
+        for c in 0..N_OTHER {
+            o[c] = hermite(
+                a.y,
+                b.y,
+                oa[c],
+                ob[c],
+                self.other_slopes[k][c],
+                self.other_slopes[k + 1][c],
+                y,
+            )
+            .0;
+        }
+        out.set_other(&o);
+        let t = (y - a.y) / (b.y - a.y);
+        out.two_point_gap = if t < 0.5 { a.two_point_gap } else { b.two_point_gap };
+        Ok(out)
+    }
+
+    /// Eq. (44)–(46): the contact of a wheelset at lateral displacement `y` on rails with offsets
+    /// `off` (the gauge variation is ignored by a 1-entry table): enter with ȳ = y − al, then
+    /// z = z_clu + vp, φ = φ_clu + cl/(2 L_r).
+    pub fn contact(&self, y: f64, off: &RailOffsets) -> Result<TableRow, TableError> {
+        let (al, vp, _gv, cl) = off.combinations();
+        let mut r = self.lookup(y - al)?;
+        r.y = y;
+        r.x[0] += vp;
+        r.x[1] += cl / (2.0 * self.l_r);
+        Ok(r)
+    }
+
+    /// Writes the table as CSV (see [`write_rows_csv`]).
+    pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
+        write_rows_csv(path, &self.rows, self.r0, self.l_r, false)
+    }
+
+    /// Reads a table written by [`LookupTable1::write_csv`].
+    pub fn read_csv(path: &Path) -> Result<Self, TableError> {
+        let (rows, r0, l_r) = read_rows_csv(path, false)?;
+        let gv = rows[0].gv;
+        Ok(Self::from_rows(gv, rows, Vec::new(), r0, l_r))
+    }
+}
+
+/// The 2-entry lookup table over (y, gv): one 1-entry table per gauge variation on a common y grid.
+#[derive(Debug, Clone)]
+pub struct LookupTable2 {
+    pub columns: Vec<LookupTable1>,
+}
+
+impl LookupTable2 {
+    /// Builds the table over y ∈ [−y_max, y_max] (grid `settings.step_m`) and the gauge
+    /// variations `gvs` (sorted, m).
+    pub fn build(
+        geom: &ContactGeometry,
+        y_max: f64,
+        gvs: &[f64],
+        settings: &TableSettings,
+    ) -> Result<Self, TableError> {
+        if gvs.len() < 2 || gvs.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(TableError::Invalid(
+                "a 2-entry table needs at least two increasing gauge variations".into(),
+            ));
+        }
+        let columns = gvs
+            .iter()
+            .map(|&gv| LookupTable1::build_range(geom, gv, -y_max, y_max, settings))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(LookupTable2 { columns })
+    }
+
+    /// Gauge variations tabulated, m.
+    pub fn gvs(&self) -> Vec<f64> {
+        self.columns.iter().map(|c| c.gv).collect()
+    }
+
+    /// Interpolated configuration at (y, gv): 1-entry look-ups in the two neighbouring columns,
+    /// then cubic Hermite across gv with the stored gv-slopes (linear for the other quantities).
+    pub fn lookup(&self, y: f64, gv: f64) -> Result<TableRow, TableError> {
+        let (g0, g1) = (self.columns[0].gv, self.columns[self.columns.len() - 1].gv);
+        if !(g0..=g1).contains(&gv) {
+            return Err(TableError::OutOfRange {
+                what: "gv",
+                value_mm: gv * 1e3,
+                min_mm: g0 * 1e3,
+                max_mm: g1 * 1e3,
+            });
+        }
+        let j = self
+            .columns
+            .partition_point(|c| c.gv <= gv)
+            .clamp(1, self.columns.len() - 1)
+            - 1;
+        let (ca, cb) = (&self.columns[j], &self.columns[j + 1]);
+        let (a, b) = (ca.lookup(y)?, cb.lookup(y)?);
+        let t = (gv - ca.gv) / (cb.gv - ca.gv);
+        let mut out = a;
+        out.gv = gv;
+        for c in 0..6 {
+            out.x[c] = hermite(ca.gv, cb.gv, a.x[c], b.x[c], a.dx_dgv[c], b.dx_dgv[c], gv).0;
+            out.dx_dy[c] = a.dx_dy[c] + t * (b.dx_dy[c] - a.dx_dy[c]);
+            out.dx_dgv[c] = a.dx_dgv[c] + t * (b.dx_dgv[c] - a.dx_dgv[c]);
+        }
+        let (oa, ob) = (a.other(), b.other());
+        let o: [f64; N_OTHER] = std::array::from_fn(|c| oa[c] + t * (ob[c] - oa[c]));
+        out.set_other(&o);
+        Ok(out)
+    }
+
+    /// Eq. (44)–(46) with the gauge variation as second entry.
+    pub fn contact(&self, y: f64, off: &RailOffsets) -> Result<TableRow, TableError> {
+        let (al, vp, gv, cl) = off.combinations();
+        let mut r = self.lookup(y - al, gv)?;
+        r.y = y;
+        r.x[0] += vp;
+        r.x[1] += cl / (2.0 * self.columns[0].l_r);
+        Ok(r)
+    }
+
+    /// Writes all columns into one CSV (with the `gv_mm` column).
+    pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
+        let rows: Vec<TableRow> = self.columns.iter().flat_map(|c| c.rows.iter().copied()).collect();
+        write_rows_csv(path, &rows, self.columns[0].r0, self.columns[0].l_r, true)
+    }
+
+    /// Reads a table written by [`LookupTable2::write_csv`].
+    pub fn read_csv(path: &Path) -> Result<Self, TableError> {
+        let (rows, r0, l_r) = read_rows_csv(path, true)?;
+        let mut columns: Vec<LookupTable1> = Vec::new();
+        let mut start = 0;
+        for end in 1..=rows.len() {
+            if end == rows.len() || rows[end].gv != rows[start].gv {
+                columns.push(LookupTable1::from_rows(
+                    rows[start].gv,
+                    rows[start..end].to_vec(),
+                    Vec::new(),
+                    r0,
+                    l_r,
+                ));
+                start = end;
+            }
+        }
+        if columns.len() < 2 || columns.windows(2).any(|w| w[1].gv <= w[0].gv) {
+            return Err(TableError::Format {
+                path: path.display().to_string(),
+                line: 0,
+                problem: "a 2-entry table needs at least two gauge variations in increasing order".into(),
+            });
+        }
+        Ok(LookupTable2 { columns })
+    }
+}
+
+/// The CSV columns, in order (after `gv_mm` for 2-entry tables). Lengths mm, angles rad unless
+/// named (roll in mrad), derivatives in SI (m/m, rad/m).
+pub const CSV_COLUMNS: [&str; 37] = [
+    "y_mm",
+    "z_mm",
+    "roll_mrad",
+    "dr_mm",
+    "contact_angle_left_rad",
+    "contact_angle_right_rad",
+    "s_wheel_left_mm",
+    "s_rail_left_mm",
+    "s_wheel_right_mm",
+    "s_rail_right_mm",
+    "rolling_radius_left_mm",
+    "rolling_radius_right_mm",
+    "wheel_curvature_left_1pm",
+    "rail_curvature_left_1pm",
+    "wheel_curvature_right_1pm",
+    "rail_curvature_right_1pm",
+    "contact_y_left_mm",
+    "contact_z_left_mm",
+    "contact_y_right_mm",
+    "contact_z_right_mm",
+    "two_point_gap_left_mm",
+    "two_point_gap_right_mm",
+    "dz_dy",
+    "droll_dy_rad_per_m",
+    "ds_wheel_left_dy",
+    "ds_rail_left_dy",
+    "ds_wheel_right_dy",
+    "ds_rail_right_dy",
+    "dz_dgv",
+    "droll_dgv_rad_per_m",
+    "ds_wheel_left_dgv",
+    "ds_rail_left_dgv",
+    "ds_wheel_right_dgv",
+    "ds_rail_right_dgv",
+    "gv_mm",
+    "r0_mm",
+    "rail_lateral_offset_mm",
+];
+
+fn row_values(r: &TableRow, r0: f64, l_r: f64) -> [f64; 37] {
+    let mm = 1e3;
+    [
+        r.y * mm,
+        (r.x[0] - r0) * mm,
+        r.x[1] * 1e3,
+        r.delta_r() * mm,
+        r.contact_angle[0],
+        r.contact_angle[1],
+        r.x[2] * mm,
+        r.x[3] * mm,
+        r.x[4] * mm,
+        r.x[5] * mm,
+        r.rolling_radius[0] * mm,
+        r.rolling_radius[1] * mm,
+        r.curvature[0],
+        r.curvature[1],
+        r.curvature[2],
+        r.curvature[3],
+        r.position[0] * mm,
+        r.position[1] * mm,
+        r.position[2] * mm,
+        r.position[3] * mm,
+        r.two_point_gap[0] * mm,
+        r.two_point_gap[1] * mm,
+        r.dx_dy[0],
+        r.dx_dy[1],
+        r.dx_dy[2],
+        r.dx_dy[3],
+        r.dx_dy[4],
+        r.dx_dy[5],
+        r.dx_dgv[0],
+        r.dx_dgv[1],
+        r.dx_dgv[2],
+        r.dx_dgv[3],
+        r.dx_dgv[4],
+        r.dx_dgv[5],
+        r.gv * mm,
+        r0 * mm,
+        l_r * mm,
+    ]
+}
+
+/// Writes rows, one per line, with the [`CSV_COLUMNS`] header (a NaN gap is an empty cell).
+fn write_rows_csv(
+    path: &Path,
+    rows: &[TableRow],
+    r0: f64,
+    l_r: f64,
+    _two_entry: bool,
+) -> std::io::Result<()> {
+    let mut w = csv::Writer::from_path(path)?;
+    w.write_record(CSV_COLUMNS)?;
+    for r in rows {
+        let cells: Vec<String> = row_values(r, r0, l_r)
+            .iter()
+            .map(|v| {
+                if v.is_nan() {
+                    String::new()
+                } else {
+                    format!("{v:.12e}")
+                }
+            })
+            .collect();
+        w.write_record(&cells)?;
+    }
+    w.flush()
+}
+
+fn read_rows_csv(path: &Path, two_entry: bool) -> Result<(Vec<TableRow>, f64, f64), TableError> {
+    let p = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| TableError::Io {
+        path: p.clone(),
+        source,
+    })?;
+    let mut rdr = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let fmt = |line: usize, problem: String| TableError::Format {
+        path: p.clone(),
+        line,
+        problem,
+    };
+    let header = rdr
+        .headers()
+        .map_err(|e| fmt(1, format!("malformed header: {e}")))?
+        .clone();
+    let mut col = [0usize; 37];
+    for (i, name) in CSV_COLUMNS.iter().enumerate() {
+        if !two_entry && *name == "gv_mm" {
+            col[i] = usize::MAX;
+            continue;
+        }
+        col[i] = header
+            .iter()
+            .position(|h| h == *name)
+            .ok_or_else(|| fmt(1, format!("missing column '{name}'")))?;
+    }
+    let mut rows = Vec::new();
+    let (mut r0, mut l_r) = (f64::NAN, f64::NAN);
+    for rec in rdr.records() {
+        let rec = rec.map_err(|e| {
+            fmt(
+                e.position().map_or(0, |q| q.line() as usize),
+                format!("malformed row: {e}"),
+            )
+        })?;
+        let line = rec.position().map_or(0, |q| q.line() as usize);
+        let mut v = [0.0f64; 37];
+        for (i, name) in CSV_COLUMNS.iter().enumerate() {
+            if col[i] == usize::MAX {
+                continue;
+            }
+            let cell = rec.get(col[i]).unwrap_or("");
+            v[i] = if cell.is_empty() && name.starts_with("two_point") {
+                f64::NAN
+            } else {
+                cell.parse::<f64>()
+                    .map_err(|_| fmt(line, format!("column '{name}': '{cell}' is not a number")))?
+            };
+        }
+        r0 = v[35] * 1e-3;
+        l_r = v[36] * 1e-3;
+        let m = 1e-3;
+        rows.push(TableRow {
+            y: v[0] * m,
+            gv: v[34] * m,
+            x: [v[1] * m + r0, v[2] * 1e-3, v[6] * m, v[7] * m, v[8] * m, v[9] * m],
+            dx_dy: [v[22], v[23], v[24], v[25], v[26], v[27]],
+            dx_dgv: [v[28], v[29], v[30], v[31], v[32], v[33]],
+            contact_angle: [v[4], v[5]],
+            rolling_radius: [v[10] * m, v[11] * m],
+            curvature: [v[12], v[13], v[14], v[15]],
+            position: [v[16] * m, v[17] * m, v[18] * m, v[19] * m],
+            two_point_gap: [v[20] * m, v[21] * m],
+        });
+    }
+    if rows.len() < 2 {
+        return Err(fmt(rows.len() + 1, "a table needs at least two rows".into()));
+    }
+    Ok((rows, r0, l_r))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+    use crate::profile::StandardProfile;
+
+    fn geometry() -> ContactGeometry {
+        let pair = WheelRailPair::new(
+            StandardProfile::S1002.profile(),
+            StandardProfile::Rail60E1.profile(),
+            "1:40".parse().unwrap(),
+            TrackGauge::default(),
+            WheelsetGeometry::default(),
+        )
+        .unwrap();
+        ContactGeometry::with_defaults(pair)
+    }
+
+    #[test]
+    fn hermite_reproduces_a_cubic() {
+        let f = |x: f64| x * x * x - 2.0 * x + 1.0;
+        let df = |x: f64| 3.0 * x * x - 2.0;
+        let (v, d) = hermite(0.5, 1.5, f(0.5), f(1.5), df(0.5), df(1.5), 0.8);
+        assert!((v - f(0.8)).abs() < 1e-14 && (d - df(0.8)).abs() < 1e-13);
+    }
+
+    #[test]
+    fn pchip_is_monotone_on_monotone_data() {
+        let y = [0.0, 1.0, 2.0, 3.0, 4.0];
+        let v = [0.0, 0.0, 1.0, 1.0, 5.0];
+        let d = pchip_slopes(&y, &v);
+        for k in 0..4 {
+            for i in 0..=20 {
+                let x = y[k] + i as f64 / 20.0;
+                let a = hermite(y[k], y[k + 1], v[k], v[k + 1], d[k], d[k + 1], x).0;
+                assert!(
+                    a >= v[k] - 1e-12 && a <= v[k + 1] + 1e-12,
+                    "overshoot at {x}: {a}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn table_reproduces_online_solution_and_holds_jumps() {
+        let g = geometry();
+        let settings = TableSettings {
+            y_max_m: Some(0.007),
+            ..TableSettings::default()
+        };
+        let t = LookupTable1::build(&g, &settings).unwrap();
+        // S1002/60E1 1:40 jumps near the centred position and towards the flange (both sides).
+        assert!(t.jumps.len() >= 4, "jumps {:?}", t.jumps);
+        assert!(
+            t.jumps.iter().any(|j| j.y.abs() < 1e-3),
+            "a jump near y = 0: {:?}",
+            t.jumps
+        );
+        // At the nodes the table is the online solution; between them within the interpolation error.
+        let off = RailOffsets::default();
+        for k in (0..t.rows.len()).step_by(17) {
+            let r = &t.rows[k];
+            let l = t.lookup(r.y).unwrap();
+            assert!((l.z() - r.z()).abs() < 1e-15 || r.y == t.rows.get(k + 1).map_or(f64::NAN, |n| n.y));
+        }
+        let mut worst_z: f64 = 0.0;
+        for k in 0..t.rows.len() - 1 {
+            let (a, b) = (&t.rows[k], &t.rows[k + 1]);
+            if b.y <= a.y {
+                continue;
+            }
+            let y = 0.5 * (a.y + b.y);
+            let online = g.solve(y, &off).unwrap();
+            let l = t.lookup(y).unwrap();
+            worst_z = worst_z.max((l.z() - online.z).abs());
+            assert!(
+                (l.phi() - online.phi).abs() < 1e-6,
+                "phi at {y}: {} vs {}",
+                l.phi(),
+                online.phi
+            );
+        }
+        assert!(worst_z < 1e-6, "z interpolation error {worst_z}");
+        assert!(t.lookup(0.0071).is_err());
+    }
+
+    #[test]
+    fn csv_round_trip_and_missing_column() {
+        let g = geometry();
+        let t = LookupTable1::build(
+            &g,
+            &TableSettings {
+                y_max_m: Some(0.001),
+                ..TableSettings::default()
+            },
+        )
+        .unwrap();
+        let path = std::env::temp_dir().join(format!("kecsim-table-{}.csv", std::process::id()));
+        t.write_csv(&path).unwrap();
+        let u = LookupTable1::read_csv(&path).unwrap();
+        for y in [-0.00093, -0.0002, 0.0, 0.00041, 0.00099] {
+            let (a, b) = (t.lookup(y).unwrap(), u.lookup(y).unwrap());
+            for c in 0..6 {
+                assert!((a.x[c] - b.x[c]).abs() < 1e-12, "col {c} at {y}");
+            }
+        }
+        let text = std::fs::read_to_string(&path)
+            .unwrap()
+            .replacen("roll_mrad", "roll_deg", 1);
+        std::fs::write(&path, text).unwrap();
+        let e = LookupTable1::read_csv(&path).unwrap_err().to_string();
+        assert!(e.contains(":1: missing column 'roll_mrad'"), "{e}");
+        assert!(LookupTable2::read_csv(&path).is_err());
+    }
+}
