@@ -6,6 +6,9 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 
+use kecsim::contact::geometry::ContactGeometry;
+use kecsim::contact::lookup::{LookupTable2, TableSettings};
+use kecsim::contact::report::ContactReport;
 use kecsim::inspect::{self, Sink};
 use kecsim::profile::placement::{Inclination, TrackGauge, WheelRailPair, WheelsetGeometry};
 use kecsim::profile::{io, Profile, ProfileKind, StandardProfile};
@@ -35,6 +38,31 @@ enum Command {
     Profiles {
         #[command(flatten)]
         pair: PairArgs,
+        #[command(flatten)]
+        sink: SinkArgs,
+    },
+    /// Contact geometry sweep over y: lookup table, contact jumps, equivalent conicity (EN 15302).
+    Contact {
+        #[command(flatten)]
+        pair: PairArgs,
+        /// Write the 1-entry lookup table as CSV (one row per tabulated y).
+        #[arg(long, value_name = "FILE")]
+        csv: Option<PathBuf>,
+        /// Largest |y| tabulated, mm [default: flange contact on each side].
+        #[arg(long, value_name = "MM")]
+        y_max: Option<f64>,
+        /// Grid step in y, mm (intervals are refined where the geometry needs it).
+        #[arg(long, value_name = "MM", default_value_t = 0.1)]
+        step: f64,
+        /// Also build the 2-entry table (y, gauge variation) and write it as CSV.
+        #[arg(long, value_name = "FILE")]
+        table2_csv: Option<PathBuf>,
+        /// Gauge variations of the 2-entry table: −MAX..MAX, mm.
+        #[arg(long, value_name = "MM", default_value_t = 10.0)]
+        gv_max: f64,
+        /// Gauge-variation step of the 2-entry table, mm.
+        #[arg(long, value_name = "MM", default_value_t = 1.0)]
+        gv_step: f64,
         #[command(flatten)]
         sink: SinkArgs,
     },
@@ -195,6 +223,64 @@ fn run(cli: Cli) -> Result<()> {
             print_pair(&pair);
             println!("{}", describe(&sink));
         }
+        Command::Contact {
+            pair,
+            csv,
+            y_max,
+            step,
+            table2_csv,
+            gv_max,
+            gv_step,
+            sink,
+        } => {
+            let pair = pair.pair()?;
+            let title = format!(
+                "kecsim contact: {} on {} at {}",
+                pair.wheel.name, pair.rail.name, pair.inclination
+            );
+            let geom = ContactGeometry::with_defaults(pair);
+            let settings = TableSettings {
+                step_m: positive_mm("--step", step)?,
+                y_max_m: y_max.map(|v| positive_mm("--y-max", v)).transpose()?,
+                ..TableSettings::default()
+            };
+            let report = ContactReport::new(&geom, &settings)?;
+            let summary = report.summary(&title);
+            let sink = sink.sink();
+            {
+                let rec = inspect::open_recording("kecsim", &sink, inspect::contact::blueprint)?;
+                inspect::contact::record(&rec, &geom, &report.table, &summary)?;
+            }
+            print!("{summary}");
+            if let Some(path) = csv {
+                report
+                    .table
+                    .write_csv(&path)
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+                println!("wrote {}", path.display());
+            }
+            if let Some(path) = table2_csv {
+                let (gv_max, gv_step) = (
+                    positive_mm("--gv-max", gv_max)?,
+                    positive_mm("--gv-step", gv_step)?,
+                );
+                let n = (gv_max / gv_step).round() as i64;
+                let gvs: Vec<f64> = (-n..=n).map(|k| k as f64 * gv_step).collect();
+                let (lo, hi) = report.table.range();
+                let t = std::time::Instant::now();
+                let table2 = LookupTable2::build(&geom, lo.abs().min(hi), &gvs, &settings)?;
+                table2
+                    .write_csv(&path)
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+                println!(
+                    "wrote {} ({} gauge variations, built in {:.1} s)",
+                    path.display(),
+                    gvs.len(),
+                    t.elapsed().as_secs_f64()
+                );
+            }
+            println!("{}", describe(&sink));
+        }
         Command::GenerateProfiles { dir } => {
             std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
             for std in StandardProfile::ALL {
@@ -214,6 +300,15 @@ fn run(cli: Cli) -> Result<()> {
         },
     }
     Ok(())
+}
+
+/// A positive length option in mm, converted to m.
+fn positive_mm(name: &str, v: f64) -> Result<f64> {
+    anyhow::ensure!(
+        v.is_finite() && v > 0.0,
+        "{name} {v}: expected a positive length in mm"
+    );
+    Ok(v * 1e-3)
 }
 
 fn main() -> ExitCode {

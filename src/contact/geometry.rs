@@ -570,14 +570,17 @@ impl ContactGeometry {
     /// Where the wheel is locally more concave than the rail is convex (near-conformal flange-root
     /// contact), the tangency condition Eq. (36) also holds at a local *maximum* of the gap, and
     /// Newton may converge there with the profiles interpenetrating by a few µm on either side.
-    /// The check catches it, and the solution is then the refined minimum-gap search itself
+    /// The check catches it (or Newton fails to settle between the two), and the solution is then
+    /// the refined minimum-gap search itself
     /// (golden section on the exact gap, roll bisected to 1e-13 rad), which is the contact by
     /// definition.
     pub fn solve(&self, y: f64, off: &RailOffsets) -> Result<ContactSolution, ContactError> {
         let x0 = self.seed(y, off)?;
-        let (x, j, iterations) = self.newton(y, off, x0)?;
-        match self.finish(y, off, x, j, iterations, true) {
-            Err(ContactError::Interpenetration { .. }) => {
+        let newton = self
+            .newton(y, off, x0)
+            .and_then(|(x, j, it)| self.finish(y, off, x, j, it, true));
+        match newton {
+            Err(ContactError::Interpenetration { .. } | ContactError::NoConvergence { .. }) => {
                 let x = self.search(y, off, true, 1e-13)?;
                 let (_, j) = self.residual(y, off, &x);
                 self.finish(y, off, x, j, 0, true)

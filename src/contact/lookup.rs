@@ -112,7 +112,7 @@ impl TableRow {
 /// Lookup-table errors.
 #[derive(Debug, thiserror::Error)]
 pub enum TableError {
-    #[error("building the table: {0}")]
+    #[error(transparent)]
     Contact(#[from] ContactError),
     #[error("{what} = {value_mm:.4} mm is outside the table ({min_mm:.4} .. {max_mm:.4} mm)")]
     OutOfRange {
@@ -150,6 +150,8 @@ pub struct TableSettings {
     /// A grid interval is halved while the Hermite interpolation of z (m) or φ (rad) at its
     /// midpoint misses the online solution by more than this.
     pub refine_tolerance: f64,
+    /// ... or a surface parameter misses by more than this, m.
+    pub refine_tolerance_s_m: f64,
     /// At most this many halvings of a grid interval.
     pub max_refinements: u32,
 }
@@ -161,7 +163,8 @@ impl Default for TableSettings {
             y_max_m: None,
             jump_threshold_m: 2e-4,
             refine_tolerance: 1e-8,
-            max_refinements: 6,
+            refine_tolerance_s_m: 1e-5,
+            max_refinements: 8,
         }
     }
 }

@@ -9,8 +9,10 @@
 //! s^r increase towards +Y on **both** sides (on the right side they are the mirror of the profile's
 //! own field-side coordinate).
 
+pub mod conicity;
 pub mod geometry;
 pub mod lookup;
+pub mod report;
 
 use crate::profile::Side;
 

@@ -1,0 +1,175 @@
+//! What `kecsim contact` computes and prints: the 1-entry table of a wheel/rail pair, its contact
+//! jumps, its interpolation error against the online solution, and the equivalent conicity.
+
+use std::time::Instant;
+
+use super::conicity::{ConicityError, RollingRadiusDifference};
+use super::geometry::ContactGeometry;
+use super::lookup::{LookupTable1, TableError, TableSettings};
+use super::RailOffsets;
+
+/// Largest deviation of table look-ups from the online solution, at points between the nodes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct InterpolationError {
+    /// Points compared.
+    pub points: usize,
+    /// Max |Δz|, m.
+    pub z: f64,
+    /// Max |Δφ|, rad.
+    pub phi: f64,
+    /// Max |Δs| over the four surface parameters, m.
+    pub s: f64,
+    /// Max |Δ(Δr)|, m.
+    pub delta_r: f64,
+    /// Points where a surface parameter misses by more than 0.01 mm, and the |y| range they span:
+    /// near-conformal contact, where the gap is flat to < 1 µm over a stretch of profile and the
+    /// contact location is ill-conditioned (z and φ stay accurate there).
+    pub s_outliers: usize,
+    pub s_outlier_range: (f64, f64),
+}
+
+/// Compares look-ups with online solves at the fractions `fractions` of every table interval
+/// (jumps excluded). Use fractions other than 1/2 for an independent check: the builder refines
+/// on midpoints.
+pub fn interpolation_error(
+    geom: &ContactGeometry,
+    table: &LookupTable1,
+    fractions: &[f64],
+) -> Result<InterpolationError, TableError> {
+    let off = RailOffsets::gauge_variation(table.gv);
+    let mut e = InterpolationError::default();
+    for w in table.rows.windows(2) {
+        if w[1].y <= w[0].y {
+            continue;
+        }
+        for &f in fractions {
+            let y = w[0].y + f * (w[1].y - w[0].y);
+            let online = geom.solve(y, &off)?;
+            let l = table.lookup(y)?;
+            e.points += 1;
+            e.z = e.z.max((l.z() - online.z).abs());
+            e.phi = e.phi.max((l.phi() - online.phi).abs());
+            let ds = (2..6).map(|k| (l.x[k] - online.x()[k]).abs()).fold(0.0, f64::max);
+            e.s = e.s.max(ds);
+            if ds > 1e-5 {
+                if e.s_outliers == 0 {
+                    e.s_outlier_range = (y.abs(), y.abs());
+                }
+                e.s_outliers += 1;
+                e.s_outlier_range = (e.s_outlier_range.0.min(y.abs()), e.s_outlier_range.1.max(y.abs()));
+            }
+            e.delta_r = e.delta_r.max((l.delta_r() - online.delta_r()).abs());
+        }
+    }
+    Ok(e)
+}
+
+/// Equivalent conicity at one amplitude by both methods.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConicityRow {
+    /// Amplitude ŷ, m.
+    pub amplitude: f64,
+    /// EN 15302 Annex B.
+    pub annex_b: Result<f64, ConicityError>,
+    /// Linear regression.
+    pub regression: Result<f64, ConicityError>,
+}
+
+/// Equivalent conicity of the table's Δr at the given amplitudes (m).
+pub fn conicity(table: &LookupTable1, amplitudes: &[f64]) -> Vec<ConicityRow> {
+    let (lo, hi) = table.range();
+    let f = RollingRadiusDifference::sample(lo, hi, 1e-6, |y| {
+        table.lookup(y).map(|r| r.delta_r()).unwrap_or(f64::NAN)
+    });
+    amplitudes
+        .iter()
+        .map(|&a| ConicityRow {
+            amplitude: a,
+            annex_b: f.conicity_annex_b(a),
+            regression: f.conicity_regression(a),
+        })
+        .collect()
+}
+
+/// The full report of a pair.
+#[derive(Debug, Clone)]
+pub struct ContactReport {
+    pub table: LookupTable1,
+    pub build_seconds: f64,
+    pub interpolation: InterpolationError,
+    pub conicity: Vec<ConicityRow>,
+}
+
+impl ContactReport {
+    /// Builds the 1-entry table, measures its interpolation error at 1/3 and 2/3 of every interval,
+    /// and computes the conicity for ŷ = 1..6 mm.
+    pub fn new(geom: &ContactGeometry, settings: &TableSettings) -> Result<Self, TableError> {
+        let t = Instant::now();
+        let table = LookupTable1::build(geom, settings)?;
+        let build_seconds = t.elapsed().as_secs_f64();
+        let interpolation = interpolation_error(geom, &table, &[1.0 / 3.0, 2.0 / 3.0])?;
+        let amplitudes: Vec<f64> = (1..=6).map(|k| k as f64 * 1e-3).collect();
+        let conicity = conicity(&table, &amplitudes);
+        Ok(ContactReport {
+            table,
+            build_seconds,
+            interpolation,
+            conicity,
+        })
+    }
+
+    /// Plain-text/markdown summary (also the recording's summary document).
+    pub fn summary(&self, title: &str) -> String {
+        let t = &self.table;
+        let (lo, hi) = t.range();
+        let mut s = format!("# {title}\n\n");
+        s += &format!(
+            "1-entry table: y = {:.3} .. {:.3} mm (flange contact to flange contact), {} rows, built in {:.2} s\n\n",
+            lo * 1e3,
+            hi * 1e3,
+            t.rows.len(),
+            self.build_seconds
+        );
+        s += "Equivalent conicity tan γe (EN 15302):\n\n| ŷ [mm] | Annex B | regression |\n|---|---|---|\n";
+        let fmt = |r: &Result<f64, ConicityError>| match r {
+            Ok(v) => format!("{v:.4}"),
+            Err(_) => "out of range".to_string(),
+        };
+        for c in &self.conicity {
+            s += &format!(
+                "| {:.1} | {} | {} |\n",
+                c.amplitude * 1e3,
+                fmt(&c.annex_b),
+                fmt(&c.regression)
+            );
+        }
+        s += &format!("\nContact jumps ({}):\n\n", t.jumps.len());
+        for j in &t.jumps {
+            s += &format!(
+                "* y = {:+.4} mm, {} wheel: s^w {:+.3} → {:+.3} mm\n",
+                j.y * 1e3,
+                if j.left { "left" } else { "right" },
+                j.s_wheel_before * 1e3,
+                j.s_wheel_after * 1e3
+            );
+        }
+        let e = &self.interpolation;
+        s += &format!(
+            "\nInterpolation error against the online solution ({} points at 1/3 and 2/3 of every interval): z {:.2e} mm, roll {:.2e} mrad, Δr {:.2e} mm, surface parameters {:.2e} mm\n",
+            e.points,
+            e.z * 1e3,
+            e.phi * 1e3,
+            e.delta_r * 1e3,
+            e.s * 1e3
+        );
+        if e.s_outliers > 0 {
+            s += &format!(
+                "({} points with a surface-parameter error over 0.01 mm, all at |y| = {:.4} .. {:.4} mm: near-conformal contact, where the gap is flat and the contact location ill-conditioned)\n",
+                e.s_outliers,
+                e.s_outlier_range.0 * 1e3,
+                e.s_outlier_range.1 * 1e3
+            );
+        }
+        s
+    }
+}

@@ -1,0 +1,223 @@
+//! `kecsim contact`: the contact-geometry sweep over the lateral displacement y (paper Fig. 10/14).
+//!
+//! Timeline `y_um`: the wheelset lateral displacement in µm (a sequence timeline; one step per
+//! table row). Entities (mm, cross-sections stored as `[Y, −Z]`, see [`super`]):
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
+//! | `contact/section/{left,right}/rail` | LineStrips2D, static | rail head |
+//! | `contact/section/{left,right}/wheel` | LineStrips2D, per y | wheel at (y, z, φ) |
+//! | `contact/section/{left,right}/contact` | Points2D, per y | contact point (red) and two-point candidates (orange) |
+//! | `contact/plots/z_mm`, `roll_mrad`, `dr_mm` | Scalars on `y_um` | wheelset height z − r0, roll φ, Δr = r_left − r_right |
+//! | `contact/plots/s_wheel_mm`, `s_rail_mm` | Scalars (left, right) | contact position on wheel and rail (paper convention) |
+//! | `contact/plots/contact_angle_deg` | Scalars (left, right) | contact angles |
+//! | `contact/summary` | TextDocument | conicity, jumps, interpolation error |
+
+use rerun::blueprint::{
+    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+};
+use rerun::{
+    Color, LineStrips2D, Points2D, Radius, RecordingStream, Scalars, SeriesLines, TextDocument, TimeColumn,
+};
+
+use super::{log_static, section_mm, InspectError};
+use crate::contact::geometry::ContactGeometry;
+use crate::contact::lookup::LookupTable1;
+use crate::profile::Side;
+
+/// The timeline of the sweep.
+pub const TIMELINE: &str = "y_um";
+
+/// Layout: both sides' cross-sections on top, the plots below, the summary at the bottom.
+pub fn blueprint() -> Blueprint {
+    let side_view = |side: Side, title: &str| {
+        Spatial2DView::new(title)
+            .with_origin(format!("/contact/section/{}", side.name()))
+            .into()
+    };
+    let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
+    Blueprint::new(
+        Vertical::new([
+            Horizontal::new([
+                side_view(Side::Right, "Right wheel and rail (−Y)"),
+                side_view(Side::Left, "Left wheel and rail (+Y)"),
+            ])
+            .into(),
+            Horizontal::new([
+                plot("z − r0 [mm]", "/contact/plots/z_mm"),
+                plot("roll [mrad]", "/contact/plots/roll_mrad"),
+                plot("Δr = r_left − r_right [mm]", "/contact/plots/dr_mm"),
+            ])
+            .into(),
+            Horizontal::new([
+                plot("contact on wheel s^w [mm]", "/contact/plots/s_wheel_mm"),
+                plot("contact on rail s^r [mm]", "/contact/plots/s_rail_mm"),
+                plot("contact angle [deg]", "/contact/plots/contact_angle_deg"),
+                TextDocumentView::new("Summary")
+                    .with_origin("/contact/summary")
+                    .into(),
+            ])
+            .into(),
+        ])
+        .with_row_shares([3.0, 2.0, 2.0]),
+    )
+    .with_time_panel(TimePanel::new().with_timeline(TIMELINE))
+}
+
+fn log_err(entity: &str) -> impl FnOnce(rerun::RecordingStreamError) -> InspectError + '_ {
+    move |source| InspectError::Log {
+        entity: entity.to_string(),
+        source,
+    }
+}
+
+/// One scalar series (or a pair left/right) against y.
+fn send_series(
+    rec: &RecordingStream,
+    entity: &str,
+    ys: &[i64],
+    values: Vec<f64>,
+    names: &[&str],
+) -> Result<(), InspectError> {
+    let per_row = names.len();
+    let colors: Vec<Color> = [[230, 120, 40], [60, 140, 230]]
+        .iter()
+        .take(per_row)
+        .map(|c| Color::from_rgb(c[0], c[1], c[2]))
+        .collect();
+    log_static(
+        rec,
+        entity,
+        &SeriesLines::new()
+            .with_names(names.iter().copied())
+            .with_colors(colors),
+    )?;
+    let columns = Scalars::new(values)
+        .columns(std::iter::repeat_n(per_row, ys.len()))
+        .map_err(|e| InspectError::Log {
+            entity: entity.to_string(),
+            source: e.into(),
+        })?;
+    rec.send_columns(
+        entity,
+        [TimeColumn::new_sequence(TIMELINE, ys.iter().copied())],
+        columns,
+    )
+    .map_err(log_err(entity))
+}
+
+/// Records the sweep of `table` (built from `geom`) and the `summary` text.
+pub fn record(
+    rec: &RecordingStream,
+    geom: &ContactGeometry,
+    table: &LookupTable1,
+    summary: &str,
+) -> Result<(), InspectError> {
+    let pair = &geom.pair;
+    let r0 = pair.wheelset.nominal_radius_m;
+    // Static rails.
+    for side in Side::BOTH {
+        let entity = format!("contact/section/{}/rail", side.name());
+        let pts: Vec<[f32; 2]> = pair
+            .rail_positions(side)
+            .into_iter()
+            .map(|(y, z)| section_mm(y, z))
+            .collect();
+        log_static(
+            rec,
+            &entity,
+            &LineStrips2D::new([pts])
+                .with_colors([Color::from_rgb(150, 150, 160)])
+                .with_radii([Radius::new_ui_points(1.5)]),
+        )?;
+    }
+    // The wheels and contact points per row.
+    let (knots, _) = pair.wheel.knots();
+    let every = (knots.len() / 600).max(1);
+    for row in &table.rows {
+        rec.set_time_sequence(TIMELINE, (row.y * 1e6).round() as i64);
+        let (y, z, phi) = (row.y, row.z(), row.phi());
+        for (i, side) in Side::BOTH.into_iter().enumerate() {
+            let wheel: Vec<[f32; 2]> = knots
+                .iter()
+                .step_by(every)
+                .map(|&s| {
+                    let (wy, wz) = pair
+                        .wheelset
+                        .wheel_point(&pair.wheel, side, side.sign() * s, y, z, phi);
+                    section_mm(wy, wz)
+                })
+                .collect();
+            let entity = format!("contact/section/{}/wheel", side.name());
+            rec.log(
+                entity.as_str(),
+                &LineStrips2D::new([wheel])
+                    .with_colors([Color::from_rgb(70, 140, 230)])
+                    .with_radii([Radius::new_ui_points(1.5)]),
+            )
+            .map_err(log_err(&entity))?;
+            let contact = section_mm(row.position[2 * i], row.position[2 * i + 1]);
+            let entity = format!("contact/section/{}/contact", side.name());
+            rec.log(
+                entity.as_str(),
+                &Points2D::new([contact])
+                    .with_colors([Color::from_rgb(230, 50, 50)])
+                    .with_radii([Radius::new_ui_points(5.0)])
+                    .with_labels([format!("{:.1}°", row.contact_angle[i].to_degrees())]),
+            )
+            .map_err(log_err(&entity))?;
+        }
+    }
+    // Plots.
+    let ys: Vec<i64> = table.rows.iter().map(|r| (r.y * 1e6).round() as i64).collect();
+    let col = |f: &dyn Fn(&crate::contact::lookup::TableRow) -> Vec<f64>| {
+        table.rows.iter().flat_map(f).collect::<Vec<f64>>()
+    };
+    send_series(
+        rec,
+        "contact/plots/z_mm",
+        &ys,
+        col(&|r| vec![(r.z() - r0) * 1e3]),
+        &["z − r0"],
+    )?;
+    send_series(
+        rec,
+        "contact/plots/roll_mrad",
+        &ys,
+        col(&|r| vec![r.phi() * 1e3]),
+        &["roll"],
+    )?;
+    send_series(
+        rec,
+        "contact/plots/dr_mm",
+        &ys,
+        col(&|r| vec![r.delta_r() * 1e3]),
+        &["Δr"],
+    )?;
+    send_series(
+        rec,
+        "contact/plots/s_wheel_mm",
+        &ys,
+        col(&|r| vec![r.x[2] * 1e3, r.x[4] * 1e3]),
+        &["left", "right"],
+    )?;
+    send_series(
+        rec,
+        "contact/plots/s_rail_mm",
+        &ys,
+        col(&|r| vec![r.x[3] * 1e3, r.x[5] * 1e3]),
+        &["left", "right"],
+    )?;
+    send_series(
+        rec,
+        "contact/plots/contact_angle_deg",
+        &ys,
+        col(&|r| vec![r.contact_angle[0].to_degrees(), r.contact_angle[1].to_degrees()]),
+        &["left", "right"],
+    )?;
+    log_static(
+        rec,
+        "contact/summary",
+        &TextDocument::from_markdown(summary.to_string()),
+    )
+}
