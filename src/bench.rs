@@ -107,3 +107,193 @@ pub fn table(rows: &[BenchRow]) -> String {
     }
     s
 }
+
+/// One row of the contact benchmark: cost and error against the online solution.
+#[derive(Debug, Clone)]
+pub struct ContactBenchRow {
+    pub what: String,
+    pub micros_per_call: f64,
+    /// Max |Δz| against the online (cold) solution, m.
+    pub z_error: f64,
+    /// Max |Δφ|, rad.
+    pub phi_error: f64,
+    /// Max |Δs| of the four surface parameters, m.
+    pub s_error: f64,
+    /// 95th percentile of |Δz|, m.
+    pub z_p95: f64,
+}
+
+fn p95(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * 0.95).round() as usize]
+}
+
+/// Contact-geometry costs on S1002/60E1 at 1:40: online solve (cold: global search + Newton;
+/// warm: Newton from the previous step's solution as in simulation), 1-entry and 2-entry table
+/// look-ups, and table builds — each with its error against the cold online solution at the same
+/// points. `n` random (y, gv) points, y within the 1-entry table, gv within ±10 mm.
+pub fn contact(n: usize) -> Result<(Vec<ContactBenchRow>, String), crate::contact::lookup::TableError> {
+    use crate::contact::geometry::ContactGeometry;
+    use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
+    use crate::contact::RailOffsets;
+    use crate::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+
+    let pair = WheelRailPair::new(
+        StandardProfile::S1002.profile(),
+        StandardProfile::Rail60E1.profile(),
+        "1:40".parse().expect("valid inclination"),
+        TrackGauge::default(),
+        WheelsetGeometry::default(),
+    )
+    .expect("standard pair places");
+    let geom = ContactGeometry::with_defaults(pair);
+    let settings = TableSettings::default();
+
+    let t = Instant::now();
+    let t1 = LookupTable1::build(&geom, &settings)?;
+    let build1 = t.elapsed().as_secs_f64();
+    let (lo, hi) = t1.range();
+    let y_max = lo.abs().min(hi) - 1e-4;
+    let gvs: Vec<f64> = (-5..=5).map(|k| k as f64 * 2e-3).collect();
+    let t = Instant::now();
+    let t2 = LookupTable2::build(&geom, y_max, &gvs, &settings)?;
+    let build2 = t.elapsed().as_secs_f64();
+
+    let ys = points(n, -y_max, y_max);
+    let gv_pts = points(n + 7, -0.01, 0.01);
+    let mut rows = Vec::new();
+
+    // Online, cold.
+    let m = n.min(400);
+    let t = Instant::now();
+    let cold: Vec<_> = ys[..m]
+        .iter()
+        .map(|&y| geom.solve(y, &RailOffsets::default()))
+        .collect::<Result<_, _>>()?;
+    rows.push(ContactBenchRow {
+        what: "online solve, cold (global search + Newton)".into(),
+        micros_per_call: t.elapsed().as_secs_f64() * 1e6 / m as f64,
+        z_error: 0.0,
+        phi_error: 0.0,
+        s_error: 0.0,
+        z_p95: 0.0,
+    });
+    // Online, warm: a wheelset moving laterally by ≤ 0.01 mm per call, Newton from the last state.
+    let steps: Vec<f64> = points(n, -1e-5, 1e-5);
+    let mut y = 0.0f64;
+    let mut path = Vec::with_capacity(n);
+    for d in &steps {
+        y = (y + d).clamp(-y_max, y_max);
+        path.push(y);
+    }
+    let mut prev = geom.solve(0.0, &RailOffsets::default())?;
+    let t = Instant::now();
+    let mut warm = Vec::with_capacity(n);
+    for &y in &path {
+        prev = geom.solve_from(y, &RailOffsets::default(), &prev)?;
+        warm.push(prev.x());
+    }
+    let warm_us = t.elapsed().as_secs_f64() * 1e6 / n as f64;
+    let (mut wz, mut wp, mut ws, mut wzs) = (0.0f64, 0.0f64, 0.0f64, Vec::new());
+    for (k, &y) in path.iter().enumerate().step_by((n / 200).max(1)) {
+        let c = geom.solve(y, &RailOffsets::default())?.x();
+        wzs.push((warm[k][0] - c[0]).abs());
+        wz = wz.max((warm[k][0] - c[0]).abs());
+        wp = wp.max((warm[k][1] - c[1]).abs());
+        ws = ws.max((2..6).map(|i| (warm[k][i] - c[i]).abs()).fold(0.0, f64::max));
+    }
+    rows.push(ContactBenchRow {
+        what: "online solve, warm (Newton from last step)".into(),
+        micros_per_call: warm_us,
+        z_error: wz,
+        phi_error: wp,
+        s_error: ws,
+        z_p95: p95(wzs),
+    });
+    // 1-entry look-up.
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for &y in &ys {
+        acc += t1.lookup(black_box(y))?.x[0];
+    }
+    black_box(acc);
+    let us1 = t.elapsed().as_secs_f64() * 1e6 / n as f64;
+    let (mut z1, mut p1, mut s1, mut z1s) = (0.0f64, 0.0f64, 0.0f64, Vec::new());
+    for (k, c) in cold.iter().enumerate() {
+        let l = t1.lookup(ys[k])?;
+        z1s.push((l.x[0] - c.z).abs());
+        z1 = z1.max((l.x[0] - c.z).abs());
+        p1 = p1.max((l.x[1] - c.phi).abs());
+        s1 = s1.max((2..6).map(|i| (l.x[i] - c.x()[i]).abs()).fold(0.0, f64::max));
+    }
+    rows.push(ContactBenchRow {
+        what: "1-entry table look-up".into(),
+        micros_per_call: us1,
+        z_error: z1,
+        phi_error: p1,
+        s_error: s1,
+        z_p95: p95(z1s),
+    });
+    // 2-entry look-up, against online solves with that gauge variation.
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for k in 0..n {
+        acc += t2.lookup(black_box(ys[k]), black_box(gv_pts[k]))?.x[0];
+    }
+    black_box(acc);
+    let us2 = t.elapsed().as_secs_f64() * 1e6 / n as f64;
+    let (mut z2, mut p2, mut s2, mut z2s) = (0.0f64, 0.0f64, 0.0f64, Vec::new());
+    for k in 0..m {
+        let c = geom.solve(ys[k], &RailOffsets::gauge_variation(gv_pts[k]))?;
+        let l = t2.lookup(ys[k], gv_pts[k])?;
+        z2s.push((l.x[0] - c.z).abs());
+        z2 = z2.max((l.x[0] - c.z).abs());
+        p2 = p2.max((l.x[1] - c.phi).abs());
+        s2 = s2.max((2..6).map(|i| (l.x[i] - c.x()[i]).abs()).fold(0.0, f64::max));
+    }
+    rows.push(ContactBenchRow {
+        what: "2-entry table look-up (y, gv)".into(),
+        micros_per_call: us2,
+        z_error: z2,
+        phi_error: p2,
+        s_error: s2,
+        z_p95: p95(z2s),
+    });
+
+    let builds = format!(
+        "table builds: 1-entry y = {:.2}..{:.2} mm, {} rows: {:.0} ms; 2-entry y = ±{:.2} mm × gv = −10..10 mm by 2 mm ({} columns, {} rows): {:.0} ms\n",
+        lo * 1e3,
+        hi * 1e3,
+        t1.rows.len(),
+        build1 * 1e3,
+        y_max * 1e3,
+        t2.columns.len(),
+        t2.columns.iter().map(|c| c.rows.len()).sum::<usize>(),
+        build2 * 1e3
+    );
+    Ok((rows, builds))
+}
+
+/// Formats contact rows as an aligned table.
+pub fn contact_table(rows: &[ContactBenchRow]) -> String {
+    let mut s = format!(
+        "{:<46} {:>10} {:>14} {:>14} {:>14} {:>14}\n",
+        "S1002/60E1 1:40", "µs/call", "p95 Δz [mm]", "max Δz [mm]", "max Δφ [mrad]", "max Δs [mm]"
+    );
+    for r in rows {
+        s += &format!(
+            "{:<46} {:>10.3} {:>14.2e} {:>14.2e} {:>14.2e} {:>14.2e}\n",
+            r.what,
+            r.micros_per_call,
+            r.z_p95 * 1e3,
+            r.z_error * 1e3,
+            r.phi_error * 1e3,
+            r.s_error * 1e3
+        );
+    }
+    s += "errors against the cold online solution at the same points\n";
+    s
+}

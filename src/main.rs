@@ -87,6 +87,8 @@ enum Command {
 enum BenchTarget {
     /// Profile evaluation: spline vs analytic definition.
     Profiles,
+    /// Contact geometry: online solve (cold, warm) vs 1- and 2-entry look-ups, and table builds.
+    Contact,
 }
 
 /// A wheel/rail pair and its placement.
@@ -296,6 +298,13 @@ fn run(cli: Cli) -> Result<()> {
                     eprintln!("kecsim: warning: debug build, timings are not representative (use --release)");
                 }
                 print!("{}", kecsim::bench::table(&kecsim::bench::profiles(calls)));
+            }
+            BenchTarget::Contact => {
+                if cfg!(debug_assertions) {
+                    eprintln!("kecsim: warning: debug build, timings are not representative (use --release)");
+                }
+                let (rows, builds) = kecsim::bench::contact(calls.min(200_000))?;
+                print!("{}{builds}", kecsim::bench::contact_table(&rows));
             }
         },
     }

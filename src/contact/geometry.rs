@@ -590,15 +590,20 @@ impl ContactGeometry {
     }
 
     /// Warm-started solve for simulation: Newton from a previous solution, without the global
-    /// search or the interpenetration check (use [`ContactGeometry::solve`] where jumps may occur).
+    /// search or the interpenetration check; where Newton fails from there (the previous branch
+    /// ceased to exist past a contact jump), the full [`ContactGeometry::solve`]. A warm start can
+    /// stay on a branch past a jump while it still exists: `kecsim bench contact` measures it.
     pub fn solve_from(
         &self,
         y: f64,
         off: &RailOffsets,
         previous: &ContactSolution,
     ) -> Result<ContactSolution, ContactError> {
-        let (x, j, iterations) = self.newton(y, off, previous.x())?;
-        self.finish(y, off, x, j, iterations, false)
+        match self.newton(y, off, previous.x()) {
+            Ok((x, j, iterations)) => self.finish(y, off, x, j, iterations, false),
+            Err(ContactError::NoConvergence { .. }) => self.solve(y, off),
+            Err(e) => Err(e),
+        }
     }
 
     fn finish(
