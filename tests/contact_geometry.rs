@@ -4,6 +4,7 @@
 //!   samples, the roll found by bisection so that both sides touch;
 //! * EN 15302 reference case E1 (wheel A, rail A, 920 mm wheels, gauge 1435.16 mm) within the
 //!   standard's tolerance ±min(0.05, 0.5 tan γe).
+//!
 //! Agreement is printed: run with `-- --nocapture`.
 
 use std::path::Path;

@@ -250,3 +250,108 @@ fn bad_input_exits_nonzero_with_file_line_and_problem() {
         assert!(!stderr.contains("panicked"), "{args:?} panicked:\n{stderr}");
     }
 }
+
+#[test]
+fn contact_sweep_writes_table_csv_and_recording() {
+    let dir = tmpdir("contact");
+    let (csv_path, rrd, t2) = (dir.join("t.csv"), dir.join("c.rrd"), dir.join("t2.csv"));
+    let out = kecsim(
+        &[
+            "contact",
+            "--wheel",
+            "s1002",
+            "--rail",
+            "60e1",
+            "--inclination",
+            "1:40",
+            "--gauge",
+            "1435",
+            "--csv",
+            csv_path.to_str().unwrap(),
+            "--save",
+            rrd.to_str().unwrap(),
+            "--table2-csv",
+            t2.to_str().unwrap(),
+            "--gv-max",
+            "2",
+            "--gv-step",
+            "1",
+            "--y-max",
+            "3",
+        ],
+        &dir,
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Conicity for amplitudes 1..6 mm is printed (out of range beyond the 3 mm table: said so).
+    for a in ["| 1.0 |", "| 2.0 |", "| 3.0 |", "| 6.0 |"] {
+        assert!(stdout.contains(a), "missing conicity row {a}:\n{stdout}");
+    }
+    assert!(stdout.contains("out of range"), "{stdout}");
+    // The CSV interface: header with the contract's columns, one row per tabulated y.
+    let text = std::fs::read_to_string(&csv_path).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    for c in [
+        "y_mm",
+        "z_mm",
+        "roll_mrad",
+        "dr_mm",
+        "contact_angle_left_rad",
+        "contact_angle_right_rad",
+        "s_wheel_left_mm",
+        "s_rail_left_mm",
+        "s_wheel_right_mm",
+        "s_rail_right_mm",
+    ] {
+        assert!(header.contains(&c), "missing column {c}");
+    }
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|c| c.parse().unwrap_or(f64::NAN)).collect())
+        .collect();
+    assert!(rows.len() >= 61, "{} rows", rows.len());
+    let (y0, y1) = (rows[0][col("y_mm")], rows[rows.len() - 1][col("y_mm")]);
+    assert!(
+        (y0 + 3.0).abs() < 1e-9 && (y1 - 3.0).abs() < 1e-9,
+        "range {y0}..{y1}"
+    );
+    // Symmetric pair: Δr antisymmetric, roll antisymmetric.
+    let first = &rows[0];
+    let last = &rows[rows.len() - 1];
+    assert!((first[col("dr_mm")] + last[col("dr_mm")]).abs() < 1e-6);
+    assert!((first[col("roll_mrad")] + last[col("roll_mrad")]).abs() < 1e-6);
+    // The 2-entry table file holds five gauge variations.
+    let t2text = std::fs::read_to_string(&t2).unwrap();
+    let gv_col = t2text
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|h| h == "gv_mm")
+        .unwrap();
+    let mut gvs: Vec<String> = t2text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(gv_col).unwrap().to_string())
+        .collect();
+    gvs.dedup();
+    assert_eq!(gvs.len(), 5, "{gvs:?}");
+    // The recording: sections and plots on the y timeline.
+    rerun_verify(&rrd);
+    let rec = read(&rrd);
+    for e in [
+        "/contact/section/left/wheel",
+        "/contact/section/right/contact",
+        "/contact/plots/dr_mm",
+        "/contact/summary",
+    ] {
+        assert!(rec.contains_key(e), "missing {e}: {:?}", rec.keys());
+    }
+    assert_eq!(
+        rec["/contact/section/left/contact"].points.len(),
+        rows.len(),
+        "one contact point per row"
+    );
+}

@@ -462,10 +462,11 @@ impl LookupTable1 {
         for end in 1..=rows.len() {
             if end == rows.len() || rows[end].y <= rows[end - 1].y {
                 let ys: Vec<f64> = rows[start..end].iter().map(|r| r.y).collect();
+                let others: Vec<[f64; N_OTHER]> = rows[start..end].iter().map(|r| r.other()).collect();
                 for c in 0..N_OTHER {
-                    let vs: Vec<f64> = rows[start..end].iter().map(|r| r.other()[c]).collect();
-                    for (i, d) in pchip_slopes(&ys, &vs).into_iter().enumerate() {
-                        other_slopes[start + i][c] = d;
+                    let vs: Vec<f64> = others.iter().map(|o| o[c]).collect();
+                    for (slopes, d) in other_slopes[start..end].iter_mut().zip(pchip_slopes(&ys, &vs)) {
+                        slopes[c] = d;
                     }
                 }
                 start = end;
