@@ -225,7 +225,9 @@ fn bad_input_exits_nonzero_with_file_line_and_problem() {
         "schema_version = 1\nname = \"x\"\nspeed = 3\n",
     )
     .unwrap();
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 8] = [
+        (&["contact", "--gauge", "1700"], "never touch"),
+        (&["contact", "--y-max", "80"], "y = -80.0000 mm"),
         (&["profiles", "--rail", "missing.csv"], "missing.csv: cannot read"),
         (
             &["profiles", "--rail", "cell.csv"],
