@@ -251,7 +251,7 @@ pub fn flange_contact_limit(
     }
 }
 
-fn hermite(y0: f64, y1: f64, v0: f64, v1: f64, d0: f64, d1: f64, y: f64) -> (f64, f64) {
+pub(crate) fn hermite(y0: f64, y1: f64, v0: f64, v1: f64, d0: f64, d1: f64, y: f64) -> (f64, f64) {
     let h = y1 - y0;
     let t = (y - y0) / h;
     let (t2, t3) = (t * t, t * t * t);
@@ -273,7 +273,7 @@ fn hermite(y0: f64, y1: f64, v0: f64, v1: f64, d0: f64, d1: f64, y: f64) -> (f64
 }
 
 /// Fritsch–Carlson PCHIP slopes of `v` over `y` (one piece, no jumps inside).
-fn pchip_slopes(y: &[f64], v: &[f64]) -> Vec<f64> {
+pub(crate) fn pchip_slopes(y: &[f64], v: &[f64]) -> Vec<f64> {
     let n = y.len();
     if n < 2 {
         return vec![0.0; n];
@@ -449,10 +449,63 @@ impl LookupTable1 {
                 last_b = s;
             }
         }
+        // At the jump both branches touch at once, so z_A(y_j) = z_B(y_j): refine y_j by secant
+        // steps on z_A − z_B with each branch continued by Newton from its bisection limit, so
+        // that the twin rows share z and φ. Where the continuation misbehaves (near-conformal
+        // contact), the two global solutions 1e-10 m either side of the jump are kept.
+        if let Some((a_j, b_j)) = Self::refine_jump(geom, off, &last_a, &last_b) {
+            let yj = a_j.y;
+            return Ok((a_j, b_j, yj));
+        }
         let yj = 0.5 * (lo + hi);
-        let sa = geom.solve_from(yj, off, &last_a)?;
-        let sb = geom.solve_from(yj, off, &last_b)?;
-        Ok((sa, sb, yj))
+        last_a.y = yj;
+        last_b.y = yj;
+        Ok((last_a, last_b, yj))
+    }
+
+    /// Secant refinement of a jump between branch solutions `a` (before) and `b` (after).
+    fn refine_jump(
+        geom: &ContactGeometry,
+        off: &RailOffsets,
+        a: &ContactSolution,
+        b: &ContactSolution,
+    ) -> Option<(ContactSolution, ContactSolution)> {
+        let branch_gap = |y: f64| -> Option<(f64, ContactSolution, ContactSolution)> {
+            let (sa, _, _) = geom.newton(y, off, a.x()).ok()?;
+            let (sb, _, _) = geom.newton(y, off, b.x()).ok()?;
+            Some((
+                sa[0] - sb[0],
+                geom.solve_from(y, off, a).ok()?,
+                geom.solve_from(y, off, b).ok()?,
+            ))
+        };
+        let (mut y0, mut y1) = (a.y, b.y);
+        let (mut g0, _, _) = branch_gap(y0)?;
+        let (mut g1, _, _) = branch_gap(y1)?;
+        for _ in 0..8 {
+            if g1 == g0 {
+                break;
+            }
+            let y2 = y1 - g1 * (y1 - y0) / (g1 - g0);
+            // The bisection located the switch of the global solution only as well as the
+            // interpenetration tolerance allows: accept a root within 1 µm of it.
+            if (y2 - 0.5 * (a.y + b.y)).abs() > 1e-6 {
+                return None;
+            }
+            let (g2, sa, sb) = branch_gap(y2)?;
+            if g2.abs() < 1e-13 {
+                // Same configuration on both branches (to round-off, made exact so that the
+                // equivalent profiles meet in one point), different contact points.
+                let same = (sa.phi - sb.phi).abs() < 1e-11;
+                let distinct = (2..6).any(|k| (sa.x()[k] - sb.x()[k]).abs() > 1e-6);
+                let mut sb = sb;
+                sb.z = sa.z;
+                sb.phi = sa.phi;
+                return (same && distinct).then_some((sa, sb));
+            }
+            (y0, g0, y1, g1) = (y1, g1, y2, g2);
+        }
+        None
     }
 
     /// Assembles a table from rows (sorted by y, jumps as duplicate y), computing PCHIP slopes.

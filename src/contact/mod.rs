@@ -11,6 +11,7 @@
 
 pub mod conicity;
 pub mod geometry;
+pub mod kec;
 pub mod lookup;
 pub mod report;
 

@@ -1,0 +1,692 @@
+//! The KEC-method: knife-edge-equivalent profiles and constraints (paper §5–7, METHOD.md §6–8).
+//!
+//! **Equivalent profiles (§6).** From the 1-entry lookup table of the real profiles on an ideal
+//! track, each row (y, z, φ) is turned into one point of the left and right equivalent profiles by
+//! solving the KEC constraints the other way round (z̃ = z − r0, linearised roll):
+//!
+//! ```text
+//! s^lk = (−y − φ(r0 + z̃) − φ² L_w) / (1 + φ²),   f^lk = z̃ + φ( L_w + s^lk)
+//! s^rk = (−y − φ(r0 + z̃) + φ² L_w) / (1 + φ²),   f^rk = z̃ + φ(−L_w + s^rk)
+//! ```
+//!
+//! The row's exact slopes dz/dy, dφ/dy give ds^k/dy and df^k/dy, so f^k(s^k) is a cubic Hermite
+//! curve with exact slopes df^k/ds^k at the nodes (C¹; twin table rows at a contact jump give a
+//! node with two slopes: the **kink** where the real contact jumps while the equivalent profile
+//! stays continuous). With each node the real surface parameters are stored, giving the maps
+//! s^w(s^k), s^r(s^k) of Eq. (52) (Hermite with exact slopes, steps at the kinks), and the
+//! contact angle, rolling radius and curvatures at the real point (PCHIP).
+//!
+//! **KEC constraints (§5, Eq. 49–50).** With the rail reduced to a knife edge at the nominal
+//! position (L_w from the wheelset centre, shifted by the rail irregularities), four equations in
+//! x = [z̃, φ, s^lk, s^rk] for the independent coordinates q = [y, y_lir, z_lir, y_rir, z_rir]:
+//!
+//! ```text
+//! F1 = y + s^lk + φ (r0 + f^lk(s^lk)) − y_lir = 0
+//! F2 = z̃ + φ ( L_w + s^lk) − f^lk(s^lk) − z_lir = 0
+//! F3 = y + s^rk + φ (r0 + f^rk(s^rk)) − y_rir = 0
+//! F4 = z̃ + φ (−L_w + s^rk) − f^rk(s^rk) − z_rir = 0
+//! ```
+//!
+//! solved by Newton from the Eq. (51) guess (s^lk = s^rk = −y, φ = 0, z̃ = (f^lk(−y) + f^rk(−y))/2)
+//! or warm from a previous solution. Since q enters F linearly, dx/dq = −J⁻¹ ∂F/∂q and the second
+//! derivatives follow from J d²x/dq_a dq_b = −F_xx[dx/dq_a, dx/dq_b] — what the equations of motion
+//! need for the velocity and acceleration terms of z and φ.
+
+use nalgebra::{Matrix4, Vector4};
+
+use super::lookup::{hermite, pchip_slopes, LookupTable1, TableRow};
+use crate::profile::Side;
+
+/// KEC errors.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum KecError {
+    #[error("the lookup table must be a 1-entry table on an ideal track (gv = 0), got gv = {gv_mm} mm")]
+    NotIdeal { gv_mm: f64 },
+    #[error("the {side} equivalent profile is not a function of s^k near y = {y_mm:.4} mm (ds^k/dy = {slope:.3}): the roll changes faster than 1/r0")]
+    NotMonotone {
+        side: &'static str,
+        y_mm: f64,
+        slope: f64,
+    },
+    #[error("y = {y_mm:.4} mm: KEC Newton did not converge in {iterations} iterations (last correction {last_step:.3e})")]
+    NoConvergence {
+        y_mm: f64,
+        iterations: usize,
+        last_step: f64,
+    },
+    #[error("y = {y_mm:.4} mm: the {side} knife edge left the equivalent profile (s^k = {s_mm:.3} mm, profile spans {lo_mm:.3}..{hi_mm:.3} mm): beyond the table's flange contact")]
+    OffProfile {
+        y_mm: f64,
+        side: &'static str,
+        s_mm: f64,
+        lo_mm: f64,
+        hi_mm: f64,
+    },
+}
+
+/// Per-node real-contact quantities interpolated along s^k (PCHIP): contact angle, rolling radius,
+/// wheel and rail curvature.
+const N_REAL: usize = 4;
+
+/// One side's knife-edge-equivalent profile f^k(s^k) with the maps to the real contact.
+#[derive(Debug, Clone)]
+pub struct EquivalentProfile {
+    pub side: Side,
+    /// Nodes sorted by s^k (a kink is two nodes with the same s^k).
+    s: Vec<f64>,
+    f: Vec<f64>,
+    df: Vec<f64>,
+    /// Real surface parameters s^w, s^r and their slopes d/ds^k.
+    s_wheel: Vec<f64>,
+    ds_wheel: Vec<f64>,
+    s_rail: Vec<f64>,
+    ds_rail: Vec<f64>,
+    /// The table's y of each node.
+    y: Vec<f64>,
+    real: Vec<[f64; N_REAL]>,
+    real_slopes: Vec<[f64; N_REAL]>,
+}
+
+/// A point of an equivalent profile with the real contact it stands for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EquivalentPoint {
+    /// f^k, df^k/ds^k, d²f^k/ds^k².
+    pub f: f64,
+    pub df: f64,
+    pub d2f: f64,
+    /// Real wheel and rail surface parameters (Eq. 52), m.
+    pub s_wheel: f64,
+    pub s_rail: f64,
+    /// Real contact angle (rad), rolling radius (m), wheel and rail lateral curvature (1/m).
+    pub contact_angle: f64,
+    pub rolling_radius: f64,
+    pub wheel_curvature: f64,
+    pub rail_curvature: f64,
+}
+
+/// Where the real contact jumps: the equivalent profile's kink.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kink {
+    pub side: Side,
+    /// Table y of the jump, m.
+    pub y: f64,
+    /// s^k of the kink, m.
+    pub s_k: f64,
+    /// df^k/ds^k on the side of smaller and of larger s^k.
+    pub slope_before: f64,
+    pub slope_after: f64,
+    /// Real wheel surface parameter on either side, m.
+    pub s_wheel_before: f64,
+    pub s_wheel_after: f64,
+    /// Real contact angle on either side, rad.
+    pub angle_before: f64,
+    pub angle_after: f64,
+    /// Whether this side's real contact jumps here (otherwise the kink comes from the other
+    /// side's jump through the roll, and this side's real contact moves on continuously).
+    pub real_jump: bool,
+}
+
+fn cubic_hermite(s0: f64, s1: f64, v0: f64, v1: f64, d0: f64, d1: f64, s: f64) -> (f64, f64, f64) {
+    let h = s1 - s0;
+    let t = (s - s0) / h;
+    let (v, d) = hermite(s0, s1, v0, v1, d0, d1, s);
+    let dd = ((12.0 * t - 6.0) * (v0 - v1) / h + (6.0 * t - 4.0) * d0 + (6.0 * t - 2.0) * d1) / h;
+    (v, d, dd)
+}
+
+impl EquivalentProfile {
+    fn build(side: Side, table: &LookupTable1, l_w: f64) -> Result<Self, KecError> {
+        let r0 = table.r0;
+        let sig = side.sign();
+        let (ks_w, ks_r, ki) = match side {
+            Side::Left => (2, 3, 0),
+            Side::Right => (4, 5, 1),
+        };
+        struct Node {
+            s: f64,
+            f: f64,
+            df: f64,
+            sw: f64,
+            dsw: f64,
+            sr: f64,
+            dsr: f64,
+            y: f64,
+            real: [f64; N_REAL],
+        }
+        let mut nodes = Vec::with_capacity(table.rows.len());
+        for r in &table.rows {
+            let (y, zt, phi) = (r.y, r.z() - r0, r.phi());
+            let (dzt, dphi) = (r.dx_dy[0], r.dx_dy[1]);
+            // s^k = N/D with N = −y − φ(r0 + z̃) − σφ²L_w, D = 1 + φ².
+            let d = 1.0 + phi * phi;
+            let n = -y - phi * (r0 + zt) - sig * phi * phi * l_w;
+            let dn = -1.0 - dphi * (r0 + zt) - phi * dzt - 2.0 * sig * phi * dphi * l_w;
+            let dd = 2.0 * phi * dphi;
+            let s = n / d;
+            let ds = (dn * d - n * dd) / (d * d);
+            let f = zt + phi * (sig * l_w + s);
+            let dfdy = dzt + dphi * (sig * l_w + s) + phi * ds;
+            if ds >= -1e-9 {
+                return Err(KecError::NotMonotone {
+                    side: side.name(),
+                    y_mm: y * 1e3,
+                    slope: ds,
+                });
+            }
+            nodes.push(Node {
+                s,
+                f,
+                df: dfdy / ds,
+                sw: r.x[ks_w],
+                dsw: r.dx_dy[ks_w] / ds,
+                sr: r.x[ks_r],
+                dsr: r.dx_dy[ks_r] / ds,
+                y,
+                real: [
+                    r.contact_angle[ki],
+                    r.rolling_radius[ki],
+                    r.curvature[2 * ki],
+                    r.curvature[2 * ki + 1],
+                ],
+            });
+        }
+        // s^k decreases with y: reverse to increasing s^k.
+        nodes.reverse();
+        let mut real_slopes = vec![[0.0; N_REAL]; nodes.len()];
+        let mut start = 0;
+        for end in 1..=nodes.len() {
+            if end == nodes.len() || nodes[end].s <= nodes[end - 1].s {
+                let ss: Vec<f64> = nodes[start..end].iter().map(|n| n.s).collect();
+                for c in 0..N_REAL {
+                    let vs: Vec<f64> = nodes[start..end].iter().map(|n| n.real[c]).collect();
+                    for (slot, d) in real_slopes[start..end].iter_mut().zip(pchip_slopes(&ss, &vs)) {
+                        slot[c] = d;
+                    }
+                }
+                start = end;
+            }
+        }
+        Ok(EquivalentProfile {
+            side,
+            s: nodes.iter().map(|n| n.s).collect(),
+            f: nodes.iter().map(|n| n.f).collect(),
+            df: nodes.iter().map(|n| n.df).collect(),
+            s_wheel: nodes.iter().map(|n| n.sw).collect(),
+            ds_wheel: nodes.iter().map(|n| n.dsw).collect(),
+            s_rail: nodes.iter().map(|n| n.sr).collect(),
+            ds_rail: nodes.iter().map(|n| n.dsr).collect(),
+            y: nodes.iter().map(|n| n.y).collect(),
+            real: nodes.iter().map(|n| n.real).collect(),
+            real_slopes,
+        })
+    }
+
+    /// Range of s^k, m.
+    pub fn domain(&self) -> (f64, f64) {
+        (self.s[0], self.s[self.s.len() - 1])
+    }
+
+    /// The nodes (s^k, f^k), m — one per table row.
+    pub fn nodes(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.s.iter().copied().zip(self.f.iter().copied())
+    }
+
+    /// The table y of each node (same order as [`EquivalentProfile::nodes`]).
+    pub fn node_y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// Real surface parameters (s^w, s^r) of each node.
+    pub fn node_real(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.s_wheel.iter().copied().zip(self.s_rail.iter().copied())
+    }
+
+    #[inline]
+    fn segment(&self, s: f64) -> usize {
+        let n = self.s.len();
+        let k = match self.s.partition_point(|&v| v <= s) {
+            0 => 0,
+            p if p >= n => n - 2,
+            p => p - 1,
+        };
+        if self.s[k + 1] == self.s[k] {
+            k.saturating_sub(1)
+        } else {
+            k
+        }
+    }
+
+    /// f^k and its derivatives at `s` (no range check; extrapolates the end cubic).
+    #[inline]
+    pub fn eval(&self, s: f64) -> (f64, f64, f64) {
+        let k = self.segment(s);
+        cubic_hermite(
+            self.s[k],
+            self.s[k + 1],
+            self.f[k],
+            self.f[k + 1],
+            self.df[k],
+            self.df[k + 1],
+            s,
+        )
+    }
+
+    /// The equivalent profile at `s` with the real contact it maps to.
+    pub fn point(&self, s: f64) -> EquivalentPoint {
+        let k = self.segment(s);
+        let (a, b) = (self.s[k], self.s[k + 1]);
+        let (f, df, d2f) = cubic_hermite(a, b, self.f[k], self.f[k + 1], self.df[k], self.df[k + 1], s);
+        let h = |v: &[f64], d: &[f64]| hermite(a, b, v[k], v[k + 1], d[k], d[k + 1], s).0;
+        let real = |c: usize| {
+            hermite(
+                a,
+                b,
+                self.real[k][c],
+                self.real[k + 1][c],
+                self.real_slopes[k][c],
+                self.real_slopes[k + 1][c],
+                s,
+            )
+            .0
+        };
+        EquivalentPoint {
+            f,
+            df,
+            d2f,
+            s_wheel: h(&self.s_wheel, &self.ds_wheel),
+            s_rail: h(&self.s_rail, &self.ds_rail),
+            contact_angle: real(0),
+            rolling_radius: real(1),
+            wheel_curvature: real(2),
+            rail_curvature: real(3),
+        }
+    }
+
+    fn kinks(&self) -> Vec<Kink> {
+        (0..self.s.len() - 1)
+            .filter(|&k| self.s[k + 1] == self.s[k])
+            .map(|k| Kink {
+                side: self.side,
+                y: self.y[k],
+                s_k: self.s[k],
+                slope_before: self.df[k],
+                slope_after: self.df[k + 1],
+                s_wheel_before: self.s_wheel[k],
+                s_wheel_after: self.s_wheel[k + 1],
+                angle_before: self.real[k][0],
+                angle_after: self.real[k + 1][0],
+                real_jump: (self.s_wheel[k + 1] - self.s_wheel[k]).abs() > 1e-5
+                    || (self.s_rail[k + 1] - self.s_rail[k]).abs() > 1e-5,
+            })
+            .collect()
+    }
+}
+
+/// Independent coordinates of the KEC constraints: q = [y, y_lir, z_lir, y_rir, z_rir].
+pub const N_Q: usize = 5;
+
+/// A solved KEC configuration with everything the equations of motion need.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KecSolution {
+    /// Lateral displacement y, m.
+    pub y: f64,
+    /// Height of the wheelset centre z = z̃ + r0, m.
+    pub z: f64,
+    /// Roll φ, rad.
+    pub phi: f64,
+    /// Knife-edge contact parameters s^lk, s^rk, m.
+    pub s_k: [f64; 2],
+    /// x = [z̃, φ, s^lk, s^rk] derivatives with respect to q = [y, y_lir, z_lir, y_rir, z_rir].
+    pub dx_dq: [[f64; N_Q]; 4],
+    /// Second derivatives of z̃ and φ with respect to q (symmetric).
+    pub d2z_dq2: [[f64; N_Q]; N_Q],
+    pub d2phi_dq2: [[f64; N_Q]; N_Q],
+    /// The real contact each knife-edge point stands for (left, right).
+    pub real: [EquivalentPoint; 2],
+    pub iterations: usize,
+}
+
+impl KecSolution {
+    /// x = [z̃, φ, s^lk, s^rk] with z̃ = z − r0 (`r0` given).
+    pub fn x(&self, r0: f64) -> [f64; 4] {
+        [self.z - r0, self.phi, self.s_k[0], self.s_k[1]]
+    }
+    /// Rolling radius difference of the real contacts, m.
+    pub fn delta_r(&self) -> f64 {
+        self.real[0].rolling_radius - self.real[1].rolling_radius
+    }
+}
+
+/// Newton settings of the KEC solve.
+const TOLERANCE: f64 = 1e-14;
+const MAX_ITERATIONS: usize = 30;
+
+/// The KEC contact model of a wheelset: both equivalent profiles.
+#[derive(Debug, Clone)]
+pub struct KecModel {
+    pub left: EquivalentProfile,
+    pub right: EquivalentProfile,
+    /// Nominal rolling radius r0 and wheel lateral position L_w, m.
+    pub r0: f64,
+    pub l_w: f64,
+    /// Where the real contact jumps (the equivalent profiles' kinks).
+    pub kinks: Vec<Kink>,
+}
+
+impl KecModel {
+    /// Builds the equivalent profiles from an ideal-track 1-entry table; `l_w` is the wheelset's
+    /// L_w (taping line to wheelset centre), m.
+    pub fn from_table(table: &LookupTable1, l_w: f64) -> Result<Self, KecError> {
+        if table.gv != 0.0 {
+            return Err(KecError::NotIdeal {
+                gv_mm: table.gv * 1e3,
+            });
+        }
+        let left = EquivalentProfile::build(Side::Left, table, l_w)?;
+        let right = EquivalentProfile::build(Side::Right, table, l_w)?;
+        let mut kinks = left.kinks();
+        kinks.extend(right.kinks());
+        kinks.sort_by(|a, b| a.y.total_cmp(&b.y));
+        Ok(KecModel {
+            left,
+            right,
+            r0: table.r0,
+            l_w,
+            kinks,
+        })
+    }
+
+    /// The equivalent profile of a side.
+    pub fn profile(&self, side: Side) -> &EquivalentProfile {
+        match side {
+            Side::Left => &self.left,
+            Side::Right => &self.right,
+        }
+    }
+
+    /// Eq. (51): s^lk = s^rk = −y, φ = 0, z̃ = (f^lk(−y) + f^rk(−y))/2.
+    pub fn guess(&self, y: f64) -> [f64; 4] {
+        [0.5 * (self.left.eval(-y).0 + self.right.eval(-y).0), 0.0, -y, -y]
+    }
+
+    /// Residual of Eq. (49)–(50) and its Jacobian with respect to x = [z̃, φ, s^lk, s^rk].
+    pub fn residual(&self, q: &[f64; N_Q], x: &[f64; 4]) -> (Vector4<f64>, Matrix4<f64>) {
+        let (zt, phi, sl, sr) = (x[0], x[1], x[2], x[3]);
+        let (fl, dfl, _) = self.left.eval(sl);
+        let (fr, dfr, _) = self.right.eval(sr);
+        let (r0, lw) = (self.r0, self.l_w);
+        let f = Vector4::new(
+            q[0] + sl + phi * (r0 + fl) - q[1],
+            zt + phi * (lw + sl) - fl - q[2],
+            q[0] + sr + phi * (r0 + fr) - q[3],
+            zt + phi * (-lw + sr) - fr - q[4],
+        );
+        #[rustfmt::skip]
+        let j = Matrix4::new(
+            0.0, r0 + fl,  1.0 + phi * dfl, 0.0,
+            1.0, lw + sl,  phi - dfl,       0.0,
+            0.0, r0 + fr,  0.0,             1.0 + phi * dfr,
+            1.0, -lw + sr, 0.0,             phi - dfr,
+        );
+        (f, j)
+    }
+
+    /// Solves the KEC constraints at lateral displacement `y` with rail irregularities
+    /// (y_lir, z_lir, y_rir, z_rir) from `start` (a previous x, or `None` for Eq. 51).
+    pub fn solve(&self, y: f64, rails: [f64; 4], start: Option<[f64; 4]>) -> Result<KecSolution, KecError> {
+        let q = [y, rails[0], rails[1], rails[2], rails[3]];
+        let mut x = start.unwrap_or_else(|| self.guess(y));
+        let mut last = f64::INFINITY;
+        let (mut f, mut j) = self.residual(&q, &x);
+        for it in 1..=MAX_ITERATIONS {
+            let dx = j.lu().solve(&(-f)).ok_or(KecError::NoConvergence {
+                y_mm: y * 1e3,
+                iterations: it,
+                last_step: last,
+            })?;
+            // Backtracking on |F|: near a kink of an equivalent profile (a real contact jump) the
+            // full Newton step can cycle across it.
+            let norm = f.norm();
+            let mut alpha = 1.0;
+            let (mut xn, mut fn_, mut jn);
+            loop {
+                xn = x;
+                for k in 0..4 {
+                    xn[k] += alpha * dx[k];
+                }
+                (fn_, jn) = self.residual(&q, &xn);
+                if fn_.norm() < (1.0 - 1e-4 * alpha) * norm || alpha < 1e-6 || norm < 1e-15 {
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            x = xn;
+            f = fn_;
+            j = jn;
+            last = alpha * dx.amax();
+            if !last.is_finite() {
+                break;
+            }
+            if last < TOLERANCE || (last < 1e-11 && f.amax() < 1e-15) {
+                return self.finish(y, &q, x, it);
+            }
+        }
+        Err(KecError::NoConvergence {
+            y_mm: y * 1e3,
+            iterations: MAX_ITERATIONS,
+            last_step: last,
+        })
+    }
+
+    fn finish(
+        &self,
+        y: f64,
+        q: &[f64; N_Q],
+        x: [f64; 4],
+        iterations: usize,
+    ) -> Result<KecSolution, KecError> {
+        for (side, s) in [(Side::Left, x[2]), (Side::Right, x[3])] {
+            let (lo, hi) = self.profile(side).domain();
+            if s < lo || s > hi {
+                return Err(KecError::OffProfile {
+                    y_mm: y * 1e3,
+                    side: side.name(),
+                    s_mm: s * 1e3,
+                    lo_mm: lo * 1e3,
+                    hi_mm: hi * 1e3,
+                });
+            }
+        }
+        let (_, j) = self.residual(q, &x);
+        let lu = j.lu();
+        // ∂F/∂q: F1 = y … − y_lir, F2 = … − z_lir, F3 = y … − y_rir, F4 = … − z_rir.
+        #[rustfmt::skip]
+        let dfdq: [[f64; 4]; N_Q] = [
+            [1.0, 0.0, 1.0, 0.0],
+            [-1.0, 0.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0, 0.0],
+            [0.0, 0.0, -1.0, 0.0],
+            [0.0, 0.0, 0.0, -1.0],
+        ];
+        let singular = || KecError::NoConvergence {
+            y_mm: y * 1e3,
+            iterations,
+            last_step: f64::NAN,
+        };
+        let mut dx = [[0.0; N_Q]; 4];
+        for (a, col) in dfdq.iter().enumerate() {
+            let v = lu.solve(&(-Vector4::from(*col))).ok_or_else(singular)?;
+            for r in 0..4 {
+                dx[r][a] = v[r];
+            }
+        }
+        // Second derivatives: J d²x = −F_xx[dx_a, dx_b] (q enters F linearly).
+        let (phi, sl, sr) = (x[1], x[2], x[3]);
+        let (_, dfl, d2fl) = self.left.eval(sl);
+        let (_, dfr, d2fr) = self.right.eval(sr);
+        let mut d2z = [[0.0; N_Q]; N_Q];
+        let mut d2phi = [[0.0; N_Q]; N_Q];
+        for a in 0..N_Q {
+            for b in a..N_Q {
+                let (pa, pb) = (dx[1][a], dx[1][b]);
+                let (la, lb) = (dx[2][a], dx[2][b]);
+                let (ra, rb) = (dx[3][a], dx[3][b]);
+                let fxx = Vector4::new(
+                    dfl * (pa * lb + la * pb) + phi * d2fl * la * lb,
+                    (pa * lb + la * pb) - d2fl * la * lb,
+                    dfr * (pa * rb + ra * pb) + phi * d2fr * ra * rb,
+                    (pa * rb + ra * pb) - d2fr * ra * rb,
+                );
+                let v = lu.solve(&(-fxx)).ok_or_else(singular)?;
+                d2z[a][b] = v[0];
+                d2z[b][a] = v[0];
+                d2phi[a][b] = v[1];
+                d2phi[b][a] = v[1];
+            }
+        }
+        Ok(KecSolution {
+            y,
+            z: x[0] + self.r0,
+            phi: x[1],
+            s_k: [x[2], x[3]],
+            dx_dq: dx,
+            d2z_dq2: d2z,
+            d2phi_dq2: d2phi,
+            real: [self.left.point(x[2]), self.right.point(x[3])],
+            iterations,
+        })
+    }
+}
+
+/// Rail irregularities [y_lir, z_lir, y_rir, z_rir] of rail offsets.
+pub fn rails(off: &super::RailOffsets) -> [f64; 4] {
+    [off.y_left, off.z_left, off.y_right, off.z_right]
+}
+
+/// The table rows the model was built from are reproduced: (max |Δz|, max |Δφ|) over `rows`.
+pub fn reproduction_error(model: &KecModel, rows: &[TableRow]) -> Result<(f64, f64), KecError> {
+    let (mut ez, mut ep) = (0.0f64, 0.0f64);
+    for r in rows {
+        let s = model.solve(r.y, [0.0; 4], None)?;
+        ez = ez.max((s.z - r.z()).abs());
+        ep = ep.max((s.phi - r.phi()).abs());
+    }
+    Ok((ez, ep))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::geometry::ContactGeometry;
+    use crate::contact::lookup::TableSettings;
+    use crate::contact::RailOffsets;
+    use crate::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+    use crate::profile::StandardProfile;
+
+    fn setup() -> (ContactGeometry, LookupTable1, KecModel) {
+        let pair = WheelRailPair::new(
+            StandardProfile::S1002.profile(),
+            StandardProfile::Rail60E1.profile(),
+            "1:40".parse().unwrap(),
+            TrackGauge::default(),
+            WheelsetGeometry::default(),
+        )
+        .unwrap();
+        let l_w = pair.wheelset.l_w();
+        let geom = ContactGeometry::with_defaults(pair);
+        let table = LookupTable1::build(&geom, &TableSettings::default()).unwrap();
+        let model = KecModel::from_table(&table, l_w).unwrap();
+        (geom, table, model)
+    }
+
+    #[test]
+    fn reproduces_the_table_at_its_nodes_and_stays_continuous_at_jumps() {
+        let (_, table, model) = setup();
+        let (ez, ep) = reproduction_error(&model, &table.rows).unwrap();
+        assert!(ez < 1e-9 && ep < 1e-9, "z {ez:e} phi {ep:e}");
+        // Every jump of the table is a kink of the jumping side's equivalent profile (and, through
+        // the roll, of the other side's), where the profile stays continuous.
+        assert_eq!(
+            model.kinks.iter().filter(|k| k.real_jump).count(),
+            table.jumps.len(),
+            "{:?}",
+            model.kinks
+        );
+        assert!(table.jumps.len() >= 4);
+        for k in &model.kinks {
+            let p = model.profile(k.side);
+            let (a, b) = (p.eval(k.s_k - 1e-12).0, p.eval(k.s_k + 1e-12).0);
+            // 2e-12 apart on slopes of up to ~3: continuous to round-off.
+            assert!(
+                (a - b).abs() < 2e-11,
+                "continuous at the kink: {:.3e} {k:?}",
+                a - b
+            );
+        }
+    }
+
+    #[test]
+    fn first_and_second_derivatives_match_finite_differences() {
+        let (_, _, model) = setup();
+        let base = [0.0021, 0.0004, -0.0003, -0.0002, 0.0005];
+        let solve = |q: [f64; 5]| model.solve(q[0], [q[1], q[2], q[3], q[4]], None).unwrap();
+        let s0 = solve(base);
+        let h = 1e-6;
+        for a in 0..N_Q {
+            let mut qp = base;
+            qp[a] += h;
+            let mut qm = base;
+            qm[a] -= h;
+            let (sp, sm) = (solve(qp), solve(qm));
+            let fd_z = (sp.z - sm.z) / (2.0 * h);
+            let fd_phi = (sp.phi - sm.phi) / (2.0 * h);
+            assert!(
+                (fd_z - s0.dx_dq[0][a]).abs() < 1e-6,
+                "dz/dq{a}: {} vs {fd_z}",
+                s0.dx_dq[0][a]
+            );
+            assert!((fd_phi - s0.dx_dq[1][a]).abs() < 1e-6, "dphi/dq{a}");
+            for b in 0..N_Q {
+                let fd2 = (sp.dx_dq[0][b] - sm.dx_dq[0][b]) / (2.0 * h);
+                assert!(
+                    (fd2 - s0.d2z_dq2[a][b]).abs() < 1e-3 * (1.0 + fd2.abs()),
+                    "d2z/dq{a}dq{b}: {} vs {fd2}",
+                    s0.d2z_dq2[a][b]
+                );
+                let fd2 = (sp.dx_dq[1][b] - sm.dx_dq[1][b]) / (2.0 * h);
+                assert!(
+                    (fd2 - s0.d2phi_dq2[a][b]).abs() < 1e-3 * (1.0 + fd2.abs()),
+                    "d2phi/dq{a}dq{b}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn between_nodes_within_the_interpolation_error_of_the_online_solution() {
+        let (geom, table, model) = setup();
+        let (mut ez, mut ep) = (0.0f64, 0.0f64);
+        for w in table.rows.windows(2) {
+            if w[1].y <= w[0].y {
+                continue;
+            }
+            let y = w[0].y + 0.37 * (w[1].y - w[0].y);
+            let k = model.solve(y, [0.0; 4], None).unwrap();
+            let o = geom.solve(y, &RailOffsets::default()).unwrap();
+            ez = ez.max((k.z - o.z).abs());
+            ep = ep.max((k.phi - o.phi).abs());
+        }
+        assert!(ez < 1e-7 && ep < 1e-7, "z {ez:e} phi {ep:e}");
+    }
+
+    #[test]
+    fn out_of_the_table_is_an_error() {
+        let (_, table, model) = setup();
+        let (_, hi) = table.range();
+        let e = model.solve(hi + 0.003, [0.0; 4], None).unwrap_err();
+        assert!(
+            matches!(e, KecError::OffProfile { .. } | KecError::NoConvergence { .. }),
+            "{e}"
+        );
+    }
+}
