@@ -284,16 +284,176 @@ pub fn contact_table(rows: &[ContactBenchRow]) -> String {
         "S1002/60E1 1:40", "µs/call", "p95 Δz [mm]", "max Δz [mm]", "max Δφ [mrad]", "max Δs [mm]"
     );
     for r in rows {
+        let s_err = if r.s_error.is_nan() {
+            "—".to_string()
+        } else {
+            format!("{:.2e}", r.s_error * 1e3)
+        };
         s += &format!(
-            "{:<46} {:>10.3} {:>14.2e} {:>14.2e} {:>14.2e} {:>14.2e}\n",
+            "{:<46} {:>10.3} {:>14.2e} {:>14.2e} {:>14.2e} {:>14}\n",
             r.what,
             r.micros_per_call,
             r.z_p95 * 1e3,
             r.z_error * 1e3,
             r.phi_error * 1e3,
-            r.s_error * 1e3
+            s_err
         );
     }
     s += "errors against the cold online solution at the same points\n";
     s
+}
+
+/// The KEC solve against the 2-entry table and the online constraints on S1002/60E1 at 1:40, at
+/// `n` random (y, gv) with gv within ±10 mm: cost per call and error against the online solution,
+/// measured in one run. KEC cold starts from Eq. (51); warm from the previous step's solution.
+pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
+    use crate::contact::geometry::ContactGeometry;
+    use crate::contact::kec::{rails, KecModel};
+    use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
+    use crate::contact::RailOffsets;
+    use crate::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+
+    let pair = WheelRailPair::new(
+        StandardProfile::S1002.profile(),
+        StandardProfile::Rail60E1.profile(),
+        "1:40".parse().expect("valid inclination"),
+        TrackGauge::default(),
+        WheelsetGeometry::default(),
+    )
+    .expect("standard pair places");
+    let l_w = pair.wheelset.l_w();
+    let geom = ContactGeometry::with_defaults(pair);
+    let settings = TableSettings::default();
+    let t = Instant::now();
+    let t1 = LookupTable1::build(&geom, &settings).map_err(|e| e.to_string())?;
+    let model = KecModel::from_table(&t1, l_w).map_err(|e| e.to_string())?;
+    let build_kec = t.elapsed().as_secs_f64();
+    let (lo, hi) = t1.range();
+    let y_flange = lo.abs().min(hi);
+    let gvs: Vec<f64> = (-10..=10).map(|k| k as f64 * 1e-3).collect();
+    let t = Instant::now();
+    let t2 = LookupTable2::build(&geom, y_flange, &gvs, &settings).map_err(|e| e.to_string())?;
+    let build2 = t.elapsed().as_secs_f64();
+    // Points: gv uniform in ±10 mm, y within the range where every method is defined.
+    let gv = points(n + 3, -0.01, 0.01);
+    let u = points(n, -1.0, 1.0);
+    let ys: Vec<f64> = (0..n)
+        .map(|k| u[k] * (y_flange - gv[k].abs() / 2.0 - 3e-4))
+        .collect();
+    let offs: Vec<RailOffsets> = gv.iter().map(|&g| RailOffsets::gauge_variation(g)).collect();
+
+    let m = n.min(300);
+    let online: Vec<_> = (0..m)
+        .map(|k| geom.solve(ys[k], &offs[k]))
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+    let errors = |f: &dyn Fn(usize) -> (f64, f64)| {
+        let mut zs = Vec::with_capacity(m);
+        let (mut ez, mut ep) = (0.0f64, 0.0f64);
+        for (k, o) in online.iter().enumerate() {
+            let (z, phi) = f(k);
+            zs.push((z - o.z).abs());
+            ez = ez.max((z - o.z).abs());
+            ep = ep.max((phi - o.phi).abs());
+        }
+        (ez, ep, p95(zs))
+    };
+    let mut rows = Vec::new();
+    // Online (cold) cost.
+    let t = Instant::now();
+    for k in 0..m {
+        black_box(geom.solve(ys[k], &offs[k]).map_err(|e| e.to_string())?);
+    }
+    rows.push(ContactBenchRow {
+        what: "online solve, cold".into(),
+        micros_per_call: t.elapsed().as_secs_f64() * 1e6 / m as f64,
+        z_error: 0.0,
+        phi_error: 0.0,
+        s_error: f64::NAN,
+        z_p95: 0.0,
+    });
+    // KEC cold (Eq. 51).
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for k in 0..n {
+        acc += model
+            .solve(black_box(ys[k]), rails(&offs[k]), None)
+            .map_err(|e| e.to_string())?
+            .z;
+    }
+    black_box(acc);
+    let us = t.elapsed().as_secs_f64() * 1e6 / n as f64;
+    let sol = |k: usize| {
+        model
+            .solve(ys[k], rails(&offs[k]), None)
+            .map(|s| (s.z, s.phi))
+            .unwrap_or((f64::NAN, f64::NAN))
+    };
+    let (ez, ep, zp) = errors(&sol);
+    rows.push(ContactBenchRow {
+        what: "KEC solve, cold (Eq. 51 start)".into(),
+        micros_per_call: us,
+        z_error: ez,
+        phi_error: ep,
+        s_error: f64::NAN,
+        z_p95: zp,
+    });
+    // KEC warm: a wheelset drifting (≤ 0.01 mm, ≤ 0.01 mm gv per call) from the last solution.
+    let (dy, dg) = (points(n, -1e-5, 1e-5), points(n + 1, -1e-5, 1e-5));
+    let (mut y, mut g) = (0.0f64, 0.0f64);
+    let path: Vec<(f64, f64)> = (0..n)
+        .map(|k| {
+            g = (g + dg[k]).clamp(-0.01, 0.01);
+            let lim = y_flange - g.abs() / 2.0 - 3e-4;
+            y = (y + dy[k]).clamp(-lim, lim);
+            (y, g)
+        })
+        .collect();
+    let mut x = None;
+    let t = Instant::now();
+    for &(y, g) in &path {
+        let s = model
+            .solve(y, rails(&RailOffsets::gauge_variation(g)), x)
+            .map_err(|e| e.to_string())?;
+        x = Some(s.x(model.r0));
+    }
+    rows.push(ContactBenchRow {
+        what: "KEC solve, warm (from last step)".into(),
+        micros_per_call: t.elapsed().as_secs_f64() * 1e6 / n as f64,
+        z_error: ez,
+        phi_error: ep,
+        s_error: f64::NAN,
+        z_p95: zp,
+    });
+    // 2-entry look-up.
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for k in 0..n {
+        acc += t2
+            .contact(black_box(ys[k]), &offs[k])
+            .map_err(|e| e.to_string())?
+            .x[0];
+    }
+    black_box(acc);
+    let us = t.elapsed().as_secs_f64() * 1e6 / n as f64;
+    let look = |k: usize| {
+        t2.contact(ys[k], &offs[k])
+            .map(|r| (r.z(), r.phi()))
+            .unwrap_or((f64::NAN, f64::NAN))
+    };
+    let (ez, ep, zp) = errors(&look);
+    rows.push(ContactBenchRow {
+        what: "2-entry table look-up (y, gv), 1 mm gv step".into(),
+        micros_per_call: us,
+        z_error: ez,
+        phi_error: ep,
+        s_error: f64::NAN,
+        z_p95: zp,
+    });
+    let builds = format!(
+        "preprocessing: 1-entry table + KEC profiles {:.0} ms; 2-entry table (21 gauge variations) {:.0} ms\nKEC warm shares the cold errors (same solution, another start)\n",
+        build_kec * 1e3,
+        build2 * 1e3
+    );
+    Ok((rows, builds))
 }

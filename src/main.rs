@@ -7,11 +7,12 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 
 use kecsim::contact::geometry::ContactGeometry;
-use kecsim::contact::lookup::{LookupTable2, TableSettings};
-use kecsim::contact::report::ContactReport;
+use kecsim::contact::kec::KecModel;
+use kecsim::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
+use kecsim::contact::report::{kec_error_markdown, kec_irregularity_errors, ContactReport};
 use kecsim::inspect::{self, Sink};
 use kecsim::profile::placement::{Inclination, TrackGauge, WheelRailPair, WheelsetGeometry};
-use kecsim::profile::{io, Profile, ProfileKind, StandardProfile};
+use kecsim::profile::{io, Profile, ProfileKind, Side, StandardProfile};
 use kecsim::scenario::{Scenario, DEFAULT_SCENARIO};
 
 #[derive(Parser)]
@@ -66,6 +67,26 @@ enum Command {
         #[command(flatten)]
         sink: SinkArgs,
     },
+    /// The KEC-method: knife-edge-equivalent profiles, their kinks, and their accuracy.
+    Kec {
+        #[command(flatten)]
+        pair: PairArgs,
+        /// Write the equivalent profiles as CSV (one row per tabulated y).
+        #[arg(long, value_name = "FILE")]
+        csv: Option<PathBuf>,
+        /// Largest |y| tabulated, mm [default: flange contact on each side].
+        #[arg(long, value_name = "MM")]
+        y_max: Option<f64>,
+        /// Grid step of the underlying 1-entry table, mm.
+        #[arg(long, value_name = "MM", default_value_t = 0.1)]
+        step: f64,
+        /// Also measure KEC against the online constraints and the tables under gauge variation and
+        /// cross level (±10 mm; builds a 2-entry table, some seconds).
+        #[arg(long)]
+        accuracy: bool,
+        #[command(flatten)]
+        sink: SinkArgs,
+    },
     /// Write the standard profiles (S1002, 60E1, 54E1) as CSV files, mm.
     GenerateProfiles {
         /// Output directory.
@@ -89,6 +110,8 @@ enum BenchTarget {
     Profiles,
     /// Contact geometry: online solve (cold, warm) vs 1- and 2-entry look-ups, and table builds.
     Contact,
+    /// KEC solve (cold, warm) vs 2-entry look-up vs online, with gauge variation.
+    Kec,
 }
 
 /// A wheel/rail pair and its placement.
@@ -283,6 +306,57 @@ fn run(cli: Cli) -> Result<()> {
             }
             println!("{}", describe(&sink));
         }
+        Command::Kec {
+            pair,
+            csv,
+            y_max,
+            step,
+            accuracy,
+            sink,
+        } => {
+            let pair = pair.pair()?;
+            let title = format!(
+                "kecsim kec: {} on {} at {}",
+                pair.wheel.name, pair.rail.name, pair.inclination
+            );
+            let l_w = pair.wheelset.l_w();
+            let geom = ContactGeometry::with_defaults(pair);
+            let settings = TableSettings {
+                step_m: positive_mm("--step", step)?,
+                y_max_m: y_max.map(|v| positive_mm("--y-max", v)).transpose()?,
+                ..TableSettings::default()
+            };
+            let table = LookupTable1::build(&geom, &settings)?;
+            let model = KecModel::from_table(&table, l_w)?;
+            let mut summary = kec_summary(&title, &geom, &table, &model)?;
+            if accuracy {
+                let (lo, hi) = table.range();
+                let gvs: Vec<f64> = (-10..=10).map(|k| k as f64 * 1e-3).collect();
+                let table2 = LookupTable2::build(&geom, lo.abs().min(hi), &gvs, &settings)?;
+                // Gauge variations between the 2-entry table's 1 mm columns, so that its
+                // interpolation is measured, not its nodes.
+                let mut cases: Vec<(f64, f64)> = [-9.5, -4.5, -1.5, 1.5, 4.5, 9.5]
+                    .iter()
+                    .map(|g| (g * 1e-3, 0.0))
+                    .collect();
+                cases.extend([-10.0, -5.0, 5.0, 10.0].iter().map(|c| (0.0, c * 1e-3)));
+                let rows = kec_irregularity_errors(&geom, &model, &table, &table2, &cases, 41)
+                    .map_err(anyhow::Error::msg)?;
+                summary += "\nWith irregularities (max error against the online approximate constraints, 41 y per case; 2-entry table gv step 1 mm; the 1-entry table sees only al, vp, cl through Eq. 44–46):\n\n";
+                summary += &kec_error_markdown(&rows);
+            }
+            let sink = sink.sink();
+            {
+                let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
+                inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
+            }
+            print!("{summary}");
+            if let Some(path) = csv {
+                write_kec_csv(&path, &model).with_context(|| format!("cannot write {}", path.display()))?;
+                println!("wrote {}", path.display());
+            }
+            println!("{}", describe(&sink));
+        }
         Command::GenerateProfiles { dir } => {
             std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
             for std in StandardProfile::ALL {
@@ -306,9 +380,101 @@ fn run(cli: Cli) -> Result<()> {
                 let (rows, builds) = kecsim::bench::contact(calls.min(200_000))?;
                 print!("{}{builds}", kecsim::bench::contact_table(&rows));
             }
+            BenchTarget::Kec => {
+                if cfg!(debug_assertions) {
+                    eprintln!("kecsim: warning: debug build, timings are not representative (use --release)");
+                }
+                let (rows, builds) = kecsim::bench::kec(calls.min(200_000)).map_err(anyhow::Error::msg)?;
+                print!("{}{builds}", kecsim::bench::contact_table(&rows));
+            }
         },
     }
     Ok(())
+}
+
+/// Summary of a KEC model: kinks and reproduction accuracy.
+fn kec_summary(
+    title: &str,
+    geom: &ContactGeometry,
+    table: &LookupTable1,
+    model: &KecModel,
+) -> Result<String> {
+    let (lo, hi) = table.range();
+    let mut s = format!("# {title}\n\n");
+    s += &format!(
+        "Equivalent profiles from the 1-entry table over y = {:.3} .. {:.3} mm ({} rows): left s^k = {:.3} .. {:.3} mm, right s^k = {:.3} .. {:.3} mm\n\n",
+        lo * 1e3,
+        hi * 1e3,
+        table.rows.len(),
+        model.left.domain().0 * 1e3,
+        model.left.domain().1 * 1e3,
+        model.right.domain().0 * 1e3,
+        model.right.domain().1 * 1e3
+    );
+    s += "Kinks (the real contact jumps; the equivalent profile stays continuous). At a kink the knife edge touches a corner: the KEC normal, and so the split of the normal force between the two real contact points, is undetermined there (paper §9) — the constraint reaction is one force, applied at the real point of whichever side of the kink the solution lies on.\n\n";
+    s += "| side | y [mm] | s^k [mm] | slope before → after | real s^w [mm] before → after | contact angle [°] before → after |\n|---|---|---|---|---|---|\n";
+    for k in model.kinks.iter().filter(|k| k.real_jump) {
+        s += &format!(
+            "| {} | {:+.4} | {:+.4} | {:+.4} → {:+.4} | {:+.3} → {:+.3} | {:.1} → {:.1} |\n",
+            k.side.name(),
+            k.y * 1e3,
+            k.s_k * 1e3,
+            k.slope_before,
+            k.slope_after,
+            k.s_wheel_before * 1e3,
+            k.s_wheel_after * 1e3,
+            k.angle_before.to_degrees(),
+            k.angle_after.to_degrees()
+        );
+    }
+    let others = model.kinks.iter().filter(|k| !k.real_jump).count();
+    s += &format!("\n({others} more kinks where the other side's contact jumps: the roll has a kink, this side's real contact moves on continuously.)\n");
+    let (ez, ep) = kecsim::contact::kec::reproduction_error(model, &table.rows)?;
+    let interp =
+        kecsim::contact::report::interpolation_error_kec(geom, table, model, &[1.0 / 3.0, 2.0 / 3.0])
+            .map_err(anyhow::Error::msg)?;
+    s += &format!(
+        "\nIdeal track: KEC reproduces the table at its {} y values to z {:.1e} mm, roll {:.1e} mrad; between them (at 1/3 and 2/3 of every interval) it differs from the online solution by z {:.2e} mm, roll {:.2e} mrad.\n",
+        table.rows.len(),
+        ez * 1e3,
+        ep * 1e3,
+        interp.0 * 1e3,
+        interp.1 * 1e3
+    );
+    Ok(s)
+}
+
+/// The equivalent profiles as CSV, one row per table row (a jump is two rows with the same y).
+fn write_kec_csv(path: &Path, model: &KecModel) -> std::io::Result<()> {
+    let mut w = csv::Writer::from_path(path)?;
+    w.write_record([
+        "y_mm",
+        "s_lk_mm",
+        "f_lk_mm",
+        "s_rk_mm",
+        "f_rk_mm",
+        "s_wheel_left_mm",
+        "s_rail_left_mm",
+        "s_wheel_right_mm",
+        "s_rail_right_mm",
+    ])?;
+    // Per node: [y, s^k, f^k, s^w, s^r]; both profiles hold the table's rows in reverse order
+    // (s^k decreases with y).
+    let collect = |side| -> Vec<[f64; 5]> {
+        let p = model.profile(side);
+        p.node_y()
+            .iter()
+            .zip(p.nodes())
+            .zip(p.node_real())
+            .map(|((&y, (s, f)), (sw, sr))| [y, s, f, sw, sr])
+            .collect()
+    };
+    let (l, r) = (collect(Side::Left), collect(Side::Right));
+    for (a, b) in l.iter().rev().zip(r.iter().rev()) {
+        let cells = [a[0], a[1], a[2], b[1], b[2], a[3], a[4], b[3], b[4]].map(|v| format!("{:.9}", v * 1e3));
+        w.write_record(&cells)?;
+    }
+    w.flush()
 }
 
 /// A positive length option in mm, converted to m.

@@ -357,3 +357,83 @@ fn contact_sweep_writes_table_csv_and_recording() {
         "one contact point per row"
     );
 }
+
+#[test]
+fn kec_writes_equivalent_profiles_csv_and_recording() {
+    let dir = tmpdir("kec");
+    let (csv_path, rrd) = (dir.join("k.csv"), dir.join("k.rrd"));
+    let out = kecsim(
+        &[
+            "kec",
+            "--wheel",
+            "s1002",
+            "--rail",
+            "60e1",
+            "--inclination",
+            "1:40",
+            "--csv",
+            csv_path.to_str().unwrap(),
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        stdout.contains("Kinks") && stdout.contains("reproduces the table"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(&csv_path).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    for c in [
+        "y_mm",
+        "s_lk_mm",
+        "f_lk_mm",
+        "s_rk_mm",
+        "f_rk_mm",
+        "s_wheel_left_mm",
+        "s_rail_left_mm",
+    ] {
+        assert!(header.contains(&c), "missing column {c}");
+    }
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    // The equivalent profile is continuous where the real contact jumps: twin rows (same y) have
+    // the same s^k and f^k but different real wheel parameters.
+    let twins: Vec<usize> = (1..rows.len())
+        .filter(|&k| rows[k][col("y_mm")] == rows[k - 1][col("y_mm")])
+        .collect();
+    assert!(twins.len() >= 4, "{} twin rows", twins.len());
+    for &k in &twins {
+        for c in ["s_lk_mm", "f_lk_mm", "s_rk_mm", "f_rk_mm"] {
+            assert!(
+                (rows[k][col(c)] - rows[k - 1][col(c)]).abs() < 1e-6,
+                "{c} jumps at row {k}"
+            );
+        }
+        let dl = (rows[k][col("s_wheel_left_mm")] - rows[k - 1][col("s_wheel_left_mm")]).abs();
+        let dr = (rows[k][col("s_wheel_right_mm")] - rows[k - 1][col("s_wheel_right_mm")]).abs();
+        assert!(dl > 0.01 || dr > 0.01, "no real jump at row {k}");
+    }
+    // s^k decreases as y increases (a function of s^k on each side).
+    for k in 1..rows.len() {
+        assert!(rows[k][col("s_lk_mm")] <= rows[k - 1][col("s_lk_mm")] + 1e-9);
+    }
+    rerun_verify(&rrd);
+    let rec = read(&rrd);
+    for e in [
+        "/kec/real/left/wheel",
+        "/kec/equivalent/right/wheel",
+        "/kec/equivalent/left/knife_edge",
+        "/kec/profiles/left",
+        "/kec/summary",
+    ] {
+        assert!(rec.contains_key(e), "missing {e}: {:?}", rec.keys());
+    }
+    assert_eq!(rec["/kec/equivalent/left/wheel"].strips.len(), rows.len());
+}

@@ -433,9 +433,43 @@ impl KecModel {
 
     /// Solves the KEC constraints at lateral displacement `y` with rail irregularities
     /// (y_lir, z_lir, y_rir, z_rir) from `start` (a previous x, or `None` for Eq. 51).
+    ///
+    /// Near a kink (a real contact jump, typically at flange contact) Newton from the Eq. (51)
+    /// guess can fail; the solve then restarts from [`KecModel::table_guess`].
     pub fn solve(&self, y: f64, rails: [f64; 4], start: Option<[f64; 4]>) -> Result<KecSolution, KecError> {
         let q = [y, rails[0], rails[1], rails[2], rails[3]];
-        let mut x = start.unwrap_or_else(|| self.guess(y));
+        match self.newton(y, &q, start.unwrap_or_else(|| self.guess(y))) {
+            Err(KecError::NoConvergence { .. }) => self.newton(y, &q, self.table_guess(y, rails)),
+            other => other,
+        }
+    }
+
+    /// A start close to the solution: each side's s^k from the node where the table had the same
+    /// lateral distance to that side's rail (y − y_ir), then z̃ and φ from the two vertical
+    /// equations (F2, F4), which are linear in them.
+    pub fn table_guess(&self, y: f64, rails: [f64; 4]) -> [f64; 4] {
+        let s_at = |p: &EquivalentProfile, y: f64| {
+            // node_y decreases along the nodes (s^k increases).
+            let ys = p.node_y();
+            let k = ys.partition_point(|&v| v > y).clamp(1, ys.len() - 1);
+            let (y0, y1) = (ys[k - 1], ys[k]);
+            let t = if y1 != y0 {
+                ((y - y0) / (y1 - y0)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.s[k - 1] + t * (p.s[k] - p.s[k - 1])
+        };
+        let (sl, sr) = (s_at(&self.left, y - rails[0]), s_at(&self.right, y - rails[2]));
+        let (fl, fr) = (self.left.eval(sl).0 + rails[1], self.right.eval(sr).0 + rails[3]);
+        // z̃ + φ(L_w + s_l) = f_l + z_lir,  z̃ + φ(−L_w + s_r) = f_r + z_rir.
+        let phi = (fl - fr) / ((self.l_w + sl) - (-self.l_w + sr));
+        [fl - phi * (self.l_w + sl), phi, sl, sr]
+    }
+
+    fn newton(&self, y: f64, q: &[f64; N_Q], x0: [f64; 4]) -> Result<KecSolution, KecError> {
+        let q = *q;
+        let mut x = x0;
         let mut last = f64::INFINITY;
         let (mut f, mut j) = self.residual(&q, &x);
         for it in 1..=MAX_ITERATIONS {

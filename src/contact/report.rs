@@ -64,6 +64,31 @@ pub fn interpolation_error(
     Ok(e)
 }
 
+/// KEC against the online solution between the table's nodes (ideal track): (max |Δz|, max |Δφ|).
+pub fn interpolation_error_kec(
+    geom: &ContactGeometry,
+    table: &LookupTable1,
+    model: &super::kec::KecModel,
+    fractions: &[f64],
+) -> Result<(f64, f64), String> {
+    let (mut ez, mut ep) = (0.0f64, 0.0f64);
+    for w in table.rows.windows(2) {
+        if w[1].y <= w[0].y {
+            continue;
+        }
+        for &f in fractions {
+            let y = w[0].y + f * (w[1].y - w[0].y);
+            let o = geom
+                .solve(y, &RailOffsets::default())
+                .map_err(|e| e.to_string())?;
+            let k = model.solve(y, [0.0; 4], None).map_err(|e| e.to_string())?;
+            ez = ez.max((k.z - o.z).abs());
+            ep = ep.max((k.phi - o.phi).abs());
+        }
+    }
+    Ok((ez, ep))
+}
+
 /// Equivalent conicity at one amplitude by both methods.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConicityRow {
@@ -172,4 +197,95 @@ impl ContactReport {
         }
         s
     }
+}
+
+/// Error of the KEC model and of the lookup tables against the online approximate constraints for
+/// one irregularity case, over a set of y.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KecErrorRow {
+    /// Gauge variation and cross level, m.
+    pub gv: f64,
+    pub cl: f64,
+    /// |y| range compared, m.
+    pub y_max: f64,
+    pub points: usize,
+    /// Max |Δz| (m) and |Δφ| (rad) of KEC, of the 2-entry table, and of the 1-entry table with
+    /// Eq. (44)–(46) (blind to gv), all against the online solution.
+    pub kec: (f64, f64),
+    pub table2: (f64, f64),
+    pub table1: (f64, f64),
+}
+
+/// KEC against the online approximate constraints and the 1-/2-entry tables under gauge variation
+/// and cross level. The y range of a case shrinks by |gv|/2 (a narrower gauge brings flange contact
+/// closer, a wider one moves the knife edges outwards along the equivalent profiles, which only
+/// extend as far as the table) and by r0·|cl|/(2 L_r) (the roll that follows a cross level moves the
+/// contact points sideways by r0 φ): every case stays short of flange climb.
+pub fn kec_irregularity_errors(
+    geom: &ContactGeometry,
+    model: &super::kec::KecModel,
+    table1: &LookupTable1,
+    table2: &super::lookup::LookupTable2,
+    cases: &[(f64, f64)],
+    points: usize,
+) -> Result<Vec<KecErrorRow>, String> {
+    let (lo, hi) = table1.range();
+    let y_flange = lo.abs().min(hi);
+    let mut rows = Vec::new();
+    for &(gv, cl) in cases {
+        let y_max = (y_flange - gv.abs() / 2.0 - table1.r0 * cl.abs() / (2.0 * table1.l_r) - 3e-4).max(5e-4);
+        let off = RailOffsets::from_irregularities(0.0, 0.0, gv, cl);
+        let mut row = KecErrorRow {
+            gv,
+            cl,
+            y_max,
+            points: 0,
+            kec: (0.0, 0.0),
+            table2: (0.0, 0.0),
+            table1: (0.0, 0.0),
+        };
+        let upd = |acc: &mut (f64, f64), z: f64, phi: f64, o: &super::geometry::ContactSolution| {
+            acc.0 = acc.0.max((z - o.z).abs());
+            acc.1 = acc.1.max((phi - o.phi).abs());
+        };
+        for k in 0..points {
+            let y = -y_max + 2.0 * y_max * k as f64 / (points - 1) as f64;
+            let o = geom
+                .solve(y, &off)
+                .map_err(|e| format!("online, gv {gv}, cl {cl}: {e}"))?;
+            let kec = model
+                .solve(y, super::kec::rails(&off), None)
+                .map_err(|e| format!("KEC, gv {gv}, cl {cl}: {e}"))?;
+            let t2 = table2.contact(y, &off).map_err(|e| e.to_string())?;
+            let t1 = table1.contact(y, &off).map_err(|e| e.to_string())?;
+            upd(&mut row.kec, kec.z, kec.phi, &o);
+            upd(&mut row.table2, t2.z(), t2.phi(), &o);
+            upd(&mut row.table1, t1.z(), t1.phi(), &o);
+            row.points += 1;
+        }
+        rows.push(row);
+    }
+    Ok(rows)
+}
+
+/// The error table as markdown.
+pub fn kec_error_markdown(rows: &[KecErrorRow]) -> String {
+    let mut s = String::from(
+        "| gv [mm] | cl [mm] | \\|y\\| ≤ [mm] | KEC Δz [mm] | KEC Δφ [mrad] | 2-entry Δz [mm] | 2-entry Δφ [mrad] | 1-entry Δz [mm] | 1-entry Δφ [mrad] |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        s += &format!(
+            "| {:+.1} | {:+.1} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} |\n",
+            r.gv * 1e3,
+            r.cl * 1e3,
+            r.y_max * 1e3,
+            r.kec.0 * 1e3,
+            r.kec.1 * 1e3,
+            r.table2.0 * 1e3,
+            r.table2.1 * 1e3,
+            r.table1.0 * 1e3,
+            r.table1.1 * 1e3
+        );
+    }
+    s
 }

@@ -64,7 +64,7 @@ pub fn blueprint() -> Blueprint {
     .with_time_panel(TimePanel::new().with_timeline(TIMELINE))
 }
 
-fn log_err(entity: &str) -> impl FnOnce(rerun::RecordingStreamError) -> InspectError + '_ {
+pub(crate) fn log_err(entity: &str) -> impl FnOnce(rerun::RecordingStreamError) -> InspectError + '_ {
     move |source| InspectError::Log {
         entity: entity.to_string(),
         source,
@@ -72,7 +72,7 @@ fn log_err(entity: &str) -> impl FnOnce(rerun::RecordingStreamError) -> InspectE
 }
 
 /// One scalar series (or a pair left/right) against y.
-fn send_series(
+pub(crate) fn send_series(
     rec: &RecordingStream,
     entity: &str,
     ys: &[i64],
@@ -106,32 +106,27 @@ fn send_series(
     .map_err(log_err(entity))
 }
 
-/// Records the sweep of `table` (built from `geom`) and the `summary` text.
-pub fn record(
+/// Logs the real cross-sections of a sweep under `base` (`{base}/{left,right}/{rail,wheel,contact}`):
+/// static rails, and per table row on the `y_um` timeline the wheel at (y, z, φ) and the contact
+/// point labelled with its contact angle.
+pub(crate) fn log_real_sections(
     rec: &RecordingStream,
-    geom: &ContactGeometry,
+    base: &str,
+    pair: &crate::profile::placement::WheelRailPair,
     table: &LookupTable1,
-    summary: &str,
 ) -> Result<(), InspectError> {
-    let pair = &geom.pair;
-    let r0 = pair.wheelset.nominal_radius_m;
-    // Static rails.
     for side in Side::BOTH {
-        let entity = format!("contact/section/{}/rail", side.name());
+        let entity = format!("{base}/{}/rail", side.name());
         let pts: Vec<[f32; 2]> = pair
             .rail_positions(side)
             .into_iter()
             .map(|(y, z)| section_mm(y, z))
             .collect();
-        log_static(
-            rec,
-            &entity,
-            &LineStrips2D::new([pts])
-                .with_colors([Color::from_rgb(150, 150, 160)])
-                .with_radii([Radius::new_ui_points(1.5)]),
-        )?;
+        let strip = LineStrips2D::new([pts])
+            .with_colors([Color::from_rgb(150, 150, 160)])
+            .with_radii([Radius::new_ui_points(1.5)]);
+        log_static(rec, &entity, &strip)?;
     }
-    // The wheels and contact points per row.
     let (knots, _) = pair.wheel.knots();
     let every = (knots.len() / 600).max(1);
     for row in &table.rows {
@@ -148,26 +143,32 @@ pub fn record(
                     section_mm(wy, wz)
                 })
                 .collect();
-            let entity = format!("contact/section/{}/wheel", side.name());
-            rec.log(
-                entity.as_str(),
-                &LineStrips2D::new([wheel])
-                    .with_colors([Color::from_rgb(70, 140, 230)])
-                    .with_radii([Radius::new_ui_points(1.5)]),
-            )
-            .map_err(log_err(&entity))?;
+            let entity = format!("{base}/{}/wheel", side.name());
+            let strip = LineStrips2D::new([wheel])
+                .with_colors([Color::from_rgb(70, 140, 230)])
+                .with_radii([Radius::new_ui_points(1.5)]);
+            rec.log(entity.as_str(), &strip).map_err(log_err(&entity))?;
             let contact = section_mm(row.position[2 * i], row.position[2 * i + 1]);
-            let entity = format!("contact/section/{}/contact", side.name());
-            rec.log(
-                entity.as_str(),
-                &Points2D::new([contact])
-                    .with_colors([Color::from_rgb(230, 50, 50)])
-                    .with_radii([Radius::new_ui_points(5.0)])
-                    .with_labels([format!("{:.1}°", row.contact_angle[i].to_degrees())]),
-            )
-            .map_err(log_err(&entity))?;
+            let entity = format!("{base}/{}/contact", side.name());
+            let point = Points2D::new([contact])
+                .with_colors([Color::from_rgb(230, 50, 50)])
+                .with_radii([Radius::new_ui_points(5.0)])
+                .with_labels([format!("{:.1}°", row.contact_angle[i].to_degrees())]);
+            rec.log(entity.as_str(), &point).map_err(log_err(&entity))?;
         }
     }
+    Ok(())
+}
+
+/// Records the sweep of `table` (built from `geom`) and the `summary` text.
+pub fn record(
+    rec: &RecordingStream,
+    geom: &ContactGeometry,
+    table: &LookupTable1,
+    summary: &str,
+) -> Result<(), InspectError> {
+    let r0 = geom.pair.wheelset.nominal_radius_m;
+    log_real_sections(rec, "contact/section", &geom.pair, table)?;
     // Plots.
     let ys: Vec<i64> = table.rows.iter().map(|r| (r.y * 1e6).round() as i64).collect();
     let col = |f: &dyn Fn(&crate::contact::lookup::TableRow) -> Vec<f64>| {

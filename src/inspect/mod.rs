@@ -16,6 +16,7 @@
 //! keep the stream in a local so that early returns (errors) still drop it and flush the file.
 
 pub mod contact;
+pub mod kec;
 pub mod profiles;
 pub mod readback;
 
@@ -49,6 +50,9 @@ pub enum InspectError {
         #[source]
         source: rerun::RecordingStreamError,
     },
+    /// A model evaluation needed for the recording failed.
+    #[error("{0}")]
+    Model(String),
     #[error("cannot log {entity}: {source}")]
     Log {
         entity: String,
