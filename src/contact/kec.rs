@@ -104,6 +104,16 @@ pub struct EquivalentPoint {
     pub rail_curvature: f64,
 }
 
+impl EquivalentPoint {
+    /// Unit normal of the real rail at the real contact point in the track cross-section (Y, Z),
+    /// pointing into the wheel, for the side `side`: the contact angle γ tilts it towards the track
+    /// centre, n = (−σ sin γ, cos γ) — the direction of the normal force of Eq. (53).
+    pub fn normal(&self, side: Side) -> (f64, f64) {
+        let (s, c) = self.contact_angle.sin_cos();
+        (-side.sign() * s, c)
+    }
+}
+
 /// Where the real contact jumps: the equivalent profile's kink.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Kink {
@@ -711,6 +721,23 @@ mod tests {
             ep = ep.max((k.phi - o.phi).abs());
         }
         assert!(ez < 1e-7 && ep < 1e-7, "z {ez:e} phi {ep:e}");
+    }
+
+    #[test]
+    fn real_normals_match_the_online_contact() {
+        let (geom, _, model) = setup();
+        for y in [-0.006, -0.002, 0.0, 0.0031, 0.0062] {
+            let k = model.solve(y, [0.0; 4], None).unwrap();
+            let o = geom.solve(y, &RailOffsets::default()).unwrap();
+            for (i, side) in Side::BOTH.into_iter().enumerate() {
+                let (a, b) = (k.real[i].normal(side), o.point(side).normal);
+                assert!(
+                    (a.0 - b.0).abs() < 1e-3 && (a.1 - b.1).abs() < 1e-3,
+                    "{side:?} at {y}: {a:?} vs {b:?}"
+                );
+                assert!((k.real[i].rolling_radius - o.point(side).rolling_radius).abs() < 1e-6);
+            }
+        }
     }
 
     #[test]
