@@ -123,6 +123,37 @@ pub struct ContactBenchRow {
     pub z_p95: f64,
 }
 
+/// Errors of a method against a reference at the same points: x = [z, φ, s^lw, s^lr, s^rw, s^rr]
+/// (the surface parameters compared only where both sides have them).
+#[derive(Default)]
+struct ErrorAcc {
+    dz: Vec<f64>,
+    phi: f64,
+    s: Option<f64>,
+}
+
+impl ErrorAcc {
+    fn add(&mut self, x: &[f64], reference: &[f64]) {
+        self.dz.push((x[0] - reference[0]).abs());
+        self.phi = self.phi.max((x[1] - reference[1]).abs());
+        if x.len() == 6 && reference.len() == 6 {
+            let ds = (2..6).map(|i| (x[i] - reference[i]).abs()).fold(0.0, f64::max);
+            self.s = Some(self.s.unwrap_or(0.0).max(ds));
+        }
+    }
+
+    fn row(self, what: &str, micros_per_call: f64) -> ContactBenchRow {
+        ContactBenchRow {
+            what: what.to_string(),
+            micros_per_call,
+            z_error: self.dz.iter().cloned().fold(0.0, f64::max),
+            phi_error: self.phi,
+            s_error: self.s.unwrap_or(f64::NAN),
+            z_p95: p95(self.dz),
+        }
+    }
+}
+
 fn p95(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return 0.0;
@@ -139,16 +170,10 @@ pub fn contact(n: usize) -> Result<(Vec<ContactBenchRow>, String), crate::contac
     use crate::contact::geometry::ContactGeometry;
     use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
     use crate::contact::RailOffsets;
-    use crate::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+    use crate::profile::placement::WheelRailPair;
 
-    let pair = WheelRailPair::new(
-        StandardProfile::S1002.profile(),
-        StandardProfile::Rail60E1.profile(),
-        "1:40".parse().expect("valid inclination"),
-        TrackGauge::default(),
-        WheelsetGeometry::default(),
-    )
-    .expect("standard pair places");
+    let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40")
+        .expect("standard pair places");
     let geom = ContactGeometry::with_defaults(pair);
     let settings = TableSettings::default();
 
@@ -173,14 +198,8 @@ pub fn contact(n: usize) -> Result<(Vec<ContactBenchRow>, String), crate::contac
         .iter()
         .map(|&y| geom.solve(y, &RailOffsets::default()))
         .collect::<Result<_, _>>()?;
-    rows.push(ContactBenchRow {
-        what: "online solve, cold (global search + Newton)".into(),
-        micros_per_call: t.elapsed().as_secs_f64() * 1e6 / m as f64,
-        z_error: 0.0,
-        phi_error: 0.0,
-        s_error: 0.0,
-        z_p95: 0.0,
-    });
+    let us_cold = t.elapsed().as_secs_f64() * 1e6 / m as f64;
+    rows.push(ErrorAcc::default().row("online solve, cold (global search + Newton)", us_cold));
     // Online, warm: a wheelset moving laterally by ≤ 0.01 mm per call, Newton from the last state.
     let steps: Vec<f64> = points(n, -1e-5, 1e-5);
     let mut y = 0.0f64;
@@ -197,22 +216,11 @@ pub fn contact(n: usize) -> Result<(Vec<ContactBenchRow>, String), crate::contac
         warm.push(prev.x());
     }
     let warm_us = t.elapsed().as_secs_f64() * 1e6 / n as f64;
-    let (mut wz, mut wp, mut ws, mut wzs) = (0.0f64, 0.0f64, 0.0f64, Vec::new());
+    let mut acc_warm = ErrorAcc::default();
     for (k, &y) in path.iter().enumerate().step_by((n / 200).max(1)) {
-        let c = geom.solve(y, &RailOffsets::default())?.x();
-        wzs.push((warm[k][0] - c[0]).abs());
-        wz = wz.max((warm[k][0] - c[0]).abs());
-        wp = wp.max((warm[k][1] - c[1]).abs());
-        ws = ws.max((2..6).map(|i| (warm[k][i] - c[i]).abs()).fold(0.0, f64::max));
+        acc_warm.add(&warm[k], &geom.solve(y, &RailOffsets::default())?.x());
     }
-    rows.push(ContactBenchRow {
-        what: "online solve, warm (Newton from last step)".into(),
-        micros_per_call: warm_us,
-        z_error: wz,
-        phi_error: wp,
-        s_error: ws,
-        z_p95: p95(wzs),
-    });
+    rows.push(acc_warm.row("online solve, warm (Newton from last step)", warm_us));
     // 1-entry look-up.
     let t = Instant::now();
     let mut acc = 0.0;
@@ -221,22 +229,11 @@ pub fn contact(n: usize) -> Result<(Vec<ContactBenchRow>, String), crate::contac
     }
     black_box(acc);
     let us1 = t.elapsed().as_secs_f64() * 1e6 / n as f64;
-    let (mut z1, mut p1, mut s1, mut z1s) = (0.0f64, 0.0f64, 0.0f64, Vec::new());
+    let mut acc1 = ErrorAcc::default();
     for (k, c) in cold.iter().enumerate() {
-        let l = t1.lookup(ys[k])?;
-        z1s.push((l.x[0] - c.z).abs());
-        z1 = z1.max((l.x[0] - c.z).abs());
-        p1 = p1.max((l.x[1] - c.phi).abs());
-        s1 = s1.max((2..6).map(|i| (l.x[i] - c.x()[i]).abs()).fold(0.0, f64::max));
+        acc1.add(&t1.lookup(ys[k])?.x, &c.x());
     }
-    rows.push(ContactBenchRow {
-        what: "1-entry table look-up".into(),
-        micros_per_call: us1,
-        z_error: z1,
-        phi_error: p1,
-        s_error: s1,
-        z_p95: p95(z1s),
-    });
+    rows.push(acc1.row("1-entry table look-up", us1));
     // 2-entry look-up, against online solves with that gauge variation.
     let t = Instant::now();
     let mut acc = 0.0;
@@ -245,23 +242,12 @@ pub fn contact(n: usize) -> Result<(Vec<ContactBenchRow>, String), crate::contac
     }
     black_box(acc);
     let us2 = t.elapsed().as_secs_f64() * 1e6 / n as f64;
-    let (mut z2, mut p2, mut s2, mut z2s) = (0.0f64, 0.0f64, 0.0f64, Vec::new());
+    let mut acc2 = ErrorAcc::default();
     for k in 0..m {
         let c = geom.solve(ys[k], &RailOffsets::gauge_variation(gv_pts[k]))?;
-        let l = t2.lookup(ys[k], gv_pts[k])?;
-        z2s.push((l.x[0] - c.z).abs());
-        z2 = z2.max((l.x[0] - c.z).abs());
-        p2 = p2.max((l.x[1] - c.phi).abs());
-        s2 = s2.max((2..6).map(|i| (l.x[i] - c.x()[i]).abs()).fold(0.0, f64::max));
+        acc2.add(&t2.lookup(ys[k], gv_pts[k])?.x, &c.x());
     }
-    rows.push(ContactBenchRow {
-        what: "2-entry table look-up (y, gv)".into(),
-        micros_per_call: us2,
-        z_error: z2,
-        phi_error: p2,
-        s_error: s2,
-        z_p95: p95(z2s),
-    });
+    rows.push(acc2.row("2-entry table look-up (y, gv)", us2));
 
     let builds = format!(
         "table builds: 1-entry y = {:.2}..{:.2} mm, {} rows: {:.0} ms; 2-entry y = ±{:.2} mm × gv = −10..10 mm by 2 mm ({} columns, {} rows): {:.0} ms\n",
@@ -311,16 +297,10 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     use crate::contact::kec::{rails, KecModel};
     use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
     use crate::contact::RailOffsets;
-    use crate::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+    use crate::profile::placement::WheelRailPair;
 
-    let pair = WheelRailPair::new(
-        StandardProfile::S1002.profile(),
-        StandardProfile::Rail60E1.profile(),
-        "1:40".parse().expect("valid inclination"),
-        TrackGauge::default(),
-        WheelsetGeometry::default(),
-    )
-    .expect("standard pair places");
+    let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40")
+        .expect("standard pair places");
     let l_w = pair.wheelset.l_w();
     let geom = ContactGeometry::with_defaults(pair);
     let settings = TableSettings::default();
@@ -348,15 +328,12 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
         .collect::<Result<_, _>>()
         .map_err(|e| e.to_string())?;
     let errors = |f: &dyn Fn(usize) -> (f64, f64)| {
-        let mut zs = Vec::with_capacity(m);
-        let (mut ez, mut ep) = (0.0f64, 0.0f64);
+        let mut acc = ErrorAcc::default();
         for (k, o) in online.iter().enumerate() {
             let (z, phi) = f(k);
-            zs.push((z - o.z).abs());
-            ez = ez.max((z - o.z).abs());
-            ep = ep.max((phi - o.phi).abs());
+            acc.add(&[z, phi], &[o.z, o.phi]);
         }
-        (ez, ep, p95(zs))
+        acc
     };
     let mut rows = Vec::new();
     // Online (cold) cost.
@@ -364,14 +341,10 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     for k in 0..m {
         black_box(geom.solve(ys[k], &offs[k]).map_err(|e| e.to_string())?);
     }
-    rows.push(ContactBenchRow {
-        what: "online solve, cold".into(),
-        micros_per_call: t.elapsed().as_secs_f64() * 1e6 / m as f64,
-        z_error: 0.0,
-        phi_error: 0.0,
-        s_error: f64::NAN,
-        z_p95: 0.0,
-    });
+    rows.push(ErrorAcc::default().row(
+        "online solve, cold (the reference)",
+        t.elapsed().as_secs_f64() * 1e6 / m as f64,
+    ));
     // KEC cold (Eq. 51).
     let t = Instant::now();
     let mut acc = 0.0;
@@ -389,15 +362,7 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
             .map(|s| (s.z, s.phi))
             .unwrap_or((f64::NAN, f64::NAN))
     };
-    let (ez, ep, zp) = errors(&sol);
-    rows.push(ContactBenchRow {
-        what: "KEC solve, cold (Eq. 51 start)".into(),
-        micros_per_call: us,
-        z_error: ez,
-        phi_error: ep,
-        s_error: f64::NAN,
-        z_p95: zp,
-    });
+    rows.push(errors(&sol).row("KEC solve, cold (Eq. 51 start)", us));
     // KEC warm: a wheelset drifting (≤ 0.01 mm, ≤ 0.01 mm gv per call) from the last solution.
     let (dy, dg) = (points(n, -1e-5, 1e-5), points(n + 1, -1e-5, 1e-5));
     let (mut y, mut g) = (0.0f64, 0.0f64);
@@ -410,21 +375,25 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
         })
         .collect();
     let mut x = None;
+    let mut warm = Vec::with_capacity(n);
     let t = Instant::now();
     for &(y, g) in &path {
         let s = model
             .solve(y, rails(&RailOffsets::gauge_variation(g)), x)
             .map_err(|e| e.to_string())?;
         x = Some(s.x(model.r0));
+        warm.push((s.z, s.phi));
     }
-    rows.push(ContactBenchRow {
-        what: "KEC solve, warm (from last step)".into(),
-        micros_per_call: t.elapsed().as_secs_f64() * 1e6 / n as f64,
-        z_error: ez,
-        phi_error: ep,
-        s_error: f64::NAN,
-        z_p95: zp,
-    });
+    let us = t.elapsed().as_secs_f64() * 1e6 / n as f64;
+    let mut acc_warm = ErrorAcc::default();
+    for k in (0..n).step_by((n / 200).max(1)) {
+        let (y, g) = path[k];
+        let o = geom
+            .solve(y, &RailOffsets::gauge_variation(g))
+            .map_err(|e| e.to_string())?;
+        acc_warm.add(&[warm[k].0, warm[k].1], &[o.z, o.phi]);
+    }
+    rows.push(acc_warm.row("KEC solve, warm (from last step)", us));
     // 2-entry look-up.
     let t = Instant::now();
     let mut acc = 0.0;
@@ -441,17 +410,9 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
             .map(|r| (r.z(), r.phi()))
             .unwrap_or((f64::NAN, f64::NAN))
     };
-    let (ez, ep, zp) = errors(&look);
-    rows.push(ContactBenchRow {
-        what: "2-entry table look-up (y, gv), 1 mm gv step".into(),
-        micros_per_call: us,
-        z_error: ez,
-        phi_error: ep,
-        s_error: f64::NAN,
-        z_p95: zp,
-    });
+    rows.push(errors(&look).row("2-entry table look-up (y, gv), 1 mm gv step", us));
     let builds = format!(
-        "preprocessing: 1-entry table + KEC profiles {:.0} ms; 2-entry table (21 gauge variations) {:.0} ms\nKEC warm shares the cold errors (same solution, another start)\n",
+        "preprocessing: 1-entry table + KEC profiles {:.0} ms; 2-entry table (21 gauge variations) {:.0} ms\n(KEC warm: errors along its own drifting path)\n",
         build_kec * 1e3,
         build2 * 1e3
     );

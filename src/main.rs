@@ -49,12 +49,8 @@ enum Command {
         /// Write the 1-entry lookup table as CSV (one row per tabulated y).
         #[arg(long, value_name = "FILE")]
         csv: Option<PathBuf>,
-        /// Largest |y| tabulated, mm [default: flange contact on each side].
-        #[arg(long, value_name = "MM")]
-        y_max: Option<f64>,
-        /// Grid step in y, mm (intervals are refined where the geometry needs it).
-        #[arg(long, value_name = "MM", default_value_t = 0.1)]
-        step: f64,
+        #[command(flatten)]
+        table: TableArgs,
         /// Also build the 2-entry table (y, gauge variation) and write it as CSV.
         #[arg(long, value_name = "FILE")]
         table2_csv: Option<PathBuf>,
@@ -74,12 +70,8 @@ enum Command {
         /// Write the equivalent profiles as CSV (one row per tabulated y).
         #[arg(long, value_name = "FILE")]
         csv: Option<PathBuf>,
-        /// Largest |y| tabulated, mm [default: flange contact on each side].
-        #[arg(long, value_name = "MM")]
-        y_max: Option<f64>,
-        /// Grid step of the underlying 1-entry table, mm.
-        #[arg(long, value_name = "MM", default_value_t = 0.1)]
-        step: f64,
+        #[command(flatten)]
+        table: TableArgs,
         /// Also measure KEC against the online constraints and the tables under gauge variation and
         /// cross level (±10 mm; builds a 2-entry table, some seconds).
         #[arg(long)]
@@ -157,6 +149,27 @@ impl PairArgs {
             gauge,
             wheelset,
         )?)
+    }
+}
+
+/// Range and grid of the 1-entry lookup table.
+#[derive(Args)]
+struct TableArgs {
+    /// Largest |y| tabulated, mm [default: flange contact on each side].
+    #[arg(long, value_name = "MM")]
+    y_max: Option<f64>,
+    /// Grid step in y, mm (intervals are refined where the geometry needs it).
+    #[arg(long, value_name = "MM", default_value_t = 0.1)]
+    step: f64,
+}
+
+impl TableArgs {
+    fn settings(&self) -> Result<TableSettings> {
+        Ok(TableSettings {
+            step_m: positive_mm("--step", self.step)?,
+            y_max_m: self.y_max.map(|v| positive_mm("--y-max", v)).transpose()?,
+            ..TableSettings::default()
+        })
     }
 }
 
@@ -251,8 +264,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Contact {
             pair,
             csv,
-            y_max,
-            step,
+            table,
             table2_csv,
             gv_max,
             gv_step,
@@ -264,11 +276,7 @@ fn run(cli: Cli) -> Result<()> {
                 pair.wheel.name, pair.rail.name, pair.inclination
             );
             let geom = ContactGeometry::with_defaults(pair);
-            let settings = TableSettings {
-                step_m: positive_mm("--step", step)?,
-                y_max_m: y_max.map(|v| positive_mm("--y-max", v)).transpose()?,
-                ..TableSettings::default()
-            };
+            let settings = table.settings()?;
             let report = ContactReport::new(&geom, &settings)?;
             let summary = report.summary(&title);
             let sink = sink.sink();
@@ -309,8 +317,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Kec {
             pair,
             csv,
-            y_max,
-            step,
+            table,
             accuracy,
             sink,
         } => {
@@ -321,11 +328,7 @@ fn run(cli: Cli) -> Result<()> {
             );
             let l_w = pair.wheelset.l_w();
             let geom = ContactGeometry::with_defaults(pair);
-            let settings = TableSettings {
-                step_m: positive_mm("--step", step)?,
-                y_max_m: y_max.map(|v| positive_mm("--y-max", v)).transpose()?,
-                ..TableSettings::default()
-            };
+            let settings = table.settings()?;
             let table = LookupTable1::build(&geom, &settings)?;
             let model = KecModel::from_table(&table, l_w)?;
             let mut summary = kec_summary(&title, &geom, &table, &model)?;

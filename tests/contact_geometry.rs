@@ -112,14 +112,7 @@ impl BruteForce {
 }
 
 fn s1002_60e1(incl: &str) -> WheelRailPair {
-    WheelRailPair::new(
-        StandardProfile::S1002.profile(),
-        StandardProfile::Rail60E1.profile(),
-        incl.parse().unwrap(),
-        TrackGauge::default(),
-        WheelsetGeometry::default(),
-    )
-    .unwrap()
+    WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, incl).unwrap()
 }
 
 /// Many y, denser in the jump regions of S1002/60E1 at 1:40 (near 0, ±5.0, ±6.26 mm).

@@ -6,19 +6,12 @@ use kecsim::contact::geometry::ContactGeometry;
 use kecsim::contact::kec::KecModel;
 use kecsim::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
 use kecsim::contact::report::{kec_error_markdown, kec_irregularity_errors};
-use kecsim::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+use kecsim::profile::placement::WheelRailPair;
 use kecsim::profile::StandardProfile;
 
 #[test]
 fn kec_agrees_with_the_online_constraints_under_irregularities() {
-    let pair = WheelRailPair::new(
-        StandardProfile::S1002.profile(),
-        StandardProfile::Rail60E1.profile(),
-        "1:40".parse().unwrap(),
-        TrackGauge::default(),
-        WheelsetGeometry::default(),
-    )
-    .unwrap();
+    let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").unwrap();
     let l_w = pair.wheelset.l_w();
     let geom = ContactGeometry::with_defaults(pair);
     let settings = TableSettings::default();

@@ -753,18 +753,10 @@ impl ContactGeometry {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profile::placement::{TrackGauge, WheelsetGeometry};
     use crate::profile::StandardProfile;
 
     fn geometry(incl: &str) -> ContactGeometry {
-        let pair = WheelRailPair::new(
-            StandardProfile::S1002.profile(),
-            StandardProfile::Rail60E1.profile(),
-            incl.parse().unwrap(),
-            TrackGauge::default(),
-            WheelsetGeometry::default(),
-        )
-        .unwrap();
+        let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, incl).unwrap();
         ContactGeometry::with_defaults(pair)
     }
 

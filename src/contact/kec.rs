@@ -624,18 +624,12 @@ mod tests {
     use crate::contact::geometry::ContactGeometry;
     use crate::contact::lookup::TableSettings;
     use crate::contact::RailOffsets;
-    use crate::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+    use crate::profile::placement::WheelRailPair;
     use crate::profile::StandardProfile;
 
     fn setup() -> (ContactGeometry, LookupTable1, KecModel) {
-        let pair = WheelRailPair::new(
-            StandardProfile::S1002.profile(),
-            StandardProfile::Rail60E1.profile(),
-            "1:40".parse().unwrap(),
-            TrackGauge::default(),
-            WheelsetGeometry::default(),
-        )
-        .unwrap();
+        let pair =
+            WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").unwrap();
         let l_w = pair.wheelset.l_w();
         let geom = ContactGeometry::with_defaults(pair);
         let table = LookupTable1::build(&geom, &TableSettings::default()).unwrap();

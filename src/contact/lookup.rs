@@ -915,18 +915,12 @@ fn read_rows_csv(path: &Path, two_entry: bool) -> Result<(Vec<TableRow>, f64, f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+    use crate::profile::placement::WheelRailPair;
     use crate::profile::StandardProfile;
 
     fn geometry() -> ContactGeometry {
-        let pair = WheelRailPair::new(
-            StandardProfile::S1002.profile(),
-            StandardProfile::Rail60E1.profile(),
-            "1:40".parse().unwrap(),
-            TrackGauge::default(),
-            WheelsetGeometry::default(),
-        )
-        .unwrap();
+        let pair =
+            WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").unwrap();
         ContactGeometry::with_defaults(pair)
     }
 

@@ -27,7 +27,7 @@
 //! Y = y + (±L_w + s^w) + φ h^w(s^w),   Z = z + φ (±L_w + s^w) − h^w(s^w)
 //! ```
 
-use super::{Profile, ProfileKind, Side};
+use super::{Profile, ProfileKind, Side, StandardProfile};
 use std::fmt;
 use std::str::FromStr;
 
@@ -316,6 +316,26 @@ impl WheelRailPair {
             wheelset,
             rail_placement,
         })
+    }
+
+    /// A standard wheel on a standard rail at inclination `inclination` (`1:N` or `upright`),
+    /// standard gauge (1435 mm) and wheelset (1360 mm back-to-back, r0 = 460 mm).
+    pub fn standard(
+        wheel: StandardProfile,
+        rail: StandardProfile,
+        inclination: &str,
+    ) -> Result<Self, PlacementError> {
+        let inclination = inclination.parse().map_err(|problem| PlacementError::Rail {
+            name: rail.name().to_string(),
+            problem,
+        })?;
+        Self::new(
+            wheel.profile(),
+            rail.profile(),
+            inclination,
+            TrackGauge::default(),
+            WheelsetGeometry::default(),
+        )
     }
 
     /// The wheel of a side in track coordinates, at the profile's knots, with the wheelset centred
