@@ -242,14 +242,25 @@ fn run(cli: Cli) -> Result<()> {
                     PathBuf::from("."),
                 ),
             };
+            let t = std::time::Instant::now();
             let scene = parsed.compile(&origin, &base)?;
             println!("scenario: {} ({origin})", scene.name);
-            let t = std::time::Instant::now();
-            let sink = sink.sink();
-            record_pair(&scene.pair, &sink)?;
             print_pair(&scene.pair);
+            // The wheelset's contact preprocessing: 1-entry table of the real profiles, then the
+            // KEC-equivalent profiles, recorded as `kecsim kec` does.
+            let l_w = scene.pair.wheelset.l_w();
+            let geom = ContactGeometry::with_defaults(scene.pair.clone());
+            let table = LookupTable1::build(&geom, &TableSettings::default())?;
+            let model = KecModel::from_table(&table, l_w)?;
+            let summary = kec_summary(&format!("kecsim run: {}", scene.name), &geom, &table, &model)?;
+            let sink = sink.sink();
+            {
+                let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
+                inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
+            }
+            print!("{summary}");
             println!(
-                "scene preprocessed (profiles placed) in {:.3} s wall; {}",
+                "scene preprocessed (profiles placed, contact table, KEC profiles) in {:.2} s wall; {}",
                 t.elapsed().as_secs_f64(),
                 describe(&sink)
             );

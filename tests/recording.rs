@@ -155,7 +155,13 @@ fn run_with_no_arguments_writes_kecsim_rrd() {
     assert!(stdout.contains("saved kecsim.rrd"), "{stdout}");
     let rrd = dir.join("kecsim.rrd");
     rerun_verify(&rrd);
-    assert!(read(&rrd).contains_key("/profiles/real/left/rail"));
+    let rec = read(&rrd);
+    assert!(
+        rec.contains_key("/kec/real/left/rail") && rec.contains_key("/kec/profiles/left"),
+        "{:?}",
+        rec.keys()
+    );
+    assert!(stdout.contains("KEC reproduces the table"), "{stdout}");
 }
 
 #[test]
