@@ -606,7 +606,7 @@ impl LookupTable1 {
 
     /// Writes the table as CSV (see [`write_rows_csv`]).
     pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
-        write_rows_csv(path, &self.rows, self.r0, self.l_r, false)
+        write_rows_csv(path, &self.rows, self.r0, self.l_r)
     }
 
     /// Reads a table written by [`LookupTable1::write_csv`].
@@ -695,7 +695,7 @@ impl LookupTable2 {
     /// Writes all columns into one CSV (with the `gv_mm` column).
     pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
         let rows: Vec<TableRow> = self.columns.iter().flat_map(|c| c.rows.iter().copied()).collect();
-        write_rows_csv(path, &rows, self.columns[0].r0, self.columns[0].l_r, true)
+        write_rows_csv(path, &rows, self.columns[0].r0, self.columns[0].l_r)
     }
 
     /// Reads a table written by [`LookupTable2::write_csv`].
@@ -812,13 +812,7 @@ fn row_values(r: &TableRow, r0: f64, l_r: f64) -> [f64; 37] {
 }
 
 /// Writes rows, one per line, with the [`CSV_COLUMNS`] header (a NaN gap is an empty cell).
-fn write_rows_csv(
-    path: &Path,
-    rows: &[TableRow],
-    r0: f64,
-    l_r: f64,
-    _two_entry: bool,
-) -> std::io::Result<()> {
+fn write_rows_csv(path: &Path, rows: &[TableRow], r0: f64, l_r: f64) -> std::io::Result<()> {
     let mut w = csv::Writer::from_path(path)?;
     w.write_record(CSV_COLUMNS)?;
     for r in rows {
