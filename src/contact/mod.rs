@@ -10,6 +10,7 @@
 //! own field-side coordinate).
 
 pub mod conicity;
+pub mod forces;
 pub mod geometry;
 pub mod kec;
 pub mod lookup;

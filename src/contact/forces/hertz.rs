@@ -1,0 +1,420 @@
+//! Hertz contact between wheel and rail (paper §7: the creep forces need the contact ellipse, from
+//! the surface curvatures at the **real** contact point and the normal force).
+//!
+//! Relative curvatures, convex positive (`../shared/design/facts/creep-contact.txt` B):
+//!
+//! ```text
+//! A = ½ (k_wx + k_rx),   k_wx = cos γ / r   (wheel, rolling direction; rail straight: k_rx = 0)
+//! B = ½ (k_wy + k_ry)                        (lateral: wheel and rail profile curvatures)
+//! ```
+//!
+//! `cos γ / r` is the normal curvature of the wheel's parallel circle at a point of radius r whose
+//! surface normal makes the angle γ with the radial direction (Meusnier). Many codes take 1/r; the
+//! difference matters on the flange (γ ≈ 60–70°) where it halves A. A departure from nothing in the
+//! paper, which does not state it.
+//!
+//! With A ≤ B the longer semi-axis lies along x. The eccentricity e (g = b/a = √(1 − e²)) solves
+//!
+//! ```text
+//! B / A = [E(e)/(1 − e²) − K(e)] / [K(e) − E(e)]
+//! ```
+//!
+//! and, with 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ (k₁ + k₂ = 1/(π E*)):
+//!
+//! ```text
+//! a = m c₀,  b = n c₀,  c₀ = [3 N / (4 E* (A + B))]^(1/3),   m = [2 E(e) / (π g²)]^(1/3),  n = m g
+//! p₀ = 3 N / (2 π a b),   δ = b² (A + B) K(e) / E(e)   (approach of the two bodies, b the minor axis)
+//! ```
+//!
+//! Solved by a safeguarded Newton iteration on ln g with analytic derivatives of K and E, seeded by
+//! Johnson's approximation g ≈ (A/B)^(2/3); for B/A − 1 < 1e-7 the series B/A ≈ 1 + ¾ e² is used
+//! (K − E loses all its digits there).
+
+use thiserror::Error;
+
+use super::elliptic::{complete_ke, derivatives};
+
+/// Elastic constants of a body (or of both, wheel and rail being the same steel).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// Young's modulus E, Pa.
+    pub young_pa: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+}
+
+impl Material {
+    /// Wheel and rail steel: E = 210 GPa, ν = 0.28 (G = 82.0 GPa).
+    pub const STEEL: Material = Material {
+        young_pa: 2.1e11,
+        poisson: 0.28,
+    };
+
+    /// Shear modulus G = E / (2 (1 + ν)).
+    pub fn shear_modulus(&self) -> f64 {
+        self.young_pa / (2.0 * (1.0 + self.poisson))
+    }
+
+    /// Contact modulus E* of two bodies: 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂.
+    pub fn contact_modulus(&self, other: &Material) -> f64 {
+        1.0 / ((1.0 - self.poisson.powi(2)) / self.young_pa + (1.0 - other.poisson.powi(2)) / other.young_pa)
+    }
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material::STEEL
+    }
+}
+
+/// Relative curvatures A (rolling direction x) and B (lateral direction y), 1/m, convex positive.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RelativeCurvature {
+    pub a: f64,
+    pub b: f64,
+}
+
+impl RelativeCurvature {
+    /// From the real contact point: the wheel's rolling radius r (m) and contact angle γ (rad, between
+    /// the contact normal and the wheel's radial direction), the lateral curvatures of the wheel and
+    /// rail profiles (1/m, convex positive, as [`crate::contact::geometry::ContactPoint`] gives them).
+    /// The rail is straight along x.
+    pub fn wheel_rail(
+        rolling_radius: f64,
+        contact_angle: f64,
+        wheel_curvature: f64,
+        rail_curvature: f64,
+    ) -> Self {
+        RelativeCurvature {
+            a: 0.5 * contact_angle.cos().abs() / rolling_radius,
+            b: 0.5 * (wheel_curvature + rail_curvature),
+        }
+    }
+}
+
+/// Why no Hertz ellipse exists.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum HertzError {
+    #[error("non-Hertzian contact: relative curvatures A = {a:.4} 1/m, B = {b:.4} 1/m must both be positive (conformal or concave contact)")]
+    NotConvex { a: f64, b: f64 },
+    #[error("invalid Hertz input: {0}")]
+    Input(String),
+}
+
+/// The Hertz contact ellipse and its pressure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzContact {
+    /// Semi-axis in the rolling direction x, m.
+    pub a: f64,
+    /// Semi-axis in the lateral direction y, m.
+    pub b: f64,
+    /// Approach (penetration) of the two bodies, m.
+    pub penetration: f64,
+    /// Maximum pressure p₀ = 3N / (2π a b), Pa.
+    pub max_pressure: f64,
+    /// The normal force the ellipse was computed for, N.
+    pub normal_force: f64,
+    /// Eccentricity e of the ellipse (0: circle).
+    pub eccentricity: f64,
+    /// Classical Hertz coefficients m, n (a or b = m or n · c₀, m along the longer axis).
+    pub m: f64,
+    pub n: f64,
+}
+
+impl HertzContact {
+    /// a / b.
+    pub fn ratio(&self) -> f64 {
+        self.a / self.b
+    }
+
+    /// Solve the Hertz problem for normal force N > 0 between two bodies of the given materials.
+    pub fn solve(
+        curvature: RelativeCurvature,
+        normal_force: f64,
+        m1: &Material,
+        m2: &Material,
+    ) -> Result<HertzContact, HertzError> {
+        let RelativeCurvature { a: ca, b: cb } = curvature;
+        if !(ca.is_finite() && cb.is_finite()) || ca <= 0.0 || cb <= 0.0 {
+            return Err(HertzError::NotConvex { a: ca, b: cb });
+        }
+        if !(normal_force.is_finite() && normal_force > 0.0) {
+            return Err(HertzError::Input(format!(
+                "normal force {normal_force} N must be positive"
+            )));
+        }
+        // Longer axis along the smaller curvature.
+        let (small, large) = if ca <= cb { (ca, cb) } else { (cb, ca) };
+        let shape = EllipseShape::from_ratio(large / small)?;
+        let e_star = m1.contact_modulus(m2);
+        let c0 = (3.0 * normal_force / (4.0 * e_star * (ca + cb))).cbrt();
+        let major = shape.m * c0;
+        let minor = shape.n * c0;
+        let (a, b) = if ca <= cb { (major, minor) } else { (minor, major) };
+        Ok(HertzContact {
+            a,
+            b,
+            penetration: minor * minor * (ca + cb) * shape.kk / shape.ee,
+            max_pressure: 3.0 * normal_force / (2.0 * std::f64::consts::PI * a * b),
+            normal_force,
+            eccentricity: shape.e,
+            m: shape.m,
+            n: shape.n,
+        })
+    }
+
+    /// The ellipse scaled to another normal force (a, b ∝ N^(1/3), δ ∝ N^(2/3), p₀ ∝ N^(1/3)):
+    /// the shape depends on the curvatures only, so a dynamics step can reuse it.
+    pub fn scaled(&self, normal_force: f64) -> HertzContact {
+        let s = (normal_force / self.normal_force).cbrt();
+        HertzContact {
+            a: self.a * s,
+            b: self.b * s,
+            penetration: self.penetration * s * s,
+            max_pressure: self.max_pressure * s,
+            normal_force,
+            ..*self
+        }
+    }
+}
+
+/// Shape of the ellipse for a curvature ratio B/A ≥ 1 (larger over smaller).
+#[derive(Debug, Clone, Copy)]
+struct EllipseShape {
+    e: f64,
+    m: f64,
+    n: f64,
+    kk: f64,
+    ee: f64,
+}
+
+impl EllipseShape {
+    fn from_ratio(ratio: f64) -> Result<EllipseShape, HertzError> {
+        use std::f64::consts::PI;
+        if ratio - 1.0 < 1e-7 {
+            // Series: B/A ≈ 1 + ¾ e² (+ O(e⁴)).
+            let e2 = (ratio - 1.0).max(0.0) / 0.75;
+            let g = (1.0 - e2).sqrt();
+            let (kk, ee) = complete_ke(e2.sqrt(), g);
+            let m = (2.0 * ee / (PI * g * g)).cbrt();
+            return Ok(EllipseShape {
+                e: e2.sqrt(),
+                m,
+                n: m * g,
+                kk,
+                ee,
+            });
+        }
+        // f(u) = ln(B/A)(g) − ln(ratio), u = ln g ∈ (−∞, 0); f decreasing in u.
+        let target = ratio.ln();
+        let f = |u: f64| -> (f64, f64, f64, f64) {
+            let g = u.exp();
+            let k = (1.0 - g * g).sqrt();
+            let (kk, ee) = complete_ke(k, g);
+            let (dk, de) = derivatives(k, g, kk, ee);
+            let num = ee / (g * g) - kk;
+            let den = kk - ee;
+            // d/dg via dk/dg = −g/k.
+            let dkg = -g / k;
+            let dnum = de * dkg / (g * g) - 2.0 * ee / (g * g * g) - dk * dkg;
+            let dden = (dk - de) * dkg;
+            let val = (num / den).ln() - target;
+            let dval_dg = dnum / num - dden / den;
+            (val, dval_dg * g, kk, ee)
+        };
+        let mut lo = -60.0_f64; // f(lo) > 0 (g = e^-60: ratio astronomically large)
+        let mut hi = 0.0_f64; // f(0⁻) = −target < 0
+        let mut u = (-(2.0 / 3.0) * target).max(-59.0).min(-1e-9);
+        for _ in 0..100 {
+            let (val, dval, kk, ee) = f(u);
+            if !val.is_finite() {
+                return Err(HertzError::Input(format!("curvature ratio {ratio} out of range")));
+            }
+            if val.abs() < 1e-14 {
+                let g = u.exp();
+                let m = (2.0 * ee / (PI * g * g)).cbrt();
+                return Ok(EllipseShape {
+                    e: (1.0 - g * g).sqrt(),
+                    m,
+                    n: m * g,
+                    kk,
+                    ee,
+                });
+            }
+            if val > 0.0 {
+                lo = u;
+            } else {
+                hi = u;
+            }
+            let mut next = u - val / dval;
+            if !(next > lo && next < hi) || !dval.is_finite() || dval == 0.0 {
+                next = 0.5 * (lo + hi);
+            }
+            if (next - u).abs() < 1e-15 {
+                let g = next.exp();
+                let (kk, ee) = complete_ke((1.0 - g * g).sqrt(), g);
+                let m = (2.0 * ee / (PI * g * g)).cbrt();
+                return Ok(EllipseShape {
+                    e: (1.0 - g * g).sqrt(),
+                    m,
+                    n: m * g,
+                    kk,
+                    ee,
+                });
+            }
+            u = next;
+        }
+        Err(HertzError::Input(format!(
+            "eccentricity iteration did not converge for B/A = {ratio}"
+        )))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// The classical m, n table (facts file B, after Timoshenko; cos θ = (B − A)/(A + B)).
+    #[test]
+    fn m_n_match_the_classical_table() {
+        let table = [
+            (10.0, 6.6115, 0.3110),
+            (20.0, 3.8160, 0.4121),
+            (30.0, 2.7306, 0.4931),
+            (40.0, 2.1357, 0.5673),
+            (50.0, 1.7541, 0.6407),
+            (60.0, 1.4858, 0.7171),
+            (70.0, 1.2851, 0.7999),
+            (80.0, 1.1278, 0.8927),
+            (85.0, 1.0609, 0.9442),
+            (90.0, 1.0, 1.0),
+        ];
+        for (theta, m, n) in table {
+            let c = (theta * PI / 180.0_f64).cos();
+            // A + B = 2, B − A = 2c.
+            let ratio = (1.0 + c) / (1.0 - c);
+            let s = EllipseShape::from_ratio(ratio).unwrap();
+            assert!((s.m - m).abs() < 6e-5, "θ={theta}: m {} vs {m}", s.m);
+            assert!((s.n - n).abs() < 6e-5, "θ={theta}: n {} vs {n}", s.n);
+        }
+        // Timoshenko's printed values: θ = 30°: 2.731/0.493, 60°: 1.486/0.717.
+        let s = EllipseShape::from_ratio(3.0).unwrap();
+        assert!((s.m - 1.486).abs() < 1e-3 && (s.n - 0.717).abs() < 1e-3);
+    }
+
+    #[test]
+    fn circle_is_hertz_sphere_on_plane() {
+        // Sphere of radius R on a flat: A = B = 1/(2R), a³ = 3NR/(4E*), δ = a²/R.
+        let r = 0.46;
+        let n = 80e3;
+        let curv = RelativeCurvature {
+            a: 0.5 / r,
+            b: 0.5 / r,
+        };
+        let h = HertzContact::solve(curv, n, &Material::STEEL, &Material::STEEL).unwrap();
+        let e_star = Material::STEEL.contact_modulus(&Material::STEEL);
+        let a = (3.0 * n * r / (4.0 * e_star)).cbrt();
+        assert!((h.a - a).abs() < 1e-12 && (h.b - a).abs() < 1e-12);
+        assert!((h.penetration - a * a / r).abs() < 1e-12);
+        assert!((h.max_pressure - 3.0 * n / (2.0 * PI * a * a)).abs() < 1e-3);
+    }
+
+    #[test]
+    fn axes_follow_the_smaller_curvature_and_scale_with_load() {
+        let m = Material::STEEL;
+        let c1 = RelativeCurvature { a: 1.0, b: 5.0 };
+        let c2 = RelativeCurvature { a: 5.0, b: 1.0 };
+        let h1 = HertzContact::solve(c1, 50e3, &m, &m).unwrap();
+        let h2 = HertzContact::solve(c2, 50e3, &m, &m).unwrap();
+        assert!(h1.a > h1.b);
+        assert!((h1.a - h2.b).abs() < 1e-15 && (h1.b - h2.a).abs() < 1e-15);
+        let h3 = HertzContact::solve(c1, 100e3, &m, &m).unwrap();
+        let s = h1.scaled(100e3);
+        for (x, y) in [
+            (h3.a, s.a),
+            (h3.b, s.b),
+            (h3.penetration, s.penetration),
+            (h3.max_pressure, s.max_pressure),
+        ] {
+            assert!((x - y).abs() < 1e-12 * x.abs(), "{x} {y}");
+        }
+    }
+
+    /// Johnson's form of the approach δ = p₀ b K(e) / E* (b the minor semi-axis) equals the form used.
+    #[test]
+    fn penetration_two_forms_agree() {
+        let m = Material::STEEL;
+        for ratio in [1.5, 4.0, 20.0, 200.0] {
+            let h = HertzContact::solve(RelativeCurvature { a: 1.0, b: ratio }, 70e3, &m, &m).unwrap();
+            let s = EllipseShape::from_ratio(ratio).unwrap();
+            let johnson = h.max_pressure * h.b * s.kk / m.contact_modulus(&m);
+            assert!(
+                (h.penetration - johnson).abs() < 1e-10 * johnson,
+                "{ratio}: {} {johnson}",
+                h.penetration
+            );
+        }
+    }
+
+    /// Direct numerical check of the whole solution: the Hertz pressure p₀√(1 − x²/a² − y²/b²) on an
+    /// elastic half-space pair gives the normal displacement (Boussinesq)
+    /// u(x, y) = 1/(π E*) ∬ p / r dA, which inside the ellipse must equal δ − A x² − B y².
+    /// Integrated in polar coordinates around the field point (the 1/r singularity cancels).
+    #[test]
+    fn boussinesq_displacement_closes_the_gap() {
+        let m = Material::STEEL;
+        let e_star = m.contact_modulus(&m);
+        let curv = RelativeCurvature { a: 2.2, b: 9.0 };
+        let h = HertzContact::solve(curv, 60e3, &m, &m).unwrap();
+        let (a, b) = (h.a, h.b);
+        let pressure = |x: f64, y: f64| {
+            let q = 1.0 - (x / a).powi(2) - (y / b).powi(2);
+            if q > 0.0 {
+                h.max_pressure * q.sqrt()
+            } else {
+                0.0
+            }
+        };
+        for &(fx, fy) in &[(0.0, 0.0), (0.5, 0.2), (-0.3, -0.6), (0.8, 0.0)] {
+            let (x0, y0) = (fx * a, fy * b);
+            let n_theta = 720;
+            let mut u = 0.0;
+            for i in 0..n_theta {
+                let th = (i as f64 + 0.5) * 2.0 * PI / n_theta as f64;
+                let (c, s) = (th.cos(), th.sin());
+                // Ray exit: (x0 + ρc)²/a² + (y0 + ρs)²/b² = 1.
+                let qa = (c / a).powi(2) + (s / b).powi(2);
+                let qb = 2.0 * (x0 * c / (a * a) + y0 * s / (b * b));
+                let qc = (x0 / a).powi(2) + (y0 / b).powi(2) - 1.0;
+                let rho_max = (-qb + (qb * qb - 4.0 * qa * qc).sqrt()) / (2.0 * qa);
+                // ∫₀^ρmax p dρ; p = p₀ √(q(ρ)) vanishes like √ at the end: substitute ρ = ρmax (1 − t²).
+                let nr = 200;
+                let mut line = 0.0;
+                for j in 0..nr {
+                    let t = (j as f64 + 0.5) / nr as f64;
+                    let rho = rho_max * (1.0 - t * t);
+                    line += pressure(x0 + rho * c, y0 + rho * s) * 2.0 * t * rho_max / nr as f64;
+                }
+                u += line * 2.0 * PI / n_theta as f64;
+            }
+            u /= PI * e_star;
+            let expect = h.penetration - curv.a * x0 * x0 - curv.b * y0 * y0;
+            assert!(
+                (u - expect).abs() < 2e-4 * h.penetration,
+                "({fx},{fy}): {u} vs {expect}"
+            );
+        }
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let m = Material::STEEL;
+        assert!(matches!(
+            HertzContact::solve(RelativeCurvature { a: 1.0, b: -0.5 }, 1e4, &m, &m),
+            Err(HertzError::NotConvex { .. })
+        ));
+        assert!(HertzContact::solve(RelativeCurvature { a: 1.0, b: 2.0 }, 0.0, &m, &m).is_err());
+        assert!(HertzContact::solve(RelativeCurvature { a: f64::NAN, b: 2.0 }, 1e3, &m, &m).is_err());
+    }
+}

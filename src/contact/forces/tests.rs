@@ -1,0 +1,253 @@
+//! Cross-model checks: small-creepage slopes against Kalker's linear theory, the μN limit,
+//! FASTSIM against its continuum (closed form per strip) and against the Johnson–Vermeulen curve,
+//! signs and symmetries, wheel lift.
+
+use super::*;
+use std::f64::consts::PI;
+
+const G: f64 = 8.2e10;
+const MU: f64 = 0.3;
+
+fn patch(a: f64, b: f64, n: f64) -> ContactPatch {
+    ContactPatch::new(a, b, n, G, MU, &KalkerTable::new(0.28)).unwrap()
+}
+
+fn models() -> Vec<CreepModel> {
+    CreepModel::NAMES
+        .iter()
+        .map(|n| CreepModel::by_name(n).unwrap())
+        .collect()
+}
+
+fn eval(m: &CreepModel, p: &ContactPatch, c: Creepage) -> CreepForce {
+    m.forces(p, &c, 20.0).unwrap()
+}
+
+/// Linear theory: dF/dξ at ξ → 0 of every model equals −G a b C (pure ξx, pure ξy, pure φ).
+#[test]
+fn small_creepage_slope_is_kalker_linear() {
+    for &(a, b) in &[(6e-3, 5e-3), (3e-3, 9e-3), (9e-3, 2.5e-3)] {
+        let p = patch(a, b, 80e3);
+        let e = 1e-10;
+        for m in models() {
+            let tol = if m.name() == "fastsim" { 3e-3 } else { 1e-6 };
+            let cases = [
+                (Creepage::new(e, 0.0, 0.0), 0usize),
+                (Creepage::new(0.0, e, 0.0), 1),
+                (Creepage::new(0.0, 0.0, e), 1),
+            ];
+            for (c, comp) in cases {
+                let f = eval(&m, &p, c);
+                let lin = p.linear(&c);
+                let (got, want) = if comp == 0 { (f.fx, lin.0) } else { (f.fy, lin.1) };
+                assert!(
+                    (got / want - 1.0).abs() < tol,
+                    "{} a={a} b={b} {c:?}: {got} vs linear {want}",
+                    m.name()
+                );
+            }
+        }
+    }
+}
+
+/// Large creepage: the resultant equals μN (every model, several directions).
+#[test]
+fn large_creepage_limit_is_mu_n() {
+    let p = patch(6e-3, 4e-3, 60e3);
+    for m in models() {
+        for dir in [0.0, 0.7, PI / 2.0, 2.5, PI, 4.0] {
+            let c = Creepage::new(0.5 * dir.cos(), 0.5 * dir.sin(), 0.0);
+            let f = eval(&m, &p, c);
+            let tol = if m.name() == "fastsim" { 2e-3 } else { 2e-3 };
+            assert!(
+                (f.saturation - 1.0).abs() < tol,
+                "{} dir {dir}: {}",
+                m.name(),
+                f.saturation
+            );
+            // Direction opposite the creepage.
+            let cos = -(f.fx * c.longitudinal + f.fy * c.lateral) / (f.fx.hypot(f.fy) * 0.5);
+            assert!(cos > 0.999, "{} dir {dir}: cos {cos}", m.name());
+        }
+    }
+}
+
+/// Odd symmetry and the sign convention: forces oppose the creepage; mirroring ξy (no spin) mirrors Fy.
+#[test]
+fn symmetry_and_signs() {
+    let p = patch(5e-3, 6e-3, 70e3);
+    for m in models() {
+        for &(x, y, s) in &[
+            (1e-3, 0.0, 0.0),
+            (0.0, 2e-3, 0.0),
+            (1e-3, -1e-3, 0.0),
+            (2e-4, 1e-3, 0.5),
+            (0.0, 0.0, 1.0),
+        ] {
+            let f = eval(&m, &p, Creepage::new(x, y, s));
+            let g = eval(&m, &p, Creepage::new(-x, -y, -s));
+            assert!(
+                (f.fx + g.fx).abs() < 1e-9 * (1.0 + f.fx.abs()),
+                "{} odd fx",
+                m.name()
+            );
+            assert!(
+                (f.fy + g.fy).abs() < 1e-9 * (1.0 + f.fy.abs()),
+                "{} odd fy",
+                m.name()
+            );
+            assert!(
+                (f.mz + g.mz).abs() < 1e-9 * (1.0 + f.mz.abs()),
+                "{} odd mz",
+                m.name()
+            );
+            if x != 0.0 {
+                assert!(f.fx * x < 0.0, "{} Fx opposes ξx", m.name());
+            }
+            if y != 0.0 && s == 0.0 {
+                assert!(f.fy * y < 0.0, "{} Fy opposes ξy", m.name());
+                let h = eval(&m, &p, Creepage::new(x, -y, 0.0));
+                assert!(
+                    (h.fx - f.fx).abs() < 1e-9 * (1.0 + f.fx.abs())
+                        && (h.fy + f.fy).abs() < 1e-9 * (1.0 + f.fy.abs())
+                );
+            }
+            if x == 0.0 && y == 0.0 {
+                // Pure spin pushes the wheel laterally like the linear theory's C23 term.
+                assert!(
+                    f.fy * s < 0.0 && f.fx.abs() < 1e-9 * f.fy.abs(),
+                    "{} pure spin",
+                    m.name()
+                );
+            }
+        }
+    }
+}
+
+/// Wheel lift: N ≤ 0 gives zero forces and the flag, never NaN; non-finite input is an error.
+#[test]
+fn lift_and_bad_input() {
+    for m in models() {
+        for n in [0.0, -5e3] {
+            let p = patch(5e-3, 5e-3, n);
+            let f = eval(&m, &p, Creepage::new(1e-3, 1e-3, 0.1));
+            assert!(f.lifted && f.fx == 0.0 && f.fy == 0.0 && f.mz == 0.0 && f.saturation == 0.0);
+        }
+        let p = patch(5e-3, 5e-3, 1e4);
+        assert!(m.forces(&p, &Creepage::new(f64::NAN, 0.0, 0.0), 10.0).is_err());
+        let f = eval(&m, &p, Creepage::default());
+        assert!(f.fx == 0.0 && f.fy == 0.0 && !f.lifted);
+    }
+    assert!(ContactPatch::new(0.0, 5e-3, 1e4, G, MU, &KalkerTable::new(0.28)).is_err());
+    assert!(ContactPatch::new(f64::NAN, 5e-3, 1e4, G, MU, &KalkerTable::new(0.28)).is_err());
+}
+
+/// FASTSIM's continuum for pure longitudinal creepage, parabolic bound, closed form per strip:
+/// adhesion p = S (a_j − x) from the leading edge until it meets k (a_j² − x²) at x* = S/k − a_j.
+fn fastsim_continuum(p: &ContactPatch, xi: f64) -> f64 {
+    let l1 = 8.0 * p.a / (3.0 * p.kalker.c11 * p.shear_modulus);
+    let s = xi.abs() / l1;
+    let k = p.friction * 2.0 * p.normal_force / (PI * p.a * p.b) / (p.a * p.a);
+    let n = 20_000;
+    let dy = 2.0 * p.b / n as f64;
+    let mut f = 0.0;
+    for j in 0..n {
+        let y = -p.b + (j as f64 + 0.5) * dy;
+        let aj = p.a * (1.0 - (y / p.b).powi(2)).sqrt();
+        let strip = if s < 2.0 * k * aj {
+            let xs = s / k - aj;
+            s * (aj - xs).powi(2) / 2.0 + k * (aj * aj * (xs + aj) - (xs.powi(3) + aj.powi(3)) / 3.0)
+        } else {
+            k * 4.0 * aj.powi(3) / 3.0
+        };
+        f += strip * dy;
+    }
+    -f * xi.signum()
+}
+
+#[test]
+fn fastsim_converges_to_its_continuum() {
+    let p = patch(6e-3, 5e-3, 80e3);
+    let mut prev_err = f64::INFINITY;
+    for n in [10, 20, 40, 80] {
+        let m = CreepModel::Fastsim(FastsimSettings {
+            strips: n,
+            elements: n,
+            bound: TractionBound::Parabolic,
+        });
+        let mut err: f64 = 0.0;
+        for i in 1..=30 {
+            let xi = 1e-4 * i as f64;
+            let f = eval(&m, &p, Creepage::new(xi, 0.0, 0.0));
+            err = err.max((f.fx - fastsim_continuum(&p, xi)).abs() / (MU * p.normal_force));
+        }
+        assert!(err < prev_err, "n={n}: {err} not below {prev_err}");
+        prev_err = err;
+    }
+    assert!(prev_err < 2e-3, "80×80 FASTSIM vs continuum: {prev_err} of μN");
+}
+
+/// Published curve: Johnson & Vermeulen's (1964) closed form of the creep curve,
+/// F/μN = 1 − (1 − β/3)³ (β = linear force / μN < 3), fitted to the exact theory. FASTSIM (default
+/// 25 × 25, parabolic bound) lies within 6 % of μN of it over β ∈ [0, 6] in pure longitudinal and
+/// pure lateral creep (the figure is printed by `kecsim bench creep`).
+#[test]
+fn fastsim_agrees_with_johnson_vermeulen() {
+    let m = CreepModel::default();
+    for &(a, b) in &[(5e-3, 5e-3), (7e-3, 4e-3)] {
+        let p = patch(a, b, 80e3);
+        for lateral in [false, true] {
+            let mut worst: f64 = 0.0;
+            for i in 1..=60 {
+                let beta = 0.1 * i as f64;
+                let c11 = if lateral { p.kalker.c22 } else { p.kalker.c11 };
+                let xi = beta * MU * p.normal_force / (G * a * b * c11);
+                let c = if lateral {
+                    Creepage::new(0.0, xi, 0.0)
+                } else {
+                    Creepage::new(xi, 0.0, 0.0)
+                };
+                let f = eval(&m, &p, c);
+                let jv = if beta < 3.0 {
+                    1.0 - (1.0 - beta / 3.0).powi(3)
+                } else {
+                    1.0
+                };
+                worst = worst.max((f.saturation - jv).abs());
+            }
+            assert!(worst < 0.06, "a={a} b={b} lateral={lateral}: {worst}");
+        }
+    }
+}
+
+#[test]
+fn hertz_to_patch_and_scene_toml() {
+    let m = Material::STEEL;
+    let curv = RelativeCurvature::wheel_rail(0.46, 0.025, 0.0, 1.0 / 0.3);
+    let h = HertzContact::solve(curv, 75e3, &m, &m).unwrap();
+    let p = ContactPatch::from_hertz(&h, &m, MU, &KalkerTable::new(m.poisson)).unwrap();
+    assert!((p.a - h.a).abs() < 1e-15 && (p.shear_modulus - m.shear_modulus()).abs() < 1e-3);
+    // Typical tread contact: a few mm.
+    assert!(p.a > 2e-3 && p.a < 1e-2 && p.b > 2e-3 && p.b < 1e-2, "{p:?}");
+
+    let parse = |s: &str| toml::from_str::<CreepModel>(s);
+    assert_eq!(
+        parse("model = \"kalker\"").unwrap(),
+        CreepModel::Kalker {
+            saturation: Saturation::ShenHedrickElkins
+        }
+    );
+    assert_eq!(
+        parse("model = \"fastsim\"\nstrips = 40\nbound = \"elliptic\"").unwrap(),
+        CreepModel::Fastsim(FastsimSettings {
+            strips: 40,
+            elements: 25,
+            bound: TractionBound::Elliptic
+        })
+    );
+    assert!(
+        matches!(parse("model = \"polach\"\nk_a = 0.3\nk_s = 0.75").unwrap(), CreepModel::Polach(PolachParams { k_a, .. }) if k_a == 0.3)
+    );
+    assert!(parse("model = \"fastsim\"\nstrip = 40").is_err());
+    assert!(parse("model = \"contact\"").is_err());
+}
