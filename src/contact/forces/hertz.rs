@@ -224,7 +224,7 @@ impl EllipseShape {
         };
         let mut lo = -60.0_f64; // f(lo) > 0 (g = e^-60: ratio astronomically large)
         let mut hi = 0.0_f64; // f(0⁻) = −target < 0
-        let mut u = (-(2.0 / 3.0) * target).max(-59.0).min(-1e-9);
+        let mut u = (-(2.0 / 3.0) * target).clamp(-59.0, -1e-9);
         for _ in 0..100 {
             let (val, dval, kk, ee) = f(u);
             if !val.is_finite() {
@@ -247,7 +247,7 @@ impl EllipseShape {
                 hi = u;
             }
             let mut next = u - val / dval;
-            if !(next > lo && next < hi) || !dval.is_finite() || dval == 0.0 {
+            if !(next > lo && next < hi && dval.is_finite()) {
                 next = 0.5 * (lo + hi);
             }
             if (next - u).abs() < 1e-15 {

@@ -26,7 +26,8 @@ use crate::contact::lookup::{hermite, pchip_slopes};
 /// g values of the table rows.
 const G: [f64; 10] = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
 
-/// Rows for a/b ≤ 1 (g = a/b): [C11(ν=0,.25,.5), C22(...), C23(...)].
+/// Rows for a/b ≤ 1 (g = a/b). (3.14 is Kalker's C22, not π.): [C11(ν=0,.25,.5), C22(...), C23(...)].
+#[allow(clippy::approx_constant)]
 const TABLE_A_LE_B: [[f64; 9]; 10] = [
     [2.51, 3.31, 4.85, 2.51, 2.52, 2.53, 0.334, 0.473, 0.731],
     [2.59, 3.37, 4.81, 2.59, 2.63, 2.66, 0.483, 0.603, 0.809],
