@@ -418,3 +418,196 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     );
     Ok((rows, builds))
 }
+
+/// The contact-force building blocks and the three creep-force models, measured in one run:
+/// cost per call and the error that goes with it. Models are compared on `n` random creepage
+/// triples (|ξx|, |ξy| ≤ 0.006, |φ| ≤ 1.5 1/m) on a 6 × 4 mm ellipse at 80 kN, μ = 0.3, against
+/// FASTSIM at 200 × 200 elements (the converged simplified theory), and in pure ξx / ξy against
+/// Johnson & Vermeulen's published curve 1 − (1 − β/3)³.
+pub fn creep(n: usize) -> Result<String, crate::contact::forces::CreepForceError> {
+    use crate::contact::forces::fastsim::FastsimSettings;
+    use crate::contact::forces::hertz::{HertzContact, Material, RelativeCurvature};
+    use crate::contact::forces::{ContactFrame, ContactPatch, CreepModel, Creepage, KalkerTable};
+    use nalgebra::Vector3;
+
+    let mut out = String::new();
+    let steel = Material::STEEL;
+    // Hertz: random curvature ratios 1..100; error: m, n against the classical table.
+    let ratios = points(n.min(200_000), 0.0, 2.0);
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for &r in &ratios {
+        let c = RelativeCurvature {
+            a: 1.0,
+            b: 10f64.powf(r),
+        };
+        if let Ok(h) = HertzContact::solve(black_box(c), 80e3, &steel, &steel) {
+            acc += h.a + h.b;
+        }
+    }
+    black_box(acc);
+    let hertz_ns = t.elapsed().as_secs_f64() * 1e9 / ratios.len() as f64;
+    let table_mn = [
+        (30.0, 2.7306, 0.4931),
+        (60.0, 1.4858, 0.7171),
+        (80.0, 1.1278, 0.8927),
+        (10.0, 6.6115, 0.3110),
+    ];
+    let mut mn_err: f64 = 0.0;
+    for (theta, m, nn) in table_mn {
+        let c = (theta * std::f64::consts::PI / 180.0_f64).cos();
+        let h = HertzContact::solve(
+            RelativeCurvature {
+                a: 1.0 - c,
+                b: 1.0 + c,
+            },
+            1e4,
+            &steel,
+            &steel,
+        )
+        .map_err(|e| crate::contact::forces::CreepForceError::Patch(e.to_string()))?;
+        mn_err = mn_err.max((h.m - m).abs()).max((h.n - nn).abs());
+    }
+    let kalker = KalkerTable::new(steel.poisson);
+    let ab = points(n, -1.0, 1.0);
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for &x in &ab {
+        acc += kalker.at(black_box(10f64.powf(x))).c22;
+    }
+    black_box(acc);
+    let kalker_ns = t.elapsed().as_secs_f64() * 1e9 / ab.len() as f64;
+    let normal = Vector3::new(0.0, -0.05, 1.0);
+    let frame_t = Instant::now();
+    let mut acc = 0.0;
+    for &x in &ab {
+        if let Ok(f) = ContactFrame::new(black_box(normal), Vector3::new(x * 1e-3, 1.0, 0.0), Vector3::x()) {
+            let c = Creepage::from_velocities(
+                &f,
+                Vector3::new(x * 1e-2, 1e-3, 0.0),
+                Vector3::zeros(),
+                Vector3::new(0.0, 43.0, x),
+                Vector3::zeros(),
+                20.0,
+                0.1,
+            );
+            acc += c.longitudinal + c.spin;
+        }
+    }
+    black_box(acc);
+    let creep_ns = frame_t.elapsed().as_secs_f64() * 1e9 / ab.len() as f64;
+    out += &format!(
+        "{:<44} {:>10}  {}\n",
+        "building block", "ns/call", "error (against)"
+    );
+    out += &format!(
+        "{:<44} {:>10.1}  m, n within {:.1e} of the classical table (θ = 10, 30, 60, 80°)\n",
+        "Hertz ellipse (eccentricity by Newton)", hertz_ns, mn_err
+    );
+    out += &format!(
+        "{:<44} {:>10.1}  reproduces Kalker's Table E.3 at its nodes (unit test)\n",
+        "Kalker C11, C22, C23 at a/b (PCHIP)", kalker_ns
+    );
+    out += &format!(
+        "{:<44} {:>10.1}  first-order textbook creepages (unit test)\n\n",
+        "contact frame + creepages (3D)", creep_ns
+    );
+
+    let patch = ContactPatch::new(6e-3, 4e-3, 80e3, steel.shear_modulus(), 0.3, &kalker)?;
+    let mu_n = patch.friction * patch.normal_force;
+    let xs = points(n.min(20_000), -0.006, 0.006);
+    let ys = points(n.min(20_000) + 7, -0.006, 0.006);
+    let ps = points(n.min(20_000) + 13, -1.5, 1.5);
+    let cases: Vec<Creepage> = (0..xs.len())
+        .map(|i| Creepage::new(xs[i], ys[i + 7], ps[i + 13]))
+        .collect();
+    let reference = CreepModel::Fastsim(FastsimSettings {
+        strips: 200,
+        elements: 200,
+        ..FastsimSettings::default()
+    });
+    let n_ref = cases.len().min(2_000);
+    let ref_forces: Vec<_> = cases[..n_ref]
+        .iter()
+        .map(|c| reference.forces(&patch, c, 20.0))
+        .collect::<Result<_, _>>()?;
+    let ref_forces_no_spin: Vec<_> = cases[..n_ref]
+        .iter()
+        .map(|c| reference.forces(&patch, &Creepage { spin: 0.0, ..*c }, 20.0))
+        .collect::<Result<_, _>>()?;
+    let mut models: Vec<(String, CreepModel)> = vec![
+        (
+            "Kalker linear + Shen–Hedrick–Elkins".into(),
+            CreepModel::by_name("kalker").unwrap_or_default(),
+        ),
+        (
+            "Polach (1999, with spin)".into(),
+            CreepModel::by_name("polach").unwrap_or_default(),
+        ),
+    ];
+    for k in [10, 25, 50] {
+        models.push((
+            format!("FASTSIM {k} × {k}{}", if k == 25 { " (default)" } else { "" }),
+            CreepModel::Fastsim(FastsimSettings {
+                strips: k,
+                elements: k,
+                ..FastsimSettings::default()
+            }),
+        ));
+    }
+    out += &format!(
+        "{:<44} {:>10} {:>16} {:>16} {:>16}\n",
+        "creep-force model (6 × 4 mm, 80 kN, μ 0.3)", "ns/call", "vs FS200", "vs FS200, φ = 0", "vs J–V"
+    );
+    for (what, model) in &models {
+        let t = Instant::now();
+        let mut acc = 0.0;
+        for c in &cases {
+            let f = model.forces(&patch, black_box(c), 20.0)?;
+            acc += f.fx + f.fy;
+        }
+        black_box(acc);
+        let ns = t.elapsed().as_secs_f64() * 1e9 / cases.len() as f64;
+        let mut err: f64 = 0.0;
+        for (c, r) in cases[..n_ref].iter().zip(&ref_forces) {
+            let f = model.forces(&patch, c, 20.0)?;
+            err = err.max((f.fx - r.fx).hypot(f.fy - r.fy) / mu_n);
+        }
+        let mut err0: f64 = 0.0;
+        for (c, r) in cases[..n_ref].iter().zip(&ref_forces_no_spin) {
+            let c = Creepage { spin: 0.0, ..*c };
+            let f = model.forces(&patch, &c, 20.0)?;
+            err0 = err0.max((f.fx - r.fx).hypot(f.fy - r.fy) / mu_n);
+        }
+        let mut jv: f64 = 0.0;
+        for lateral in [false, true] {
+            let slope = patch.shear_modulus
+                * patch.a
+                * patch.b
+                * if lateral {
+                    patch.kalker.c22
+                } else {
+                    patch.kalker.c11
+                };
+            for i in 1..=60 {
+                let beta = 0.1 * i as f64;
+                let xi = beta * mu_n / slope;
+                let c = if lateral {
+                    Creepage::new(0.0, xi, 0.0)
+                } else {
+                    Creepage::new(xi, 0.0, 0.0)
+                };
+                let f = model.forces(&patch, &c, 20.0)?;
+                let want = if beta < 3.0 {
+                    1.0 - (1.0 - beta / 3.0).powi(3)
+                } else {
+                    1.0
+                };
+                jv = jv.max((f.saturation - want).abs());
+            }
+        }
+        out += &format!("{what:<44} {ns:>10.1} {err:>16.4} {err0:>16.4} {jv:>16.4}\n");
+    }
+    out += "Errors: max |ΔF|/μN of the resultant. FS200: FASTSIM 200 × 200 on the same random creepages (combined ξx, ξy with |φ| ≤ 1.5 1/m, and with φ = 0); J–V: Johnson & Vermeulen's curve in pure ξx and ξy, β ≤ 6. Kalker and Polach against FS200 are model differences (different theories), FASTSIM n × n against FS200 is discretisation error.\n";
+    Ok(out)
+}

@@ -3,25 +3,13 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+mod common;
+use common::{kecsim, rerun_verify, tmpdir};
 
 use kecsim::inspect::readback::recording_chunks;
 use rerun::components::{LineStrip2D, Position2D, Text};
 use rerun::{LineStrips2D, Points2D, TextDocument};
-
-fn kecsim(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kecsim"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("kecsim runs")
-}
-
-fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("kecsim-test-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// Everything the recording holds, per entity: strips, points, texts.
 #[derive(Default, Debug)]
@@ -53,26 +41,6 @@ fn read(path: &Path) -> BTreeMap<String, Entity> {
 
 fn near(a: [f32; 2], b: [f32; 2], tol: f32) -> bool {
     (a[0] - b[0]).abs() < tol && (a[1] - b[1]).abs() < tol
-}
-
-/// `rerun rrd verify` on the file, when the CLI is available. CI sets KECSIM_REQUIRE_RERUN_CLI=1
-/// (after `pip install rerun-sdk`), which turns a missing CLI into a failure.
-fn rerun_verify(path: &Path) {
-    match Command::new("rerun").args(["rrd", "verify"]).arg(path).output() {
-        Ok(out) => assert!(
-            out.status.success(),
-            "rerun rrd verify failed:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        ),
-        Err(e) => {
-            assert!(
-                std::env::var_os("KECSIM_REQUIRE_RERUN_CLI").is_none(),
-                "rerun CLI required but not runnable: {e}"
-            );
-            eprintln!("note: `rerun` CLI not found ({e}); skipped `rerun rrd verify` (pip install rerun-sdk==0.36.3)");
-        }
-    }
 }
 
 #[test]

@@ -16,9 +16,7 @@
 use rerun::blueprint::{
     Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
 };
-use rerun::{
-    Color, LineStrips2D, Points2D, Radius, RecordingStream, Scalars, SeriesLines, TextDocument, TimeColumn,
-};
+use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, section_mm, InspectError};
 use crate::contact::geometry::ContactGeometry;
@@ -79,31 +77,12 @@ pub(crate) fn send_series(
     values: Vec<f64>,
     names: &[&str],
 ) -> Result<(), InspectError> {
-    let per_row = names.len();
     let colors: Vec<Color> = [[230, 120, 40], [60, 140, 230]]
         .iter()
-        .take(per_row)
+        .take(names.len())
         .map(|c| Color::from_rgb(c[0], c[1], c[2]))
         .collect();
-    log_static(
-        rec,
-        entity,
-        &SeriesLines::new()
-            .with_names(names.iter().copied())
-            .with_colors(colors),
-    )?;
-    let columns = Scalars::new(values)
-        .columns(std::iter::repeat_n(per_row, ys.len()))
-        .map_err(|e| InspectError::Log {
-            entity: entity.to_string(),
-            source: e.into(),
-        })?;
-    rec.send_columns(
-        entity,
-        [TimeColumn::new_sequence(TIMELINE, ys.iter().copied())],
-        columns,
-    )
-    .map_err(log_err(entity))
+    super::send_scalar_columns(rec, TIMELINE, entity, ys, values, names, colors)
 }
 
 /// Logs the real cross-sections of a sweep under `base` (`{base}/{left,right}/{rail,wheel,contact}`):

@@ -16,6 +16,7 @@
 //! keep the stream in a local so that early returns (errors) still drop it and flush the file.
 
 pub mod contact;
+pub mod creep;
 pub mod kec;
 pub mod profiles;
 pub mod readback;
@@ -23,7 +24,7 @@ pub mod readback;
 use std::path::PathBuf;
 
 use rerun::blueprint::Blueprint;
-use rerun::RecordingStream;
+use rerun::{Color, RecordingStream, Scalars, SeriesLines, TimeColumn};
 
 /// Where a recording goes.
 #[derive(Debug, Clone, PartialEq)]
@@ -113,4 +114,38 @@ pub(crate) fn log_static(
 #[inline]
 pub fn section_mm(y: f64, z: f64) -> [f32; 2] {
     [(y * 1e3) as f32, (-z * 1e3) as f32]
+}
+
+/// Scalar series against a sequence timeline, sent as columns: `values` holds `names.len()`
+/// values per tick (one line each, named and coloured).
+pub(crate) fn send_scalar_columns(
+    rec: &RecordingStream,
+    timeline: &'static str,
+    entity: &str,
+    ticks: &[i64],
+    values: Vec<f64>,
+    names: &[&str],
+    colors: Vec<Color>,
+) -> Result<(), InspectError> {
+    let per_row = names.len();
+    log_static(
+        rec,
+        entity,
+        &SeriesLines::new()
+            .with_names(names.iter().copied())
+            .with_colors(colors),
+    )?;
+    let log_err = |source: rerun::RecordingStreamError| InspectError::Log {
+        entity: entity.to_string(),
+        source,
+    };
+    let columns = Scalars::new(values)
+        .columns(std::iter::repeat_n(per_row, ticks.len()))
+        .map_err(|e| log_err(e.into()))?;
+    rec.send_columns(
+        entity,
+        [TimeColumn::new_sequence(timeline, ticks.iter().copied())],
+        columns,
+    )
+    .map_err(log_err)
 }

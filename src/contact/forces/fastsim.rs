@@ -117,51 +117,74 @@ fn march(
         TractionBound::Parabolic => (mu * 2.0 * n / (PI * a * b), false),
         TractionBound::Elliptic => (mu * 3.0 * n / (2.0 * PI * a * b), true),
     };
-    let bound = |x: f64, y: f64| {
-        let q = (1.0 - (x / a).powi(2) - (y / b).powi(2)).max(0.0);
-        p_scale * if elliptic { q.sqrt() } else { q }
-    };
     let (sx0, sy0, phi) = (creep.longitudinal / l1, creep.lateral / l2, creep.spin / l3);
     let (mut fx, mut fy, mut mz) = (0.0, 0.0, 0.0);
-    for j in 0..ny {
-        let y = -b + (j as f64 + 0.5) * dy;
-        let aj = a * (1.0 - (y / b).powi(2)).max(0.0).sqrt();
-        let dx = 2.0 * aj / nx as f64;
-        let sx = sx0 - phi * y;
-        let (mut px, mut py) = (0.0_f64, 0.0_f64);
-        let (mut sfx, mut sfy, mut smz) = (0.0, 0.0, 0.0);
+    let inv_a2 = 1.0 / (a * a);
+    // The strips are independent: march LANES of them side by side, so that the latency chain
+    // of one strip (slip test, square root, division) overlaps with the others'. Lanes past the
+    // last strip have zero length and contribute nothing.
+    const LANES: usize = 8;
+    let mut j0 = 0;
+    while j0 < ny {
+        let mut y = [0.0; LANES];
+        let mut aj2 = [0.0; LANES];
+        let mut aj = [0.0; LANES];
+        let mut dx = [0.0; LANES];
+        let mut sx = [0.0; LANES];
+        for l in 0..LANES {
+            if j0 + l < ny {
+                y[l] = -b + ((j0 + l) as f64 + 0.5) * dy;
+                aj2[l] = (a * a * (1.0 - (y[l] / b).powi(2))).max(0.0);
+                aj[l] = aj2[l].sqrt();
+                dx[l] = 2.0 * aj[l] / nx as f64;
+                sx[l] = sx0 - phi * y[l];
+            }
+        }
+        let mut px = [0.0_f64; LANES];
+        let mut py = [0.0_f64; LANES];
+        let mut sfx = [0.0; LANES];
+        let mut sfy = [0.0; LANES];
+        let mut smz = [0.0; LANES];
         for i in 0..nx {
-            // Element centre, and the step from the previous centre (half a step from the edge).
-            let x = aj - (i as f64 + 0.5) * dx;
-            let step = if i == 0 { 0.5 * dx } else { dx };
-            let sy = sy0 + phi * (x + 0.5 * step);
-            let mut qx = px - sx * step;
-            let mut qy = py - sy * step;
-            let gmax = bound(x, y);
-            let mag = qx.hypot(qy);
-            let slip = mag > gmax;
-            if slip {
-                let f = if mag > 0.0 { gmax / mag } else { 0.0 };
+            let (centre, half_first) = (i as f64 + 0.5, i == 0);
+            for l in 0..LANES {
+                // Element centre, and the step from the previous centre (half a step from the edge).
+                let x = aj[l] - centre * dx[l];
+                let step = if half_first { 0.5 * dx[l] } else { dx[l] };
+                let sy = sy0 + phi * (x + 0.5 * step);
+                let mut qx = px[l] - sx[l] * step;
+                let mut qy = py[l] - sy * step;
+                // Traction bound μ p_z at the centre: 1 − x²/a² − y²/b² = (a_j² − x²)/a².
+                let q = ((aj2[l] - x * x) * inv_a2).max(0.0);
+                let gmax = p_scale * if elliptic { q.sqrt() } else { q };
+                let mag2 = qx * qx + qy * qy;
+                let slip = mag2 > gmax * gmax;
+                let f = if slip { gmax / mag2.sqrt() } else { 1.0 };
                 qx *= f;
                 qy *= f;
+                sfx[l] += qx;
+                sfy[l] += qy;
+                smz[l] += x * qy - y[l] * qx;
+                if j0 + l < ny {
+                    visit(TractionElement {
+                        x,
+                        y: y[l],
+                        px: qx,
+                        py: qy,
+                        bound: gmax,
+                        slip,
+                    });
+                }
+                px[l] = qx;
+                py[l] = qy;
             }
-            sfx += qx;
-            sfy += qy;
-            smz += x * qy - y * qx;
-            visit(TractionElement {
-                x,
-                y,
-                px: qx,
-                py: qy,
-                bound: gmax,
-                slip,
-            });
-            px = qx;
-            py = qy;
         }
-        fx += sfx * dx * dy;
-        fy += sfy * dx * dy;
-        mz += smz * dx * dy;
+        for l in 0..LANES {
+            fx += sfx[l] * dx[l] * dy;
+            fy += sfy[l] * dx[l] * dy;
+            mz += smz[l] * dx[l] * dy;
+        }
+        j0 += LANES;
     }
     CreepForce::with_saturation(fx, fy, mz, patch)
 }

@@ -23,6 +23,7 @@ pub mod hertz;
 pub mod kalker;
 pub mod linear;
 pub mod polach;
+pub mod sweep;
 
 use serde::Deserialize;
 use thiserror::Error;
@@ -111,6 +112,22 @@ impl ContactPatch {
             friction,
             table,
         )
+    }
+
+    /// The same contact at another normal force: a, b ∝ N^(1/3) (Hertz), a/b and so the Kalker
+    /// coefficients unchanged.
+    pub fn scaled(&self, normal_force: f64) -> ContactPatch {
+        let s = if self.normal_force > 0.0 && normal_force > 0.0 {
+            (normal_force / self.normal_force).cbrt()
+        } else {
+            1.0
+        };
+        ContactPatch {
+            a: self.a * s,
+            b: self.b * s,
+            normal_force,
+            ..*self
+        }
     }
 
     /// √(ab), m.

@@ -251,3 +251,42 @@ fn hertz_to_patch_and_scene_toml() {
     assert!(parse("model = \"fastsim\"\nstrip = 40").is_err());
     assert!(parse("model = \"contact\"").is_err());
 }
+
+/// The real S1002 / 60E1 (1:40) pair, wheelset centred, 80 kN per wheel: the contact ellipse from
+/// the profiles' curvatures at the real contact points is a tread contact of a few mm, the same on
+/// both sides (symmetry); in flange contact (γ > 0.8 rad) the ellipse is long and narrow — cos γ / r
+/// drops while the convex flange and gauge corner curve sharply across — with a much higher p₀.
+#[test]
+fn hertz_at_real_contact_points() {
+    use crate::contact::geometry::ContactGeometry;
+    use crate::contact::RailOffsets;
+    use crate::profile::placement::WheelRailPair;
+    use crate::profile::StandardProfile;
+    let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").unwrap();
+    let geom = ContactGeometry::with_defaults(pair);
+    let m = Material::STEEL;
+    let centred = geom.solve(0.0, &RailOffsets::default()).unwrap();
+    let hl = HertzContact::solve(RelativeCurvature::at_contact(&centred.left), 80e3, &m, &m).unwrap();
+    let hr = HertzContact::solve(RelativeCurvature::at_contact(&centred.right), 80e3, &m, &m).unwrap();
+    assert!(
+        (hl.a - hr.a).abs() < 1e-6 * hl.a && (hl.b - hr.b).abs() < 1e-6 * hl.b,
+        "{hl:?} {hr:?}"
+    );
+    assert!(
+        hl.a > 3e-3 && hl.a < 9e-3 && hl.b > 2e-3 && hl.b < 15e-3,
+        "{hl:?}"
+    );
+    assert!(hl.max_pressure > 5e8 && hl.max_pressure < 2e9, "{hl:?}");
+    let flange = (0..40)
+        .map(|k| {
+            geom.solve(6e-3 + k as f64 * 0.1e-3, &RailOffsets::default())
+                .unwrap()
+        })
+        .find(|s| s.left.contact_angle > 0.8)
+        .expect("flange contact within y = 6 .. 10 mm");
+    let h = HertzContact::solve(RelativeCurvature::at_contact(&flange.left), 80e3, &m, &m).unwrap();
+    assert!(
+        h.ratio() > 5.0 && h.max_pressure > 2.0 * hl.max_pressure,
+        "flange {h:?} vs tread {hl:?}"
+    );
+}

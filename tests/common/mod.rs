@@ -1,0 +1,41 @@
+//! Helpers shared by the scene tests that run the `kecsim` binary.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the binary with `args` in `cwd`.
+pub fn kecsim(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kecsim"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("kecsim runs")
+}
+
+/// A fresh temporary directory for one test.
+pub fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("kecsim-test-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// `rerun rrd verify` on the file, when the CLI is available. CI sets KECSIM_REQUIRE_RERUN_CLI=1
+/// (after `pip install rerun-sdk`), which turns a missing CLI into a failure.
+pub fn rerun_verify(path: &Path) {
+    match Command::new("rerun").args(["rrd", "verify"]).arg(path).output() {
+        Ok(out) => assert!(
+            out.status.success(),
+            "rerun rrd verify failed:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        ),
+        Err(e) => {
+            assert!(
+                std::env::var_os("KECSIM_REQUIRE_RERUN_CLI").is_none(),
+                "rerun CLI required but not runnable: {e}"
+            );
+            eprintln!("note: `rerun` CLI not found ({e}); skipped `rerun rrd verify` (pip install rerun-sdk==0.36.3)");
+        }
+    }
+}

@@ -1,0 +1,227 @@
+//! `kecsim creep` end to end: the CSV interface, the physics visible in it (odd symmetry, the μN
+//! limit, the linear slope from Kalker's published table), the recording, and bad input.
+
+use std::collections::BTreeMap;
+
+mod common;
+use common::{kecsim, rerun_verify, tmpdir};
+
+use kecsim::inspect::readback::recording_chunks;
+use rerun::components::{LineStrip2D, Text};
+use rerun::{LineStrips2D, TextDocument};
+
+/// CSV rows keyed by (model, curve): (creepage, force along the swept direction, saturation).
+fn read_curves(text: &str) -> BTreeMap<(String, String), Vec<(f64, f64, f64)>> {
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no column {name}"))
+    };
+    let (m, c, cx, cy, fx, fy, sat) = (
+        col("model"),
+        col("curve"),
+        col("creepage_x"),
+        col("creepage_y"),
+        col("fx_n"),
+        col("fy_n"),
+        col("saturation"),
+    );
+    let mut out: BTreeMap<(String, String), Vec<(f64, f64, f64)>> = BTreeMap::new();
+    for line in lines {
+        let v: Vec<&str> = line.split(',').collect();
+        let num = |i: usize| v[i].parse::<f64>().unwrap();
+        let lateral = v[c] == "lateral";
+        let (xi, f) = if lateral {
+            (num(cy), num(fy))
+        } else {
+            (num(cx), num(fx))
+        };
+        out.entry((v[m].to_string(), v[c].to_string()))
+            .or_default()
+            .push((xi, f, num(sat)));
+    }
+    out
+}
+
+#[test]
+fn creep_curves_csv_and_recording() {
+    let dir = tmpdir("creep");
+    let (csv, rrd) = (dir.join("creep.csv"), dir.join("creep.rrd"));
+    let out = kecsim(
+        &[
+            "creep",
+            "--model",
+            "all",
+            "--normal-force-n",
+            "80000",
+            "--a-mm",
+            "6",
+            "--b-mm",
+            "4",
+            "--mu",
+            "0.3",
+            "--csv",
+            csv.to_str().unwrap(),
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header = text.lines().next().unwrap();
+    for c in ["model", "creepage_x", "creepage_y", "fx_n", "fy_n"] {
+        assert!(header.split(',').any(|h| h == c), "missing column {c}: {header}");
+    }
+    let curves = read_curves(&text);
+    assert_eq!(curves.len(), 6, "3 models × 2 curves: {:?}", curves.keys());
+    let mu_n = 0.3 * 80_000.0;
+    // Linear slope from Kalker's Table E.3 by hand: a/b = 1.5, ν = 0.28; C11 by linear interpolation
+    // between the facts file's rows a/b = 1.429 (4.644) and 1.667 (4.883): 4.715; C22 between 4.261
+    // and 4.559: 4.350. G = 82 GPa.
+    let gab = 82e9 * 6e-3 * 4e-3;
+    for ((model, curve), pts) in &curves {
+        assert_eq!(pts.len(), 201, "{model} {curve}");
+        // Odd symmetry about ξ = 0 and forces opposing the creepage.
+        for (p, q) in pts.iter().zip(pts.iter().rev()) {
+            assert!(
+                (p.0 + q.0).abs() < 1e-12 && (p.1 + q.1).abs() < 1e-6 * mu_n,
+                "{model} {curve} odd"
+            );
+            if p.0 != 0.0 {
+                assert!(p.1 * p.0 < 0.0, "{model} {curve}: force opposes creepage");
+            }
+        }
+        // μN at the ends (±0.01: β ≈ 3.9).
+        let end = pts.last().unwrap();
+        assert!(
+            (end.2 - 1.0).abs() < 0.03 && (end.1.abs() - mu_n).abs() < 0.03 * mu_n,
+            "{model} {curve}: {end:?}"
+        );
+        // Small-creepage slope (at ξ = 1e-4, β ≈ 0.04: saturation shaves ≤ 1.5 %).
+        let c = if curve == "longitudinal" { 4.715 } else { 4.350 };
+        let p = pts.iter().find(|p| (p.0 - 1e-4).abs() < 1e-12).unwrap();
+        let slope = -p.1 / p.0;
+        assert!(
+            (slope / (gab * c) - 1.0).abs() < 0.02,
+            "{model} {curve}: slope {slope} vs {}",
+            gab * c
+        );
+    }
+
+    // The recording: curves per model, the ellipse with the given semi-axes, the summary.
+    let mut entities: BTreeMap<String, (Vec<Vec<[f32; 2]>>, Vec<String>)> = BTreeMap::new();
+    for chunk in recording_chunks(&rrd).unwrap() {
+        let e = entities.entry(chunk.entity_path().to_string()).or_default();
+        for row in chunk.iter_component::<LineStrip2D>(LineStrips2D::descriptor_strips().component) {
+            e.0.extend(
+                row.iter()
+                    .map(|s| s.0.iter().map(|v| [v.x(), v.y()]).collect::<Vec<_>>()),
+            );
+        }
+        for row in chunk.iter_component::<Text>(TextDocument::descriptor_text().component) {
+            e.1.extend(row.iter().map(|t| t.as_str().to_string()));
+        }
+    }
+    for m in ["kalker", "polach", "fastsim"] {
+        for e in [
+            format!("/creep/longitudinal/fx_n/{m}"),
+            format!("/creep/lateral/fy_n/{m}"),
+        ] {
+            assert!(entities.contains_key(&e), "missing {e}: {:?}", entities.keys());
+        }
+    }
+    assert!(
+        entities.contains_key("/creep/patch/longitudinal") && entities.contains_key("/creep/patch/lateral")
+    );
+    let ellipse = &entities["/creep/patch/ellipse"].0[0];
+    let max_x = ellipse.iter().map(|p| p[0].abs()).fold(0.0, f32::max);
+    let max_y = ellipse.iter().map(|p| p[1].abs()).fold(0.0, f32::max);
+    assert!(
+        (max_x - 6.0).abs() < 1e-3 && (max_y - 4.0).abs() < 1e-3,
+        "{max_x} {max_y}"
+    );
+    assert!(entities["/creep/summary"].1.iter().any(|t| t.contains("C11")));
+    rerun_verify(&rrd);
+
+    // One model only.
+    let out = kecsim(
+        &[
+            "creep",
+            "--model",
+            "polach",
+            "--normal-force-n",
+            "50000",
+            "--a-mm",
+            "5",
+            "--b-mm",
+            "5",
+            "--spin",
+            "-0.5",
+            "--csv",
+            csv.to_str().unwrap(),
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let curves = read_curves(&std::fs::read_to_string(&csv).unwrap());
+    assert!(curves.keys().all(|(m, _)| m == "polach") && curves.len() == 2);
+}
+
+#[test]
+fn creep_bad_input_is_a_clear_error() {
+    let dir = tmpdir("creep-bad");
+    for (args, expect) in [
+        (
+            vec!["--normal-force-n", "-5", "--a-mm", "6", "--b-mm", "4"],
+            "--normal-force-n",
+        ),
+        (
+            vec!["--normal-force-n", "0", "--a-mm", "6", "--b-mm", "4"],
+            "lifted",
+        ),
+        (
+            vec!["--normal-force-n", "8e4", "--a-mm", "0", "--b-mm", "4"],
+            "--a-mm",
+        ),
+        (
+            vec![
+                "--normal-force-n",
+                "8e4",
+                "--a-mm",
+                "6",
+                "--b-mm",
+                "4",
+                "--mu",
+                "nan",
+            ],
+            "--mu",
+        ),
+        (
+            vec![
+                "--normal-force-n",
+                "8e4",
+                "--a-mm",
+                "6",
+                "--b-mm",
+                "4",
+                "--model",
+                "contact",
+            ],
+            "contact",
+        ),
+    ] {
+        let mut all = vec!["creep"];
+        all.extend(args.iter().copied());
+        let out = kecsim(&all, &dir);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
