@@ -2,7 +2,7 @@
 //! `rerun` CLI verifies them, and bad input exits non-zero with a clear message, never a panic.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 mod common;
 use common::{kecsim, rerun_verify, tmpdir};
