@@ -10,8 +10,12 @@ use kecsim::inspect::readback::recording_chunks;
 use rerun::components::{LineStrip2D, Text};
 use rerun::{LineStrips2D, TextDocument};
 
-/// CSV rows keyed by (model, curve): (creepage, force along the swept direction, saturation).
-fn read_curves(text: &str) -> BTreeMap<(String, String), Vec<(f64, f64, f64)>> {
+/// (creepage, force along the swept direction, saturation) of each CSV row, per (model, curve).
+type Curves = BTreeMap<(String, String), Vec<(f64, f64, f64)>>;
+/// Line strips and texts per entity of a recording.
+type Entities = BTreeMap<String, (Vec<Vec<[f32; 2]>>, Vec<String>)>;
+
+fn read_curves(text: &str) -> Curves {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| {
@@ -29,7 +33,7 @@ fn read_curves(text: &str) -> BTreeMap<(String, String), Vec<(f64, f64, f64)>> {
         col("fy_n"),
         col("saturation"),
     );
-    let mut out: BTreeMap<(String, String), Vec<(f64, f64, f64)>> = BTreeMap::new();
+    let mut out = Curves::new();
     for line in lines {
         let v: Vec<&str> = line.split(',').collect();
         let num = |i: usize| v[i].parse::<f64>().unwrap();
@@ -113,7 +117,7 @@ fn creep_curves_csv_and_recording() {
     }
 
     // The recording: curves per model, the ellipse with the given semi-axes, the summary.
-    let mut entities: BTreeMap<String, (Vec<Vec<[f32; 2]>>, Vec<String>)> = BTreeMap::new();
+    let mut entities = Entities::new();
     for chunk in recording_chunks(&rrd).unwrap() {
         let e = entities.entry(chunk.entity_path().to_string()).or_default();
         for row in chunk.iter_component::<LineStrip2D>(LineStrips2D::descriptor_strips().component) {
