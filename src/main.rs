@@ -288,6 +288,14 @@ fn run(cli: Cli) -> Result<()> {
             let scene = parsed.compile(&origin, &base)?;
             println!("scenario: {} ({origin})", scene.name);
             print_pair(&scene.pair);
+            let cf = &scene.contact_forces;
+            println!(
+                "contact forces: {} creep model, μ = {}, E = {:.0} GPa, ν = {}",
+                cf.model.name(),
+                cf.friction,
+                cf.material.young_pa * 1e-9,
+                cf.material.poisson
+            );
             // The wheelset's contact preprocessing: 1-entry table of the real profiles, then the
             // KEC-equivalent profiles, recorded as `kecsim kec` does.
             let l_w = scene.pair.wheelset.l_w();

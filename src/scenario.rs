@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use crate::contact::forces::{ContactForceSettings, CreepModel, Material};
 use crate::profile::placement::{Inclination, TrackGauge, WheelRailPair, WheelsetGeometry};
 use crate::profile::{Profile, ProfileKind};
 
@@ -33,6 +34,44 @@ pub struct Scenario {
     pub track: TrackSpec,
     #[serde(default)]
     pub wheelset: WheelsetSpec,
+    #[serde(default)]
+    pub contact_forces: ContactForcesSpec,
+}
+
+/// Wheel–rail contact forces: friction, material, creep-force model (`[contact_forces.creep]`,
+/// e.g. `model = "fastsim"`, `strips = 25`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactForcesSpec {
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+    #[serde(default = "default_young")]
+    pub young_modulus_pa: f64,
+    #[serde(default = "default_poisson")]
+    pub poisson_ratio: f64,
+    #[serde(default)]
+    pub creep: CreepModel,
+}
+
+impl Default for ContactForcesSpec {
+    fn default() -> Self {
+        ContactForcesSpec {
+            friction: default_friction(),
+            young_modulus_pa: default_young(),
+            poisson_ratio: default_poisson(),
+            creep: CreepModel::default(),
+        }
+    }
+}
+
+fn default_friction() -> f64 {
+    0.3
+}
+fn default_young() -> f64 {
+    Material::STEEL.young_pa
+}
+fn default_poisson() -> f64 {
+    Material::STEEL.poisson
 }
 
 /// Wheel and rail profiles.
@@ -127,6 +166,7 @@ pub enum ScenarioError {
 pub struct Scene {
     pub name: String,
     pub pair: WheelRailPair,
+    pub contact_forces: ContactForceSettings,
 }
 
 impl Scenario {
@@ -190,6 +230,18 @@ impl Scenario {
                 None
             }
         };
+        let cf = &self.contact_forces;
+        let material = Material {
+            young_pa: cf.young_modulus_pa,
+            poisson: cf.poisson_ratio,
+        };
+        let contact_forces = match ContactForceSettings::new(cf.creep, cf.friction, material) {
+            Ok(s) => Some(s),
+            Err(p) => {
+                problems.extend(p.into_iter().map(|p| format!("contact_forces: {p}")));
+                None
+            }
+        };
         let mut load = |spec: &str, kind: ProfileKind| {
             let resolved = resolve_path(spec, base);
             match Profile::resolve(&resolved, kind) {
@@ -206,8 +258,8 @@ impl Scenario {
             path: origin.to_string(),
             problems,
         };
-        let (Some(wheel), Some(rail), Some(inclination), true) =
-            (wheel, rail, inclination, problems.is_empty())
+        let (Some(wheel), Some(rail), Some(inclination), Some(contact_forces), true) =
+            (wheel, rail, inclination, contact_forces, problems.is_empty())
         else {
             return Err(invalid(problems));
         };
@@ -225,6 +277,7 @@ impl Scenario {
         Ok(Scene {
             name: self.name.clone(),
             pair,
+            contact_forces,
         })
     }
 }
@@ -248,6 +301,39 @@ mod tests {
         let scene = s.compile("<default>", Path::new(".")).unwrap();
         assert_eq!(scene.pair.wheel.name, "s1002");
         assert_eq!(scene.pair.rail.name, "60e1");
+        assert_eq!(scene.contact_forces.model.name(), "polach");
+        assert_eq!(scene.contact_forces.friction, 0.3);
+    }
+
+    #[test]
+    fn contact_forces_table_is_read_and_validated() {
+        // The default scenario without its own [contact_forces] tables.
+        let base = &DEFAULT_SCENARIO[..DEFAULT_SCENARIO.find("[contact_forces]").unwrap()];
+        let text = format!(
+            "{base}\n[contact_forces]\nfriction = 0.35\n[contact_forces.creep]\nmodel = \"fastsim\"\nstrips = 30\n"
+        );
+        let scene = Scenario::parse(&text, "s.toml")
+            .unwrap()
+            .compile("s.toml", Path::new("."))
+            .unwrap();
+        assert_eq!(scene.contact_forces.friction, 0.35);
+        assert!(
+            matches!(scene.contact_forces.model, CreepModel::Fastsim(f) if f.strips == 30 && f.elements == 25)
+        );
+        let bad = format!(
+            "{base}\n[contact_forces]\nfriction = -1\npoisson_ratio = 0.7\n[contact_forces.creep]\nmodel = \"fastsim\"\nstrips = 0\n"
+        );
+        let e = Scenario::parse(&bad, "s.toml")
+            .unwrap()
+            .compile("s.toml", Path::new("."))
+            .unwrap_err()
+            .to_string();
+        for want in ["friction = -1", "poisson_ratio = 0.7", "strips = 0"] {
+            assert!(e.contains(want), "{e}");
+        }
+        let unknown = format!("{base}\n[contact_forces.creep]\nmodel = \"polach\"\nka = 1\n");
+        let e = Scenario::parse(&unknown, "s.toml").unwrap_err().to_string();
+        assert!(e.contains("line") && e.contains("ka"), "{e}");
     }
 
     #[test]

@@ -193,7 +193,7 @@ fn fastsim_converges_to_its_continuum() {
 /// pure lateral creep (the figure is printed by `kecsim bench creep`).
 #[test]
 fn fastsim_agrees_with_johnson_vermeulen() {
-    let m = CreepModel::default();
+    let m = CreepModel::by_name("fastsim").unwrap();
     for &(a, b) in &[(5e-3, 5e-3), (7e-3, 4e-3)] {
         let p = patch(a, b, 80e3);
         for lateral in [false, true] {
