@@ -12,6 +12,7 @@
 
 pub mod bench;
 pub mod contact;
+pub mod dynamics;
 pub mod inspect;
 pub mod profile;
 pub mod scenario;

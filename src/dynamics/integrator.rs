@@ -1,0 +1,563 @@
+//! Time integrators for x' = f(t, x) with error control, fixed-rate output and diagnosis.
+//!
+//! - [`Method::Dopri5`]: Dormand–Prince 5(4), explicit, FSAL, PI step-size control and the
+//!   4th-order continuous extension of Hairer's DOPRI5 for output between steps. Efficient while
+//!   the step is limited by accuracy.
+//! - [`Method::Ros3`]: the L-stable 3-stage Rosenbrock method of order 3 with an embedded order-2
+//!   estimate (Sandu et al. 1997, *Benchmarking stiff ODE solvers for atmospheric chemistry
+//!   problems II: Rosenbrock solvers*, Atmos. Env. 31; Hairer–Wanner form below), two function
+//!   evaluations and one LU decomposition of (1/(hγ) I − J) per step, J by finite differences
+//!   unless the system provides it. Stays efficient when creep forces make the wheelset modes stiff
+//!   (time constants of milliseconds, DYNAMICS.md §4), where an explicit method is limited by
+//!   stability. Output between steps: cubic Hermite with the derivatives at both ends (3rd order,
+//!   matching the method).
+//!
+//! Rosenbrock step (Hairer–Wanner II, §IV.7; f_t by a forward difference):
+//!
+//! ```text
+//! (1/(hγ) I − J) K_i = f(t + α_i h, x + Σ_j a_ij K_j) + Σ_j (c_ij / h) K_j + γ_i h f_t
+//! x₁ = x + Σ m_i K_i,   err = Σ e_i K_i
+//! ```
+//!
+//! Error norm (both methods): RMS over the components of err_i / (atol + rtol max(|x₀ᵢ|, |x₁ᵢ|)).
+//! A step is accepted when the norm ≤ 1. Failures are reported, never hidden: the step size
+//! collapsing below `h_min` (with the time and the last error norm), too many steps, and a
+//! right-hand side that fails or returns non-finite values at every step size tried.
+
+use nalgebra::DMatrix;
+use thiserror::Error;
+
+/// A first-order system x' = f(t, x).
+pub trait OdeSystem {
+    /// Number of states.
+    fn dim(&self) -> usize;
+    /// f(t, x) into `dxdt`. An `Err` stops the integration with that diagnosis (e.g. a wheel that
+    /// lifts, a contact Newton that fails).
+    fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), String>;
+    /// The Jacobian ∂f/∂x, if the system can supply it (else finite differences are used).
+    fn jacobian(&mut self, _t: f64, _x: &[f64], _jac: &mut DMatrix<f64>) -> Option<Result<(), String>> {
+        None
+    }
+}
+
+/// The integration method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    Dopri5,
+    Ros3,
+}
+
+impl Method {
+    /// Order of the error estimate's exponent (q in h_new = h · err^(−1/q)).
+    fn error_order(self) -> f64 {
+        match self {
+            Method::Dopri5 => 5.0,
+            Method::Ros3 => 3.0,
+        }
+    }
+}
+
+/// Tolerances and limits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    pub method: Method,
+    pub rtol: f64,
+    pub atol: f64,
+    /// First step (None: chosen from the tolerances and f(t₀, x₀)).
+    pub h_init: Option<f64>,
+    pub h_min: f64,
+    pub h_max: f64,
+    pub max_steps: usize,
+    /// Take fixed steps of this size without error control (convergence studies only).
+    pub fixed_step: Option<f64>,
+}
+
+impl Settings {
+    pub fn new(method: Method, rtol: f64, atol: f64) -> Settings {
+        Settings {
+            method,
+            rtol,
+            atol,
+            h_init: None,
+            h_min: 1e-12,
+            h_max: f64::INFINITY,
+            max_steps: 10_000_000,
+            fixed_step: None,
+        }
+    }
+}
+
+/// Why an integration stopped early.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum IntegrationError {
+    #[error("step size collapse at t = {t:.6} s: h = {h:.3e} s < h_min (last error norm {err:.3e})")]
+    StepCollapse { t: f64, h: f64, err: f64 },
+    #[error("the model failed at t = {t:.6} s: {message}")]
+    Model { t: f64, message: String },
+    #[error("non-finite state or derivative at t = {t:.6} s (every step size down to h_min tried)")]
+    NonFinite { t: f64 },
+    #[error("more than {0} steps")]
+    MaxSteps(usize),
+    #[error("singular iteration matrix (1/(hγ) I − J) at t = {t:.6} s")]
+    Singular { t: f64 },
+    #[error("invalid integrator settings: {0}")]
+    Settings(String),
+}
+
+/// Work done.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Stats {
+    pub accepted: usize,
+    pub rejected: usize,
+    pub rhs_evaluations: usize,
+    pub jacobians: usize,
+    pub smallest_step: f64,
+    pub largest_step: f64,
+}
+
+// Dormand–Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Nørsett & Wanner I, Table II.5.2).
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const B1: f64 = 35.0 / 384.0;
+const B3: f64 = 500.0 / 1113.0;
+const B4: f64 = 125.0 / 192.0;
+const B5: f64 = -2187.0 / 6784.0;
+const B6: f64 = 11.0 / 84.0;
+// Error coefficients b − b̂.
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+// Dense output (Hairer's DOPRI5, contd5).
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+// ROS3 (Sandu et al. 1997), Hairer–Wanner form; the published digits are kept.
+#[allow(clippy::excessive_precision)]
+mod ros3_tableau {
+    pub(super) const R_GAMMA: f64 = 0.435_866_521_508_458_999_416_019_451_193_56;
+    pub(super) const R_ALPHA2: f64 = 0.435_866_521_508_458_999_416_019_451_193_56;
+    pub(super) const R_C21: f64 = -1.015_617_108_387_770_209_197_560_011_554_5;
+    pub(super) const R_C31: f64 = 4.075_995_645_253_769_982_480_583_535_806_7;
+    pub(super) const R_C32: f64 = 9.207_679_429_833_079_124_215_681_847_400_3;
+    /// γ_i = Σ_j γ_ij, multiplying h f_t in stage i.
+    pub(super) const R_GAMMAS: [f64; 3] = [
+        0.435_866_521_508_458_999_416_019_451_193_56,
+        0.242_919_964_548_168_043_665_922_496_833_14,
+        2.185_138_002_766_405_851_151_316_948_583_2,
+    ];
+    pub(super) const R_M: [f64; 3] = [
+        1.0,
+        6.169_794_704_382_824_559_255_361_568_973,
+        -0.427_722_565_432_185_733_262_383_738_065_14,
+    ];
+    pub(super) const R_E: [f64; 3] = [
+        0.5,
+        -2.907_955_871_680_546_982_171_823_620_801_7,
+        0.223_540_698_978_115_696_273_609_092_761_99,
+    ];
+}
+use ros3_tableau::*;
+
+/// Receives the state at each output time; an `Err` stops the integration.
+pub type Observer<'a> = dyn FnMut(f64, &[f64]) -> Result<(), String> + 'a;
+
+/// Integrates from (t0, x0) to t_end, calling `output(t, x)` at t0 and every `dt_out` after it
+/// (and at t_end), whatever the step size. Returns the work done.
+pub fn integrate(
+    sys: &mut dyn OdeSystem,
+    t0: f64,
+    x0: &[f64],
+    t_end: f64,
+    dt_out: f64,
+    settings: &Settings,
+    output: &mut Observer<'_>,
+) -> Result<Stats, IntegrationError> {
+    let n = sys.dim();
+    if x0.len() != n {
+        return Err(IntegrationError::Settings(format!(
+            "x0 has {} states, the system {n}",
+            x0.len()
+        )));
+    }
+    if !(settings.rtol > 0.0 && settings.atol > 0.0 && dt_out > 0.0 && t_end >= t0) {
+        return Err(IntegrationError::Settings(format!(
+            "need rtol > 0, atol > 0, dt_out > 0, t_end ≥ t0 (rtol {}, atol {}, dt_out {dt_out}, t0 {t0}, t_end {t_end})",
+            settings.rtol, settings.atol
+        )));
+    }
+    let mut stats = Stats {
+        smallest_step: f64::INFINITY,
+        ..Stats::default()
+    };
+    let model = |t: f64| move |message: String| IntegrationError::Model { t, message };
+    let out_err = |t: f64| {
+        move |message: String| IntegrationError::Model {
+            t,
+            message: format!("output: {message}"),
+        }
+    };
+    let mut x = x0.to_vec();
+    let mut t = t0;
+    let mut f0 = vec![0.0; n];
+    sys.rhs(t, &x, &mut f0).map_err(model(t))?;
+    stats.rhs_evaluations += 1;
+    if !all_finite(&x) || !all_finite(&f0) {
+        return Err(IntegrationError::NonFinite { t });
+    }
+    output(t, &x).map_err(out_err(t))?;
+    let mut next_out = t0 + dt_out;
+    let mut out_index = 1u64;
+
+    let mut h = match (settings.fixed_step, settings.h_init) {
+        (Some(h), _) | (None, Some(h)) => h,
+        (None, None) => initial_step(&x, &f0, settings),
+    }
+    .min(settings.h_max)
+    .min((t_end - t0).max(f64::MIN_POSITIVE));
+    let mut stepper = Stepper::new(n, settings.method);
+    let mut x1 = vec![0.0; n];
+    let mut f1 = vec![0.0; n];
+    let mut err_prev: f64 = 1e-4;
+    let q = settings.method.error_order();
+    while t < t_end {
+        if stats.accepted + stats.rejected >= settings.max_steps {
+            return Err(IntegrationError::MaxSteps(settings.max_steps));
+        }
+        let last = t + h >= t_end - 1e-14 * t_end.abs().max(1.0);
+        if last {
+            h = t_end - t;
+        }
+        let attempt = stepper.step(sys, t, &x, &f0, h, settings, &mut x1, &mut f1, &mut stats);
+        let err = match attempt {
+            Ok(e) if e.is_finite() && all_finite(&x1) && all_finite(&f1) => e,
+            Ok(_) => f64::INFINITY,
+            Err(StepFailure::Model(m)) => return Err(IntegrationError::Model { t, message: m }),
+            Err(StepFailure::Singular) => f64::INFINITY,
+        };
+        if settings.fixed_step.is_some() && err.is_finite() {
+            // No control: accept.
+        } else if err > 1.0 {
+            stats.rejected += 1;
+            let fac = if err.is_finite() {
+                (0.9 * err.powf(-1.0 / q)).clamp(0.1, 0.9)
+            } else {
+                0.25
+            };
+            h *= fac;
+            if h < settings.h_min {
+                if !err.is_finite() {
+                    if matches!(attempt, Err(StepFailure::Singular)) {
+                        return Err(IntegrationError::Singular { t });
+                    }
+                    return Err(IntegrationError::NonFinite { t });
+                }
+                return Err(IntegrationError::StepCollapse { t, h, err });
+            }
+            continue;
+        }
+        if !err.is_finite() {
+            return Err(IntegrationError::NonFinite { t });
+        }
+        // Accepted: output every multiple of dt_out inside (t, t + h].
+        let t1 = t + h;
+        while next_out <= t1 + 1e-12 * t1.abs().max(1.0) && next_out <= t_end + 1e-12 * t_end.abs().max(1.0) {
+            let s = ((next_out - t) / h).clamp(0.0, 1.0);
+            let xo = stepper.dense(&x, &x1, &f0, &f1, h, s);
+            output(next_out, &xo).map_err(out_err(next_out))?;
+            out_index += 1;
+            next_out = t0 + out_index as f64 * dt_out;
+        }
+        stats.accepted += 1;
+        stats.smallest_step = stats.smallest_step.min(h);
+        stats.largest_step = stats.largest_step.max(h);
+        t = if last { t_end } else { t1 };
+        std::mem::swap(&mut x, &mut x1);
+        std::mem::swap(&mut f0, &mut f1);
+        if settings.fixed_step.is_none() {
+            // PI controller (Gustafsson; Hairer's DOPRI5 uses β = 0.04).
+            let beta = 0.04;
+            let e = err.max(1e-10);
+            let fac = (0.9 * e.powf(-1.0 / q + 0.75 * beta) * err_prev.powf(beta)).clamp(0.2, 10.0);
+            err_prev = e;
+            h = (h * fac).min(settings.h_max);
+        }
+    }
+    // The end point, if the output grid did not land on it.
+    if (next_out - dt_out - t_end).abs() > 1e-9 * dt_out {
+        output(t_end, &x).map_err(out_err(t_end))?;
+    }
+    if stats.accepted == 0 {
+        stats.smallest_step = 0.0;
+    }
+    Ok(stats)
+}
+
+fn all_finite(v: &[f64]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+/// Hairer's starting step: h = 0.01 ‖x‖/‖f‖ in the weighted norm, capped.
+fn initial_step(x: &[f64], f: &[f64], s: &Settings) -> f64 {
+    let (mut dx, mut df) = (0.0, 0.0);
+    for (xi, fi) in x.iter().zip(f) {
+        let sc = s.atol + s.rtol * xi.abs();
+        dx += (xi / sc).powi(2);
+        df += (fi / sc).powi(2);
+    }
+    let n = x.len().max(1) as f64;
+    let (dx, df) = ((dx / n).sqrt(), (df / n).sqrt());
+    let h = if dx < 1e-5 || df < 1e-5 {
+        1e-6
+    } else {
+        0.01 * dx / df
+    };
+    h.min(s.h_max).max(s.h_min * 10.0)
+}
+
+enum StepFailure {
+    Model(String),
+    Singular,
+}
+
+struct Stepper {
+    method: Method,
+    k: Vec<Vec<f64>>,
+    tmp: Vec<f64>,
+    jac: DMatrix<f64>,
+}
+
+impl Stepper {
+    fn new(n: usize, method: Method) -> Stepper {
+        Stepper {
+            method,
+            k: vec![vec![0.0; n]; 7],
+            tmp: vec![0.0; n],
+            jac: DMatrix::zeros(n, n),
+        }
+    }
+
+    /// One step of size h from (t, x) with f0 = f(t, x): x1, f1 = f(t + h, x1) and the error norm.
+    #[allow(clippy::too_many_arguments)]
+    fn step(
+        &mut self,
+        sys: &mut dyn OdeSystem,
+        t: f64,
+        x: &[f64],
+        f0: &[f64],
+        h: f64,
+        s: &Settings,
+        x1: &mut [f64],
+        f1: &mut [f64],
+        stats: &mut Stats,
+    ) -> Result<f64, StepFailure> {
+        match self.method {
+            Method::Dopri5 => self.dopri5(sys, t, x, f0, h, s, x1, f1, stats),
+            Method::Ros3 => self.ros3(sys, t, x, f0, h, s, x1, f1, stats),
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn dopri5(
+        &mut self,
+        sys: &mut dyn OdeSystem,
+        t: f64,
+        x: &[f64],
+        f0: &[f64],
+        h: f64,
+        s: &Settings,
+        x1: &mut [f64],
+        f1: &mut [f64],
+        stats: &mut Stats,
+    ) -> Result<f64, StepFailure> {
+        let n = x.len();
+        let rows: [(f64, &[f64]); 5] = [
+            (C2, &[A21]),
+            (C3, &[A31, A32]),
+            (C4, &[A41, A42, A43]),
+            (C5, &[A51, A52, A53, A54]),
+            (1.0, &[A61, A62, A63, A64, A65]),
+        ];
+        self.k[0].copy_from_slice(f0);
+        for (stage, (c, a)) in rows.iter().enumerate() {
+            for (i, (ti, xi)) in self.tmp.iter_mut().zip(x).enumerate() {
+                let acc: f64 = a.iter().enumerate().map(|(j, aj)| aj * self.k[j][i]).sum();
+                *ti = xi + h * acc;
+            }
+            let rest = &mut self.k[stage + 1..];
+            sys.rhs(t + c * h, &self.tmp, &mut rest[0])
+                .map_err(StepFailure::Model)?;
+            stats.rhs_evaluations += 1;
+        }
+        for i in 0..n {
+            x1[i] = x[i]
+                + h * (B1 * self.k[0][i]
+                    + B3 * self.k[2][i]
+                    + B4 * self.k[3][i]
+                    + B5 * self.k[4][i]
+                    + B6 * self.k[5][i]);
+        }
+        sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
+        stats.rhs_evaluations += 1;
+        let mut sum = 0.0;
+        for i in 0..n {
+            let e = h
+                * (E1 * self.k[0][i]
+                    + E3 * self.k[2][i]
+                    + E4 * self.k[3][i]
+                    + E5 * self.k[4][i]
+                    + E6 * self.k[5][i]
+                    + E7 * f1[i]);
+            let sc = s.atol + s.rtol * x[i].abs().max(x1[i].abs());
+            sum += (e / sc).powi(2);
+        }
+        Ok((sum / n.max(1) as f64).sqrt())
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn ros3(
+        &mut self,
+        sys: &mut dyn OdeSystem,
+        t: f64,
+        x: &[f64],
+        f0: &[f64],
+        h: f64,
+        s: &Settings,
+        x1: &mut [f64],
+        f1: &mut [f64],
+        stats: &mut Stats,
+    ) -> Result<f64, StepFailure> {
+        let n = x.len();
+        // Jacobian: the system's, or forward differences.
+        match sys.jacobian(t, x, &mut self.jac) {
+            Some(r) => r.map_err(StepFailure::Model)?,
+            None => {
+                for j in 0..n {
+                    let dx = 1.5e-8 * x[j].abs().max(s.atol / s.rtol).max(1e-12);
+                    self.tmp.copy_from_slice(x);
+                    self.tmp[j] += dx;
+                    let col = &mut self.k[6];
+                    sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
+                    stats.rhs_evaluations += 1;
+                    for i in 0..n {
+                        self.jac[(i, j)] = (col[i] - f0[i]) / dx;
+                    }
+                }
+            }
+        }
+        stats.jacobians += 1;
+        let mut g = -self.jac.clone();
+        let d = 1.0 / (h * R_GAMMA);
+        for i in 0..n {
+            g[(i, i)] += d;
+        }
+        let lu = g.lu();
+        let solve = |lu: &nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+                     rhs: &mut Vec<f64>|
+         -> Result<(), StepFailure> {
+            let b = nalgebra::DVector::from_column_slice(rhs);
+            let sol = lu.solve(&b).ok_or(StepFailure::Singular)?;
+            rhs.copy_from_slice(sol.as_slice());
+            Ok(())
+        };
+        // ∂f/∂t by a forward difference (the γ_i h f_t terms; zero for autonomous systems).
+        let dt = 1.5e-8 * t.abs().max(h).max(1e-6);
+        let mut ft = vec![0.0; n];
+        sys.rhs(t + dt, x, &mut ft).map_err(StepFailure::Model)?;
+        stats.rhs_evaluations += 1;
+        for i in 0..n {
+            ft[i] = (ft[i] - f0[i]) / dt;
+        }
+        // Stage 1.
+        let mut k1: Vec<f64> = (0..n).map(|i| f0[i] + h * R_GAMMAS[0] * ft[i]).collect();
+        solve(&lu, &mut k1)?;
+        // Stages 2 and 3 share f at x + K1 (a21 = a31 = 1, a32 = 0), t + α2 h.
+        for i in 0..n {
+            self.tmp[i] = x[i] + k1[i];
+        }
+        let mut f2 = vec![0.0; n];
+        sys.rhs(t + R_ALPHA2 * h, &self.tmp, &mut f2)
+            .map_err(StepFailure::Model)?;
+        stats.rhs_evaluations += 1;
+        let mut k2: Vec<f64> = (0..n)
+            .map(|i| f2[i] + R_C21 / h * k1[i] + h * R_GAMMAS[1] * ft[i])
+            .collect();
+        solve(&lu, &mut k2)?;
+        let mut k3: Vec<f64> = (0..n)
+            .map(|i| f2[i] + (R_C31 * k1[i] + R_C32 * k2[i]) / h + h * R_GAMMAS[2] * ft[i])
+            .collect();
+        solve(&lu, &mut k3)?;
+        let mut sum = 0.0;
+        for i in 0..n {
+            x1[i] = x[i] + R_M[0] * k1[i] + R_M[1] * k2[i] + R_M[2] * k3[i];
+            let e = R_E[0] * k1[i] + R_E[1] * k2[i] + R_E[2] * k3[i];
+            let sc = s.atol + s.rtol * x[i].abs().max(x1[i].abs());
+            sum += (e / sc).powi(2);
+        }
+        sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
+        stats.rhs_evaluations += 1;
+        Ok((sum / n.max(1) as f64).sqrt())
+    }
+
+    /// The state at t + s h (0 ≤ s ≤ 1) within the last step.
+    fn dense(&self, x: &[f64], x1: &[f64], f0: &[f64], f1: &[f64], h: f64, s: f64) -> Vec<f64> {
+        let s1 = 1.0 - s;
+        match self.method {
+            Method::Dopri5 => (0..x.len())
+                .map(|i| {
+                    let r2 = x1[i] - x[i];
+                    let r3 = h * f0[i] - r2;
+                    let r4 = r2 - h * f1[i] - r3;
+                    let k = &self.k;
+                    let r5 = h
+                        * (D1 * k[0][i]
+                            + D3 * k[2][i]
+                            + D4 * k[3][i]
+                            + D5 * k[4][i]
+                            + D6 * k[5][i]
+                            + D7 * f1[i]);
+                    x[i] + s * (r2 + s1 * (r3 + s * (r4 + s1 * r5)))
+                })
+                .collect(),
+            Method::Ros3 => (0..x.len())
+                .map(|i| {
+                    // Cubic Hermite.
+                    let (h00, h10, h01, h11) = (
+                        (1.0 + 2.0 * s) * s1 * s1,
+                        s * s1 * s1,
+                        s * s * (3.0 - 2.0 * s),
+                        -s * s * s1,
+                    );
+                    h00 * x[i] + h10 * h * f0[i] + h01 * x1[i] + h11 * h * f1[i]
+                })
+                .collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

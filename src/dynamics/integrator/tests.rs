@@ -1,0 +1,225 @@
+//! Closed-form problems: order of convergence, tolerance proportionality, dense output, stiffness,
+//! energy, and the diagnoses.
+
+use super::*;
+
+/// Harmonic oscillator x'' = −ω² x: exact solution and conserved energy.
+struct Oscillator {
+    w: f64,
+}
+
+impl OdeSystem for Oscillator {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+        d[0] = x[1];
+        d[1] = -self.w * self.w * x[0];
+        Ok(())
+    }
+}
+
+/// Prothero–Robinson: x' = −λ (x − cos t) − sin t, exact x = cos t; stiff for λ ≫ 1.
+struct Prothero {
+    lambda: f64,
+}
+
+impl OdeSystem for Prothero {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+        d[0] = -self.lambda * (x[0] - t.cos()) - t.sin();
+        Ok(())
+    }
+}
+
+fn run(
+    sys: &mut dyn OdeSystem,
+    x0: &[f64],
+    t_end: f64,
+    dt_out: f64,
+    s: &Settings,
+) -> (Vec<(f64, Vec<f64>)>, Stats) {
+    let mut out = Vec::new();
+    let stats = integrate(sys, 0.0, x0, t_end, dt_out, s, &mut |t, x| {
+        out.push((t, x.to_vec()));
+        Ok(())
+    })
+    .unwrap();
+    (out, stats)
+}
+
+fn osc_error(out: &[(f64, Vec<f64>)], w: f64) -> f64 {
+    out.iter()
+        .map(|(t, x)| {
+            (x[0] - (w * t).cos())
+                .abs()
+                .max((x[1] + w * (w * t).sin()).abs() / w)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Fixed steps: halving h divides the error by 2^p (p = 5 DOPRI5, 3 ROS3).
+#[test]
+fn convergence_order() {
+    for (method, p) in [(Method::Dopri5, 5.0), (Method::Ros3, 3.0)] {
+        let mut errs = Vec::new();
+        for h in [0.1, 0.05, 0.025] {
+            let mut s = Settings::new(method, 1e-6, 1e-6);
+            s.fixed_step = Some(h);
+            let (out, _) = run(&mut Oscillator { w: 2.0 }, &[1.0, 0.0], 2.0, 0.1, &s);
+            let (t, x) = out.last().unwrap();
+            assert!((t - 2.0).abs() < 1e-12);
+            errs.push(
+                (x[0] - (4.0f64).cos())
+                    .abs()
+                    .max((x[1] + 2.0 * 4.0f64.sin()).abs()),
+            );
+        }
+        for w in errs.windows(2) {
+            let order = (w[0] / w[1]).log2();
+            assert!(
+                (order - p).abs() < 0.35,
+                "{method:?}: observed order {order} ({errs:?})"
+            );
+        }
+    }
+}
+
+/// Non-autonomous problem: ROS3 keeps its order only with the f_t terms.
+#[test]
+fn ros3_order_non_autonomous() {
+    let mut errs = Vec::new();
+    for h in [0.2, 0.1, 0.05] {
+        let mut s = Settings::new(Method::Ros3, 1e-6, 1e-6);
+        s.fixed_step = Some(h);
+        let (out, _) = run(&mut Prothero { lambda: 1.0 }, &[1.0], 2.0, 0.2, &s);
+        errs.push((out.last().unwrap().1[0] - 2.0f64.cos()).abs());
+    }
+    let order = (errs[1] / errs[2]).log2();
+    assert!((order - 3.0).abs() < 0.4, "order {order} {errs:?}");
+}
+
+/// Adaptive: the global error follows the tolerance (roughly proportionally) and the output,
+/// at a fixed rate between steps (dense output), is as accurate as the steps.
+#[test]
+fn tolerance_proportionality_and_dense_output() {
+    for method in [Method::Dopri5, Method::Ros3] {
+        let mut prev: Option<f64> = None;
+        for tol in [1e-5, 1e-7, 1e-9] {
+            let s = Settings::new(method, tol, tol);
+            let (out, stats) = run(&mut Oscillator { w: 3.0 }, &[1.0, 0.0], 10.0, 0.01, &s);
+            assert_eq!(out.len(), 1001, "fixed-rate output");
+            if method == Method::Dopri5 {
+                // Fewer steps than outputs: the output comes from the dense output between steps.
+                assert!(stats.accepted < out.len(), "{method:?}: {} steps", stats.accepted);
+            }
+            let err = osc_error(&out, 3.0);
+            assert!(err < 300.0 * tol, "{method:?} tol {tol}: error {err}");
+            if let Some(p) = prev {
+                assert!(
+                    err < p,
+                    "{method:?}: error must fall with the tolerance ({err} ≥ {p})"
+                );
+            }
+            prev = Some(err);
+        }
+    }
+}
+
+/// Stiff: ROS3 takes steps set by accuracy; DOPRI5 is held to the stability limit h ≲ 3.3/λ.
+#[test]
+fn stiff_problem_needs_the_rosenbrock_method() {
+    let lambda = 1e5;
+    let s = Settings::new(Method::Ros3, 1e-6, 1e-6);
+    let (out, ros) = run(&mut Prothero { lambda }, &[1.0], 10.0, 0.5, &s);
+    let err = out
+        .iter()
+        .map(|(t, x)| (x[0] - t.cos()).abs())
+        .fold(0.0, f64::max);
+    assert!(err < 1e-5, "ROS3 error {err}");
+    let s = Settings::new(Method::Dopri5, 1e-6, 1e-6);
+    let (_, dop) = run(&mut Prothero { lambda }, &[1.0], 10.0, 0.5, &s);
+    assert!(
+        ros.accepted * 20 < dop.accepted,
+        "ROS3 {} vs DOPRI5 {} steps",
+        ros.accepted,
+        dop.accepted
+    );
+    assert!(
+        dop.largest_step < 10.0 / lambda,
+        "DOPRI5 largest step {}",
+        dop.largest_step
+    );
+}
+
+/// Energy of the undamped oscillator is conserved to the tolerance.
+#[test]
+fn energy_conserved_to_tolerance() {
+    let s = Settings::new(Method::Dopri5, 1e-10, 1e-10);
+    let (out, _) = run(&mut Oscillator { w: 5.0 }, &[0.3, 0.0], 20.0, 0.05, &s);
+    let e0 = 0.5 * 25.0 * 0.09;
+    let drift = out
+        .iter()
+        .map(|(_, x)| (0.5 * x[1] * x[1] + 12.5 * x[0] * x[0] - e0).abs() / e0)
+        .fold(0.0, f64::max);
+    assert!(drift < 1e-7, "{drift}");
+}
+
+/// A model that blows up, one that fails, and an impossible tolerance are reported with the time.
+#[test]
+fn failures_are_diagnosed() {
+    struct BlowUp;
+    impl OdeSystem for BlowUp {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, t: f64, _x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            d[0] = if t > 1.0 { f64::NAN } else { 1.0 };
+            Ok(())
+        }
+    }
+    struct Lift;
+    impl OdeSystem for Lift {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            if t > 0.5 {
+                return Err(format!("negative normal force at x = {}", x[0]));
+            }
+            d[0] = 1.0;
+            Ok(())
+        }
+    }
+    for method in [Method::Dopri5, Method::Ros3] {
+        let s = Settings::new(method, 1e-8, 1e-8);
+        let e = integrate(&mut BlowUp, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(())).unwrap_err();
+        match e {
+            IntegrationError::NonFinite { t } => assert!((t - 1.0).abs() < 1e-6, "{t}"),
+            other => panic!("{method:?}: {other}"),
+        }
+        let e = integrate(&mut Lift, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(())).unwrap_err();
+        assert!(
+            matches!(e, IntegrationError::Model { t, ref message } if t <= 0.5 + 1e-9 && message.contains("normal force")),
+            "{e}"
+        );
+        let mut tight = Settings::new(method, 1e-30, 1e-30);
+        tight.h_min = 1e-6;
+        let e = integrate(
+            &mut Oscillator { w: 1.0 },
+            0.0,
+            &[1.0, 0.0],
+            1.0,
+            0.1,
+            &tight,
+            &mut |_, _| Ok(()),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(e, IntegrationError::StepCollapse { .. }),
+            "{method:?}: {e}"
+        );
+    }
+}

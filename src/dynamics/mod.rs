@@ -1,0 +1,4 @@
+//! Dynamics (issue 7, in progress): the time integrators. Bodies, wheelsets, force elements and
+//! scenes build on them.
+
+pub mod integrator;
