@@ -2,3 +2,6 @@
 //! scenes build on them.
 
 pub mod integrator;
+pub mod contact_model;
+pub mod single_wheelset;
+pub mod wheelset;

@@ -1,0 +1,274 @@
+//! The contact model of a wheelset, as the equations of motion see it (paper §5, coordinate
+//! partitioning): given the independent lateral displacement y and the rail irregularities
+//! q_r = [y_lir, z_lir, y_rir, z_rir] (METHOD.md §2), the dependent coordinates z and φ, their
+//! first and second time derivatives along the motion, and the real contact points where the
+//! normal forces (Eq. 53) and the creep forces act.
+//!
+//! Three interchangeable models, chosen per scene:
+//! - `kec` — the KEC constraints (Eq. 49–51) solved online on the knife-edge-equivalent profiles;
+//!   derivatives analytic (first and second, from [`KecSolution`]);
+//! - `lookup` — the 1-entry contact lookup table (Eq. 44–46 for the irregularities);
+//! - `online` — the approximate contact constraints (Eq. 35–42) solved at every evaluation.
+//!
+//! For `lookup` and `online`, ż and z̈ come from the directional difference of z(y(t), q_r(t)) along
+//! the motion: with g(ε) = Z(y + ε ẏ + ε² ÿ/2, q_r(t + ε)), ż = g'(0) and the velocity-dependent part
+//! of z̈ = Z_y ÿ + c_z is c_z = g''(0) − Z_y ÿ, evaluated by central differences (three
+//! evaluations). A departure from the paper (which differentiates its tables), chosen so that the
+//! three models share one interface; `kec` uses its exact derivatives.
+
+use thiserror::Error;
+
+use crate::contact::geometry::{ContactError, ContactGeometry, ContactSolution};
+use crate::contact::kec::{KecError, KecModel, KecSolution};
+use crate::contact::lookup::{LookupTable1, TableError, TableRow};
+use crate::contact::RailOffsets;
+use crate::profile::placement::WheelRailPair;
+use crate::profile::Side;
+
+/// Which contact model a scene uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactKind {
+    Kec,
+    Lookup,
+    Online,
+}
+
+impl ContactKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactKind::Kec => "kec",
+            ContactKind::Lookup => "lookup",
+            ContactKind::Online => "online",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<ContactKind> {
+        match s {
+            "kec" => Some(ContactKind::Kec),
+            "lookup" => Some(ContactKind::Lookup),
+            "online" => Some(ContactKind::Online),
+            _ => None,
+        }
+    }
+}
+
+/// A contact-model failure during the dynamics.
+#[derive(Debug, Error)]
+pub enum ContactModelError {
+    #[error("KEC: {0}")]
+    Kec(#[from] KecError),
+    #[error("lookup table: {0}")]
+    Table(#[from] TableError),
+    #[error("online contact: {0}")]
+    Online(#[from] ContactError),
+}
+
+/// One real contact point, in the wheelset-track frame (Y left, Z up).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RealContact {
+    /// Position (Y, Z), m.
+    pub position: (f64, f64),
+    /// Unit normal of the rail surface (n_Y, n_Z), pointing into the wheel.
+    pub normal: (f64, f64),
+    pub contact_angle: f64,
+    pub rolling_radius: f64,
+    pub wheel_curvature: f64,
+    pub rail_curvature: f64,
+}
+
+/// z, φ and their motion for one evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelsetKinematics {
+    /// Centre height z and roll φ.
+    pub z: f64,
+    pub phi: f64,
+    /// ∂z/∂y, ∂φ/∂y.
+    pub z_y: f64,
+    pub phi_y: f64,
+    /// ż, φ̇ along the motion.
+    pub z_dot: f64,
+    pub phi_dot: f64,
+    /// Velocity-dependent parts: z̈ = z_y ÿ + c_z, φ̈ = φ_y ÿ + c_φ.
+    pub c_z: f64,
+    pub c_phi: f64,
+    /// Left, right.
+    pub contacts: [RealContact; 2],
+}
+
+/// The rail irregularities at the wheelset and their first two time derivatives.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RailMotion {
+    /// [y_lir, z_lir, y_rir, z_rir], m.
+    pub q: [f64; 4],
+    pub q_dot: [f64; 4],
+    pub q_ddot: [f64; 4],
+}
+
+/// The contact model of one wheelset (shared by all wheelsets with the same profiles).
+#[derive(Debug, Clone)]
+pub enum WheelsetContact {
+    Kec { model: KecModel, pair: WheelRailPair },
+    Lookup { table: LookupTable1 },
+    Online { geometry: ContactGeometry },
+}
+
+fn offsets(q: &[f64; 4]) -> RailOffsets {
+    RailOffsets { y_left: q[0], z_left: q[1], y_right: q[2], z_right: q[3] }
+}
+
+fn from_row(row: &TableRow) -> [RealContact; 2] {
+    let c = |i: usize, side: Side| {
+        let (s, co) = row.contact_angle[i].sin_cos();
+        RealContact {
+            position: (row.position[2 * i], row.position[2 * i + 1]),
+            normal: (-side.sign() * s, co),
+            contact_angle: row.contact_angle[i],
+            rolling_radius: row.rolling_radius[i],
+            wheel_curvature: row.curvature[2 * i],
+            rail_curvature: row.curvature[2 * i + 1],
+        }
+    };
+    [c(0, Side::Left), c(1, Side::Right)]
+}
+
+fn from_online(sol: &ContactSolution) -> [RealContact; 2] {
+    let c = |p: &crate::contact::geometry::ContactPoint| RealContact {
+        position: p.position,
+        normal: p.normal,
+        contact_angle: p.contact_angle,
+        rolling_radius: p.rolling_radius,
+        wheel_curvature: p.wheel_curvature,
+        rail_curvature: p.rail_curvature,
+    };
+    [c(&sol.left), c(&sol.right)]
+}
+
+fn from_kec(sol: &KecSolution, pair: &WheelRailPair) -> [RealContact; 2] {
+    let c = |i: usize, side: Side| {
+        let p = &sol.real[i];
+        RealContact {
+            position: pair.wheelset.wheel_point(&pair.wheel, side, p.s_wheel, sol.y, sol.z, sol.phi),
+            normal: p.normal(side),
+            contact_angle: p.contact_angle,
+            rolling_radius: p.rolling_radius,
+            wheel_curvature: p.wheel_curvature,
+            rail_curvature: p.rail_curvature,
+        }
+    };
+    [c(0, Side::Left), c(1, Side::Right)]
+}
+
+/// Warm-start memory of one wheelset's contact solve.
+#[derive(Debug, Clone, Default)]
+pub struct ContactWarmStart {
+    kec: Option<[f64; 4]>,
+    online: Option<ContactSolution>,
+}
+
+impl WheelsetContact {
+    pub fn kind(&self) -> ContactKind {
+        match self {
+            WheelsetContact::Kec { .. } => ContactKind::Kec,
+            WheelsetContact::Lookup { .. } => ContactKind::Lookup,
+            WheelsetContact::Online { .. } => ContactKind::Online,
+        }
+    }
+
+    /// (z, φ, z_y, φ_y, contacts) at one configuration.
+    fn at(
+        &self,
+        y: f64,
+        q: &[f64; 4],
+        warm: &mut ContactWarmStart,
+    ) -> Result<(f64, f64, f64, f64, [RealContact; 2]), ContactModelError> {
+        match self {
+            WheelsetContact::Kec { model, pair } => {
+                let s = model.solve(y, *q, warm.kec)?;
+                warm.kec = Some(s.x(model.r0));
+                Ok((s.z, s.phi, s.dx_dq[0][0], s.dx_dq[1][0], from_kec(&s, pair)))
+            }
+            WheelsetContact::Lookup { table } => {
+                let row = table.contact(y, &offsets(q))?;
+                Ok((row.z(), row.phi(), row.dx_dy[0], row.dx_dy[1], from_row(&row)))
+            }
+            WheelsetContact::Online { geometry } => {
+                let off = offsets(q);
+                let sol = match &warm.online {
+                    Some(prev) => geometry.solve_from(y, &off, prev)?,
+                    None => geometry.solve(y, &off)?,
+                };
+                let out = (sol.z, sol.phi, sol.dx_dy[0], sol.dx_dy[1], from_online(&sol));
+                warm.online = Some(sol);
+                Ok(out)
+            }
+        }
+    }
+
+    /// The kinematics at lateral displacement y with velocity ẏ and acceleration estimate ÿ (only
+    /// the difference-based models use it, at second order), rails moving as `rails`.
+    pub fn kinematics(
+        &self,
+        y: f64,
+        y_dot: f64,
+        y_ddot: f64,
+        rails: &RailMotion,
+        warm: &mut ContactWarmStart,
+    ) -> Result<WheelsetKinematics, ContactModelError> {
+        match self {
+            WheelsetContact::Kec { model, pair } => {
+                let s = model.solve(y, rails.q, warm.kec)?;
+                warm.kec = Some(s.x(model.r0));
+                // q = [y, y_lir, z_lir, y_rir, z_rir].
+                let qd = [y_dot, rails.q_dot[0], rails.q_dot[1], rails.q_dot[2], rails.q_dot[3]];
+                let qdd_r = [0.0, rails.q_ddot[0], rails.q_ddot[1], rails.q_ddot[2], rails.q_ddot[3]];
+                let (mut z_dot, mut phi_dot, mut c_z, mut c_phi) = (0.0, 0.0, 0.0, 0.0);
+                for i in 0..5 {
+                    z_dot += s.dx_dq[0][i] * qd[i];
+                    phi_dot += s.dx_dq[1][i] * qd[i];
+                    c_z += s.dx_dq[0][i] * qdd_r[i];
+                    c_phi += s.dx_dq[1][i] * qdd_r[i];
+                    for j in 0..5 {
+                        c_z += s.d2z_dq2[i][j] * qd[i] * qd[j];
+                        c_phi += s.d2phi_dq2[i][j] * qd[i] * qd[j];
+                    }
+                }
+                Ok(WheelsetKinematics {
+                    z: s.z,
+                    phi: s.phi,
+                    z_y: s.dx_dq[0][0],
+                    phi_y: s.dx_dq[1][0],
+                    z_dot,
+                    phi_dot,
+                    c_z,
+                    c_phi,
+                    contacts: from_kec(&s, pair),
+                })
+            }
+            _ => {
+                let (z, phi, z_y, phi_y, contacts) = self.at(y, &rails.q, warm)?;
+                // Directional differences along the motion over a time step ε chosen so that the
+                // wheelset moves ~10 µm (bounded to [1e-6, 1e-2] s).
+                let speed = y_dot.abs() + rails.q_dot.iter().map(|v| v.abs()).sum::<f64>();
+                let eps = (1e-5 / speed.max(1e-9)).clamp(1e-6, 1e-2);
+                let shift = |e: f64| {
+                    let mut q = rails.q;
+                    for k in 0..4 {
+                        q[k] += rails.q_dot[k] * e + 0.5 * rails.q_ddot[k] * e * e;
+                    }
+                    (y + y_dot * e + 0.5 * y_ddot * e * e, q)
+                };
+                let mut w = warm.clone();
+                let (yp, qp) = shift(eps);
+                let (zp, php, ..) = self.at(yp, &qp, &mut w)?;
+                let (ym, qm) = shift(-eps);
+                let (zm, phm, ..) = self.at(ym, &qm, &mut w)?;
+                let z_dot = (zp - zm) / (2.0 * eps);
+                let phi_dot = (php - phm) / (2.0 * eps);
+                let c_z = (zp - 2.0 * z + zm) / (eps * eps) - z_y * y_ddot;
+                let c_phi = (php - 2.0 * phi + phm) / (eps * eps) - phi_y * y_ddot;
+                Ok(WheelsetKinematics { z, phi, z_y, phi_y, z_dot, phi_dot, c_z, c_phi, contacts })
+            }
+        }
+    }
+}

@@ -1,0 +1,269 @@
+//! Newton–Euler equations of one wheelset with its contact constraints solved for the normal
+//! forces (paper §2.5, §5, §7, Eq. 53; DYNAMICS.md §2–4).
+//!
+//! Coordinates relative to the wheelset-track frame (the track frame at the wheelset's arc length,
+//! moving along the centreline at speed V): independent x, y, ψ and the spin rate Ω about the
+//! axle; dependent z = Z(y, q_r), φ = Φ(y, q_r) from the contact model. Rotations are linearised
+//! (axle direction a ≈ (−ψ, 1, φ)), except the rolling, which enters through Ω only.
+//!
+//! Unknowns: ẍ, ÿ, z̈, φ̈, ψ̈, Ω̇ and the normal-force multipliers λ_l, λ_r. Rows:
+//!
+//! ```text
+//! m (r̈ + a_t + 2 ω_t × ṙ)           = F + m g_t + Σ λ_i n_i                 (3 rows)
+//! I_x (φ̈ + α_tx) − I_y Ω (ψ̇ + ω_tz) = M_x + Σ λ_i (u_i × n_i)_x
+//! I_y Ω̇                              = M_y + Σ λ_i (u_i × n_i)_y
+//! I_z (ψ̈ + α_tz) + I_y Ω (φ̇ + ω_tx) = M_z + Σ λ_i (u_i × n_i)_z
+//! z̈ − Z_y ÿ = c_z,   φ̈ − Φ_y ÿ = c_φ                                         (constraints)
+//! ```
+//!
+//! with the normal forces at the **real** contact points u_i (relative to the wheelset centre)
+//! along the real rail normals n_i (Eq. 53), F and M the applied forces (suspension, creep)
+//! about the centre, a_t, ω_t, α_t the track frame's motion (Eq. 3–4) and g_t gravity in track
+//! components. Dropped, by choice: α_t × r and ω_t × (ω_t × r) (r is millimetres; on R ≥ 100 m at
+//! 30 m/s they are < 1e-3 m/s²) and products of small rates other than the gyroscopic ones; kept:
+//! the gyroscopic moments I_y Ω (ψ̇ + ω_tz), I_y Ω (φ̇ + ω_tx), and Coriolis.
+//!
+//! The creep forces depend on λ (Hertz ellipse, μN): fixed-point passes — creep from the previous
+//! λ, solve, creep from the new λ, … — until λ settles to 1e-12 relative (DYNAMICS.md §4; two or
+//! three passes: the creep forces depend on λ only through a^⅓-scalings and μN). The last change
+//! is returned. A λ ≤ 0 is a lifting wheel: an error with the diagnosis.
+
+use nalgebra::{SMatrix, SVector, Vector3};
+use thiserror::Error;
+
+use super::contact_model::WheelsetKinematics;
+use crate::contact::forces::{
+    ContactForceSettings, ContactFrame, ContactPatch, CreepForce, Creepage, HertzContact, RelativeCurvature,
+};
+use crate::profile::Side;
+
+/// Mass and inertia of a wheelset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WheelsetInertia {
+    pub mass_kg: f64,
+    /// Principal moments about x (roll), y (axle), z (yaw), kg m².
+    pub inertia_kg_m2: [f64; 3],
+}
+
+/// The motion of the wheelset-track frame (Eq. 3–4) and gravity, in its own components.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FrameMotion {
+    /// Forward speed V, m/s.
+    pub speed: f64,
+    /// a_t = [V̇, ρ_h V², −ρ_v V²].
+    pub accel: [f64; 3],
+    /// ω_t = [ρ_tw V, ρ_v V, ρ_h V].
+    pub omega: [f64; 3],
+    /// α_t (Eq. 4).
+    pub alpha: [f64; 3],
+    /// Gravity in track components [θ_t g, −φ_t g, −g].
+    pub gravity: [f64; 3],
+}
+
+impl FrameMotion {
+    /// Tangent, level track at constant speed.
+    pub fn tangent(speed: f64) -> FrameMotion {
+        FrameMotion { speed, gravity: [0.0, 0.0, -9.81], ..FrameMotion::default() }
+    }
+}
+
+/// The wheelset's independent state.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelsetState {
+    pub x: f64,
+    pub y: f64,
+    pub psi: f64,
+    pub x_dot: f64,
+    pub y_dot: f64,
+    pub psi_dot: f64,
+    /// Spin rate about the axle, rad/s.
+    pub omega: f64,
+}
+
+/// Applied force and moment about the wheelset centre (suspension, loads), track components.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Load {
+    pub force: [f64; 3],
+    pub moment: [f64; 3],
+}
+
+/// What one evaluation gives.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelsetDynamics {
+    /// ẍ, ÿ, z̈, φ̈, ψ̈, Ω̇.
+    pub accel: [f64; 6],
+    /// Normal forces λ_l, λ_r, N.
+    pub normal: [f64; 2],
+    /// Creep forces (contact frame) left, right.
+    pub creep: [CreepForce; 2],
+    /// Creepages left, right.
+    pub creepage: [Creepage; 2],
+    /// Change of λ between the two creep passes, N.
+    pub lambda_change: f64,
+}
+
+/// Dynamics failures.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum WheelsetError {
+    #[error("{side} wheel lifts: normal force {normal:.1} N ≤ 0 (the constraint contact model cannot follow a lifting wheel)")]
+    Lift { side: &'static str, normal: f64 },
+    #[error("{side} contact: {message}")]
+    Contact { side: &'static str, message: String },
+    #[error("singular wheelset equations")]
+    Singular,
+}
+
+/// Fixed-point passes between creep forces and normal forces: at most this many, stopping when λ
+/// changes by less than `LAMBDA_TOLERANCE` relative (so that the right-hand side is a function of
+/// the state, not of the previous evaluation — implicit integrators difference it).
+const MAX_PASSES: usize = 8;
+const LAMBDA_TOLERANCE: f64 = 1e-12;
+
+/// Evaluates the wheelset's accelerations and normal forces. `lambda_guess` seeds the creep
+/// forces' first pass (e.g. the previous evaluation's normal forces).
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate(
+    inertia: &WheelsetInertia,
+    state: &WheelsetState,
+    kin: &WheelsetKinematics,
+    frame: &FrameMotion,
+    load: &Load,
+    forces: &ContactForceSettings,
+    lambda_guess: [f64; 2],
+) -> Result<WheelsetDynamics, WheelsetError> {
+    let m = inertia.mass_kg;
+    let [ix, iy, iz] = inertia.inertia_kg_m2;
+    let centre = Vector3::new(state.x, state.y, kin.z);
+    let r_dot = Vector3::new(state.x_dot, state.y_dot, kin.z_dot);
+    let axle = Vector3::new(-state.psi, 1.0, kin.phi).normalize();
+    let w_t = Vector3::from(frame.omega);
+    // Angular velocity of the wheelset (ground, track components).
+    let w = w_t + Vector3::new(kin.phi_dot, 0.0, state.psi_dot) + axle * state.omega;
+    // Ground velocity of the centre: frame speed + relative (Coriolis of r dropped, see doc).
+    let v_c = Vector3::new(frame.speed, 0.0, 0.0) + r_dot + w_t.cross(&centre);
+    // Contact points (3D, the yawed wheel's lowest line) and normals.
+    let mut arm = [Vector3::zeros(); 2];
+    let mut normal = [Vector3::zeros(); 2];
+    let mut frames = [None; 2];
+    for (i, c) in kin.contacts.iter().enumerate() {
+        let lat = c.position.0 - state.y;
+        let p = Vector3::new(state.x - state.psi * lat, c.position.0, c.position.1);
+        arm[i] = p - centre;
+        normal[i] = Vector3::new(0.0, c.normal.0, c.normal.1);
+        let side = if i == 0 { "left" } else { "right" };
+        frames[i] = Some(
+            ContactFrame::new(normal[i], axle, Vector3::x())
+                .map_err(|e| WheelsetError::Contact { side, message: e.to_string() })?,
+        );
+    }
+    let mut creepage = [Creepage::default(); 2];
+    for i in 0..2 {
+        let f = frames[i].as_ref().ok_or(WheelsetError::Singular)?;
+        let v_w = v_c + w.cross(&arm[i]);
+        creepage[i] = Creepage::from_velocities(
+            f,
+            v_w,
+            Vector3::zeros(),
+            w,
+            Vector3::zeros(),
+            frame.speed,
+            crate::contact::forces::creepage::REGULARISATION_SPEED,
+        );
+    }
+    // Constant part of the right-hand side (no contact forces).
+    let g = Vector3::from(frame.gravity);
+    let a_t = Vector3::from(frame.accel);
+    let f_known = Vector3::from(load.force) + m * g - m * (a_t + 2.0 * w_t.cross(&r_dot));
+    let m_known = Vector3::from(load.moment)
+        + Vector3::new(
+            -ix * frame.alpha[0] + iy * state.omega * (state.psi_dot + frame.omega[2]),
+            0.0,
+            -iz * frame.alpha[2] - iy * state.omega * (kin.phi_dot + frame.omega[0]),
+        );
+    let mut lambda = lambda_guess;
+    let mut result = WheelsetDynamics::default();
+    let mut prev_lambda = lambda;
+    for pass in 0..MAX_PASSES {
+        let mut f = f_known;
+        let mut mo = m_known;
+        let mut creep = [CreepForce::default(); 2];
+        for i in 0..2 {
+            let side = if i == 0 { "left" } else { "right" };
+            let c = &kin.contacts[i];
+            let n_force = lambda[i].max(1.0);
+            let curv = RelativeCurvature::wheel_rail(c.rolling_radius, c.contact_angle - side_roll(i, kin.phi), c.wheel_curvature, c.rail_curvature);
+            let hertz = HertzContact::solve(curv, n_force, &forces.material, &forces.material)
+                .map_err(|e| WheelsetError::Contact { side, message: e.to_string() })?;
+            let patch = ContactPatch::from_hertz(&hertz, &forces.material, forces.friction, &forces.kalker)
+                .map_err(|e| WheelsetError::Contact { side, message: e.to_string() })?;
+            creep[i] = forces
+                .model
+                .forces(&patch, &creepage[i], frame.speed)
+                .map_err(|e| WheelsetError::Contact { side, message: e.to_string() })?;
+            let fr = frames[i].as_ref().ok_or(WheelsetError::Singular)?;
+            let fc = fr.force_to_global(creep[i].fx, creep[i].fy, 0.0);
+            f += fc;
+            mo += arm[i].cross(&fc) + fr.moment_to_global(creep[i].mz);
+        }
+        // 8×8: [ẍ ÿ z̈ φ̈ ψ̈ Ω̇ λl λr].
+        let mut a = SMatrix::<f64, 8, 8>::zeros();
+        let mut b = SVector::<f64, 8>::zeros();
+        for k in 0..3 {
+            a[(k, k)] = m;
+            b[k] = f[k];
+        }
+        // Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → y (Ω̇).
+        a[(3, 3)] = ix;
+        a[(4, 4)] = iz;
+        a[(5, 5)] = iy;
+        b[3] = mo.x;
+        b[4] = mo.z;
+        b[5] = mo.y;
+        for i in 0..2 {
+            let t = arm[i].cross(&normal[i]);
+            for k in 0..3 {
+                a[(k, 6 + i)] = -normal[i][k];
+            }
+            a[(3, 6 + i)] = -t.x;
+            a[(4, 6 + i)] = -t.z;
+            a[(5, 6 + i)] = -t.y;
+        }
+        // Constraints.
+        a[(6, 2)] = 1.0;
+        a[(6, 1)] = -kin.z_y;
+        b[6] = kin.c_z;
+        a[(7, 3)] = 1.0;
+        a[(7, 1)] = -kin.phi_y;
+        b[7] = kin.c_phi;
+        let sol = a.lu().solve(&b).ok_or(WheelsetError::Singular)?;
+        let new_lambda = [sol[6], sol[7]];
+        result = WheelsetDynamics {
+            accel: [sol[0], sol[1], sol[2], sol[3], sol[4], sol[5]],
+            normal: new_lambda,
+            creep,
+            creepage,
+            lambda_change: (new_lambda[0] - prev_lambda[0]).abs().max((new_lambda[1] - prev_lambda[1]).abs()),
+        };
+        prev_lambda = new_lambda;
+        lambda = new_lambda;
+        if pass > 0 && result.lambda_change <= LAMBDA_TOLERANCE * (1.0 + new_lambda[0].abs() + new_lambda[1].abs()) {
+            break;
+        }
+    }
+    for (i, side) in Side::BOTH.iter().enumerate() {
+        if !(result.normal[i] > 0.0) {
+            return Err(WheelsetError::Lift { side: side.name(), normal: result.normal[i] });
+        }
+    }
+    Ok(result)
+}
+
+/// The contact angle relative to the wheel's radial direction: the track-frame angle minus the
+/// wheelset roll (left), plus it (right).
+fn side_roll(i: usize, phi: f64) -> f64 {
+    if i == 0 {
+        phi
+    } else {
+        -phi
+    }
+}
