@@ -75,6 +75,9 @@ pub struct RealContact {
     pub rolling_radius: f64,
     pub wheel_curvature: f64,
     pub rail_curvature: f64,
+    /// Surface parameters of the contact on the real wheel and rail (paper convention), m.
+    pub s_wheel: f64,
+    pub s_rail: f64,
 }
 
 /// z, φ and their motion for one evaluation.
@@ -94,6 +97,8 @@ pub struct WheelsetKinematics {
     pub c_phi: f64,
     /// Left, right.
     pub contacts: [RealContact; 2],
+    /// KEC only: the knife-edge contact parameters s^lk, s^rk on the equivalent profiles, m.
+    pub s_knife: Option<[f64; 2]>,
 }
 
 /// The rail irregularities at the wheelset and their first two time derivatives.
@@ -127,6 +132,8 @@ fn from_row(row: &TableRow) -> [RealContact; 2] {
             rolling_radius: row.rolling_radius[i],
             wheel_curvature: row.curvature[2 * i],
             rail_curvature: row.curvature[2 * i + 1],
+            s_wheel: row.x[2 + 2 * i],
+            s_rail: row.x[3 + 2 * i],
         }
     };
     [c(0, Side::Left), c(1, Side::Right)]
@@ -140,6 +147,8 @@ fn from_online(sol: &ContactSolution) -> [RealContact; 2] {
         rolling_radius: p.rolling_radius,
         wheel_curvature: p.wheel_curvature,
         rail_curvature: p.rail_curvature,
+        s_wheel: p.s_wheel,
+        s_rail: p.s_rail,
     };
     [c(&sol.left), c(&sol.right)]
 }
@@ -154,6 +163,8 @@ fn from_kec(sol: &KecSolution, pair: &WheelRailPair) -> [RealContact; 2] {
             rolling_radius: p.rolling_radius,
             wheel_curvature: p.wheel_curvature,
             rail_curvature: p.rail_curvature,
+            s_wheel: p.s_wheel,
+            s_rail: p.s_rail,
         }
     };
     [c(0, Side::Left), c(1, Side::Right)]
@@ -243,6 +254,7 @@ impl WheelsetContact {
                     c_z,
                     c_phi,
                     contacts: from_kec(&s, pair),
+                    s_knife: Some(s.s_k),
                 })
             }
             _ => {
@@ -267,7 +279,7 @@ impl WheelsetContact {
                 let phi_dot = (php - phm) / (2.0 * eps);
                 let c_z = (zp - 2.0 * z + zm) / (eps * eps) - z_y * y_ddot;
                 let c_phi = (php - 2.0 * phi + phm) / (eps * eps) - phi_y * y_ddot;
-                Ok(WheelsetKinematics { z, phi, z_y, phi_y, z_dot, phi_dot, c_z, c_phi, contacts })
+                Ok(WheelsetKinematics { z, phi, z_y, phi_y, z_dot, phi_dot, c_z, c_phi, contacts, s_knife: None })
             }
         }
     }

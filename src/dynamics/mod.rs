@@ -5,3 +5,4 @@ pub mod integrator;
 pub mod contact_model;
 pub mod single_wheelset;
 pub mod wheelset;
+pub mod spec;
