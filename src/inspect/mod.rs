@@ -19,6 +19,7 @@ pub mod contact;
 pub mod kec;
 pub mod profiles;
 pub mod readback;
+pub mod track;
 
 use std::path::PathBuf;
 

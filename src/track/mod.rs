@@ -16,6 +16,7 @@ pub mod file;
 pub mod irregularity;
 pub mod measured;
 pub mod psd;
+pub mod report;
 pub mod sections;
 pub mod spectrum;
 
