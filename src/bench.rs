@@ -544,8 +544,8 @@ pub fn track(n: usize) -> Result<(Vec<BenchRow>, String), crate::track::TrackErr
     let (mut v_err, mut d2_err, mut d2_scale) = (0.0f64, 0.0f64, 0.0f64);
     for &s in xs.iter().take(300) {
         let st = irr.eval(s)?;
-        for c in 0..4 {
-            let (v, _, d2) = sums[c].eval(s);
+        for (c, sum) in sums.iter().enumerate() {
+            let (v, _, d2) = sum.eval(s);
             v_err = v_err.max((st.value[c] - v).abs());
             d2_err = d2_err.max((st.d2[c] - d2).abs());
             d2_scale = d2_scale.max(d2.abs());

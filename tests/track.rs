@@ -32,31 +32,29 @@ fn tmpdir(name: &str) -> PathBuf {
 
 /// Adaptive Simpson of f over [a, b] to `tol`.
 fn simpson(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    /// `ends` = (a, b), `fs` = (f(a), f(mid), f(b)).
     fn rec(
         f: &dyn Fn(f64) -> f64,
-        a: f64,
-        b: f64,
-        fa: f64,
-        fm: f64,
-        fb: f64,
+        ends: (f64, f64),
+        fs: (f64, f64, f64),
         whole: f64,
         tol: f64,
         depth: u32,
     ) -> f64 {
+        let ((a, b), (fa, fm, fb)) = (ends, fs);
         let m = 0.5 * (a + b);
-        let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));
-        let (flm, frm) = (f(lm), f(rm));
+        let (flm, frm) = (f(0.5 * (a + m)), f(0.5 * (m + b)));
         let left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
         let right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
         if depth == 0 || (left + right - whole).abs() <= 15.0 * tol {
             return left + right + (left + right - whole) / 15.0;
         }
-        rec(f, a, m, fa, flm, fm, left, tol / 2.0, depth - 1)
-            + rec(f, m, b, fm, frm, fb, right, tol / 2.0, depth - 1)
+        rec(f, (a, m), (fa, flm, fm), left, tol / 2.0, depth - 1)
+            + rec(f, (m, b), (fm, frm, fb), right, tol / 2.0, depth - 1)
     }
     let (fa, fm, fb) = (f(a), f(0.5 * (a + b)), f(b));
     let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
-    rec(f, a, b, fa, fm, fb, whole, tol, 40)
+    rec(f, (a, b), (fa, fm, fb), whole, tol, 40)
 }
 
 /// Heading of the Tab. 6 centreline, written out from the table (independent of the library).
