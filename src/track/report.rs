@@ -273,7 +273,7 @@ pub fn summary_markdown(track: &Track, samples: &[Sample]) -> String {
                     .join(" | ")
             );
             if let Some(rows) = band_rms(track) {
-                s += "\nRMS per wavelength band, this realisation (periodogram of the track-long record) against √∫S dΩ of the PSD; one realisation scatters by roughly ±1/√(number of cosines in the band), more for bands whose longest wavelength approaches the track length:\n\n| band [m] | al [mm] | vp [mm] | gv [mm] | cl [mm] |\n|---|---|---|---|---|\n";
+                s += "\nRMS per wavelength band, this realisation (periodogram of the track-long record) against √∫S dΩ of the PSD (one realisation on a finite track scatters by a few %, more in bands whose longest wavelength approaches the track length; averaged over seeds the agreement is within ~1 %, see tests/track.rs):\n\n| band [m] | al [mm] | vp [mm] | gv [mm] | cl [mm] |\n|---|---|---|---|---|\n";
                 let per = rows.len() / 4;
                 for k in 0..per {
                     let (la, lb) = rows[k].lambda;
