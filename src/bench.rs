@@ -611,3 +611,165 @@ pub fn creep(n: usize) -> Result<String, crate::contact::forces::CreepForceError
     out += "Errors: max |ΔF|/μN of the resultant. FS200: FASTSIM 200 × 200 on the same random creepages (combined ξx, ξy with |φ| ≤ 1.5 1/m, and with φ = 0); J–V: Johnson & Vermeulen's curve in pure ξx and ξy, β ≤ 6. Kalker and Polach against FS200 are model differences (different theories), FASTSIM n × n against FS200 is discretisation error.\n";
     Ok(out)
 }
+
+/// Mean and half-spread (max − min)/2 of `repeats` timings of `f` over all `xs`, ns per call.
+fn time_ns(xs: &[f64], repeats: usize, f: &dyn Fn(f64) -> f64) -> (f64, f64) {
+    let mut t_ns = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        let t = Instant::now();
+        let mut acc = 0.0;
+        for &x in xs {
+            acc += f(black_box(x));
+        }
+        black_box(acc);
+        t_ns.push(t.elapsed().as_secs_f64() * 1e9 / xs.len() as f64);
+    }
+    let mean = t_ns.iter().sum::<f64>() / repeats as f64;
+    let (lo, hi) = t_ns
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    (mean, 0.5 * (hi - lo))
+}
+
+/// Position on the Tab. 6 centreline by an independent quadrature: 5-point Gauss–Legendre on
+/// 0.5 m panels of (cos ψ, sin ψ), ψ the integral of the sections' linear curvature.
+fn tab6_reference_xy(sections: &[crate::track::sections::HorizontalSection], s: f64) -> (f64, f64, f64) {
+    const X: [f64; 5] = [
+        0.0,
+        -0.538_469_310_105_683_1,
+        0.538_469_310_105_683_1,
+        -0.906_179_845_938_664,
+        0.906_179_845_938_664,
+    ];
+    const W: [f64; 5] = [
+        0.568_888_888_888_888_9,
+        0.478_628_670_499_366_5,
+        0.478_628_670_499_366_5,
+        0.236_926_885_056_189_1,
+        0.236_926_885_056_189_1,
+    ];
+    let (mut x, mut y, mut psi0) = (0.0, 0.0, 0.0);
+    for sec in sections {
+        let end = sec.to_m.min(s);
+        if end <= sec.from_m {
+            break;
+        }
+        let (k0, k1) = (sec.curvature_1pm[0], sec.curvature_rate());
+        let psi = |u: f64| psi0 + k0 * u + 0.5 * k1 * u * u;
+        let len = end - sec.from_m;
+        let panels = (len / 0.5).ceil().max(1.0) as usize;
+        let hp = len / panels as f64;
+        for p in 0..panels {
+            let mid = (p as f64 + 0.5) * hp;
+            for j in 0..5 {
+                let a = psi(mid + 0.5 * hp * X[j]);
+                x += 0.5 * hp * W[j] * a.cos();
+                y += 0.5 * hp * W[j] * a.sin();
+            }
+        }
+        psi0 = psi(len);
+    }
+    (x, y, psi0)
+}
+
+/// Track evaluation on the paper's Tab. 6 track (with German low-disturbance irregularities, seed
+/// 1, 1–80 m): cost per track-frame evaluation (R, A, curvatures), per irregularity evaluation
+/// (four irregularities with first and second derivatives), and of both; each with its error
+/// against an independent reference (quadrature of the heading; the exact sum of cosines).
+pub fn track(n: usize) -> Result<(Vec<BenchRow>, String), crate::track::TrackError> {
+    use crate::track::file::TAB6_TRACK;
+    use crate::track::{file, Irregularities};
+
+    let irregular = format!(
+        "{TAB6_TRACK}\n[track.irregularities]\npsd = \"german-low\"\nseed = 1\nwavelength_min_m = 1.0\nwavelength_max_m = 80.0\n"
+    );
+    let t = Instant::now();
+    let track = file::track_from_text(
+        &irregular,
+        "<bench: Tab. 6 + german-low>",
+        std::path::Path::new("."),
+    )?;
+    let build = t.elapsed().as_secs_f64();
+    let (a, b) = track.centreline.range();
+    let xs = points(n.min(2_000_000), a, b);
+    let repeats = 5;
+    let mut rows = Vec::new();
+
+    let (frame_ns, frame_spread) = time_ns(&xs, repeats, &|s| {
+        track
+            .centreline
+            .frame(s)
+            .map_or(0.0, |f| f.position.x + f.rotation[(0, 2)] + f.rho_h)
+    });
+    let (h, _) = track.centreline.sections();
+    let mut pos_err: f64 = 0.0;
+    let mut psi_err: f64 = 0.0;
+    for &s in xs.iter().take(300) {
+        let f = track.centreline.frame(s)?;
+        let (x, y, psi) = tab6_reference_xy(h, s);
+        pos_err = pos_err.max((f.position.x - x).hypot(f.position.y - y));
+        psi_err = psi_err.max((f.heading_rad - psi).abs());
+    }
+    rows.push(BenchRow {
+        what: "track frame R, A, ρ (Tab. 6)".into(),
+        ns_per_call: frame_ns,
+        max_error: pos_err,
+        error_unit: "m",
+        error_against: "Gauss–Legendre quadrature of the heading (position, 300 points)",
+    });
+
+    let Some(irr) = track.irregularities.as_ref() else {
+        return Err(crate::track::TrackError::Irregularity(
+            "bench track has none".into(),
+        ));
+    };
+    let (irr_ns, irr_spread) = time_ns(&xs, repeats, &|s| {
+        irr.eval(s).map_or(0.0, |st| st.value[0] + st.d1[1] + st.d2[3])
+    });
+    let crate::track::irregularity::Origin::Generated(g) = irr.origin else {
+        return Err(crate::track::TrackError::Irregularity(
+            "bench track is not generated".into(),
+        ));
+    };
+    let (_, sums) = Irregularities::generate(&g, a, b)?;
+    let (mut v_err, mut d2_err, mut d2_scale) = (0.0f64, 0.0f64, 0.0f64);
+    for &s in xs.iter().take(300) {
+        let st = irr.eval(s)?;
+        for (c, sum) in sums.iter().enumerate() {
+            let (v, _, d2) = sum.eval(s);
+            v_err = v_err.max((st.value[c] - v).abs());
+            d2_err = d2_err.max((st.d2[c] - d2).abs());
+            d2_scale = d2_scale.max(d2.abs());
+        }
+    }
+    rows.push(BenchRow {
+        what: "irregularity eval (4 + derivatives)".into(),
+        ns_per_call: irr_ns,
+        max_error: v_err * 1e3,
+        error_unit: "mm",
+        error_against: "exact sum of cosines (value, 300 points)",
+    });
+    let (both_ns, both_spread) = time_ns(&xs, repeats, &|s| {
+        track.eval(s).map_or(0.0, |(f, i)| f.position.y + i.value[2])
+    });
+    rows.push(BenchRow {
+        what: "Track::eval (frame + irregularities)".into(),
+        ns_per_call: both_ns,
+        max_error: psi_err,
+        error_unit: "rad",
+        error_against: "heading vs ∫ρ_h ds of the sections (300 points)",
+    });
+    let notes = format!(
+        "timing: mean of {repeats} passes over {} random s; spread (max − min)/2: frame ±{frame_spread:.1} ns, irregularities ±{irr_spread:.1} ns, both ±{both_spread:.1} ns\nirregularity d²/ds² max error {:.2e} 1/m ({:.1e} of its largest value {:.2e} 1/m); track + irregularities built in {:.0} ms ({} centreline nodes, {} irregularity nodes)\n",
+        xs.len(),
+        d2_err,
+        d2_err / d2_scale,
+        d2_scale,
+        build * 1e3,
+        track.centreline.node_count(),
+        irr.len()
+    );
+    Ok((rows, notes))
+}

@@ -6,6 +6,7 @@
 //!
 //! * [`contact`]: contact geometry (approximate constraints, Eq. 35–42) and what builds on it.
 //! * [`profile`]: wheel and rail profiles as C² curves, standard profiles, files, placement (§3).
+//! * [`track`]: the track centreline from sections and its irregularities (§2.2–2.3).
 //! * [`scenario`]: scenario files (TOML) compiled into scenes.
 //! * [`bench`]: measured speed with its error, printed by `kecsim bench`.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
@@ -16,3 +17,4 @@ pub mod dynamics;
 pub mod inspect;
 pub mod profile;
 pub mod scenario;
+pub mod track;

@@ -119,6 +119,20 @@ enum Command {
         #[command(flatten)]
         sink: SinkArgs,
     },
+    /// The track: centreline from its sections, curvature, cant, twist, irregularities.
+    Track {
+        /// Track file or scenario file (TOML) with a [track] table; omit for the paper's Tab. 6 track.
+        file: Option<PathBuf>,
+        /// Sampling step along s for the CSV and the recording, m.
+        #[arg(long, value_name = "M", default_value_t = 1.0)]
+        step: f64,
+        /// Write the sampled track as CSV (s_m, x_m, y_m, z_m, heading_rad, cant_rad, curvature_1pm,
+        /// al_mm, vp_mm, gv_mm, cl_mm, …).
+        #[arg(long, value_name = "FILE")]
+        csv: Option<PathBuf>,
+        #[command(flatten)]
+        sink: SinkArgs,
+    },
     /// Write the standard profiles (S1002, 60E1, 54E1) as CSV files, mm.
     GenerateProfiles {
         /// Output directory.
@@ -146,6 +160,8 @@ enum BenchTarget {
     Kec,
     /// Hertz, Kalker coefficients, creepages and the creep-force models, with their errors.
     Creep,
+    /// Track-frame and irregularity evaluation on the Tab. 6 track.
+    Track,
 }
 
 /// A wheel/rail pair and its placement.
@@ -504,6 +520,37 @@ fn run(cli: Cli) -> Result<()> {
             }
             println!("{}", describe(&sink));
         }
+        Command::Track {
+            file,
+            step,
+            csv,
+            sink,
+        } => {
+            let t = std::time::Instant::now();
+            let track = match &file {
+                Some(path) => kecsim::track::file::read_track(path)?,
+                None => kecsim::track::file::tab6()?,
+            };
+            let build_s = t.elapsed().as_secs_f64();
+            let samples = kecsim::track::report::sample(&track, step)?;
+            let summary = kecsim::track::report::summary_markdown(&track, &samples);
+            let sink = sink.sink();
+            {
+                let rec = inspect::open_recording("kecsim", &sink, inspect::track::blueprint)?;
+                inspect::track::record(&rec, &track, &samples, &summary)?;
+            }
+            print!("{summary}");
+            println!(
+                "track built in {:.3} s; {} samples every {step} m",
+                build_s,
+                samples.len()
+            );
+            if let Some(path) = csv {
+                kecsim::track::report::write_csv(&samples, &path)?;
+                println!("wrote {}", path.display());
+            }
+            println!("{}", describe(&sink));
+        }
         Command::GenerateProfiles { dir } => {
             std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
             for std in StandardProfile::ALL {
@@ -526,6 +573,13 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 let (rows, builds) = kecsim::bench::contact(calls.min(200_000))?;
                 print!("{}{builds}", kecsim::bench::contact_table(&rows));
+            }
+            BenchTarget::Track => {
+                if cfg!(debug_assertions) {
+                    eprintln!("kecsim: warning: debug build, timings are not representative (use --release)");
+                }
+                let (rows, notes) = kecsim::bench::track(calls)?;
+                print!("{}{notes}", kecsim::bench::table(&rows));
             }
             BenchTarget::Creep => {
                 if cfg!(debug_assertions) {

@@ -36,6 +36,9 @@ pub struct Scenario {
     pub wheelset: WheelsetSpec,
     #[serde(default)]
     pub contact_forces: ContactForcesSpec,
+    /// The text it was parsed from (validation reports lines of the track sections).
+    #[serde(skip)]
+    source: String,
 }
 
 /// Wheel–rail contact forces: friction, material, creep-force model (`[contact_forces.creep]`,
@@ -86,31 +89,9 @@ pub struct ProfilesSpec {
     pub inclination: String,
 }
 
-/// Track cross-section.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TrackSpec {
-    #[serde(default = "default_gauge")]
-    pub gauge_m: f64,
-    #[serde(default = "default_depth")]
-    pub gauge_measuring_depth_m: f64,
-}
-
-impl Default for TrackSpec {
-    fn default() -> Self {
-        TrackSpec {
-            gauge_m: default_gauge(),
-            gauge_measuring_depth_m: default_depth(),
-        }
-    }
-}
-
-fn default_gauge() -> f64 {
-    TrackGauge::default().gauge_m
-}
-fn default_depth() -> f64 {
-    TrackGauge::default().measuring_depth_m
-}
+/// The `[track]` table: cross-section gauge and, optionally, the centreline sections and
+/// irregularities (see [`crate::track::file`]).
+pub use crate::track::file::TrackSpec;
 
 /// Wheelset dimensions.
 #[derive(Debug, Clone, Deserialize)]
@@ -161,21 +142,24 @@ pub enum ScenarioError {
     Invalid { path: String, problems: Vec<String> },
 }
 
-/// A scenario ready to run: profiles loaded and placed.
+/// A scenario ready to run: profiles loaded and placed, the track built if it has sections.
 #[derive(Debug, Clone)]
 pub struct Scene {
     pub name: String,
     pub pair: WheelRailPair,
     pub contact_forces: ContactForceSettings,
+    pub track: Option<crate::track::Track>,
 }
 
 impl Scenario {
     /// Parses scenario text; `origin` names it in errors (a path or `<embedded default>`).
     pub fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
-        toml::from_str(text).map_err(|e| ScenarioError::Parse {
+        let mut s: Self = toml::from_str(text).map_err(|e| ScenarioError::Parse {
             path: origin.to_string(),
             message: e.to_string().trim_end().to_string(),
-        })
+        })?;
+        s.source = text.to_string();
+        Ok(s)
     }
 
     /// Reads and parses a scenario file.
@@ -203,13 +187,16 @@ impl Scenario {
                 problems.push(format!("{name} = {v}: expected a value in [{lo}, {hi}]"));
             }
         };
-        positive("track.gauge_m", self.track.gauge_m, 0.5, 2.0);
-        positive(
-            "track.gauge_measuring_depth_m",
-            self.track.gauge_measuring_depth_m,
-            0.001,
-            0.03,
-        );
+        if self.track.horizontal.is_empty() {
+            // (With sections, the track's own validation checks these.)
+            positive("track.gauge_m", self.track.gauge_m, 0.5, 2.0);
+            positive(
+                "track.gauge_measuring_depth_m",
+                self.track.gauge_measuring_depth_m,
+                0.001,
+                0.03,
+            );
+        }
         positive("wheelset.back_to_back_m", self.wheelset.back_to_back_m, 0.4, 2.0);
         positive(
             "wheelset.rolling_circle_from_back_m",
@@ -254,6 +241,21 @@ impl Scenario {
         };
         let wheel = load(&self.profiles.wheel, ProfileKind::Wheel);
         let rail = load(&self.profiles.rail, ProfileKind::Rail);
+        let track = if self.track.horizontal.is_empty() {
+            None
+        } else {
+            match self.track.build(&self.name, origin, &self.source, base) {
+                Ok(t) => Some(t),
+                Err(crate::track::TrackError::Invalid { problems: p, .. }) => {
+                    problems.extend(p);
+                    None
+                }
+                Err(e) => {
+                    problems.push(e.to_string());
+                    None
+                }
+            }
+        };
         let invalid = |problems: Vec<String>| ScenarioError::Invalid {
             path: origin.to_string(),
             problems,
@@ -278,6 +280,7 @@ impl Scenario {
             name: self.name.clone(),
             pair,
             contact_forces,
+            track,
         })
     }
 }

@@ -113,13 +113,25 @@ pub struct RailMotion {
 /// The contact model of one wheelset (shared by all wheelsets with the same profiles).
 #[derive(Debug, Clone)]
 pub enum WheelsetContact {
-    Kec { model: KecModel, pair: WheelRailPair },
-    Lookup { table: LookupTable1 },
-    Online { geometry: ContactGeometry },
+    Kec {
+        model: Box<KecModel>,
+        pair: Box<WheelRailPair>,
+    },
+    Lookup {
+        table: Box<LookupTable1>,
+    },
+    Online {
+        geometry: Box<ContactGeometry>,
+    },
 }
 
 fn offsets(q: &[f64; 4]) -> RailOffsets {
-    RailOffsets { y_left: q[0], z_left: q[1], y_right: q[2], z_right: q[3] }
+    RailOffsets {
+        y_left: q[0],
+        z_left: q[1],
+        y_right: q[2],
+        z_right: q[3],
+    }
 }
 
 fn from_row(row: &TableRow) -> [RealContact; 2] {
@@ -157,7 +169,9 @@ fn from_kec(sol: &KecSolution, pair: &WheelRailPair) -> [RealContact; 2] {
     let c = |i: usize, side: Side| {
         let p = &sol.real[i];
         RealContact {
-            position: pair.wheelset.wheel_point(&pair.wheel, side, p.s_wheel, sol.y, sol.z, sol.phi),
+            position: pair
+                .wheelset
+                .wheel_point(&pair.wheel, side, p.s_wheel, sol.y, sol.z, sol.phi),
             normal: p.normal(side),
             contact_angle: p.contact_angle,
             rolling_radius: p.rolling_radius,
@@ -231,8 +245,20 @@ impl WheelsetContact {
                 let s = model.solve(y, rails.q, warm.kec)?;
                 warm.kec = Some(s.x(model.r0));
                 // q = [y, y_lir, z_lir, y_rir, z_rir].
-                let qd = [y_dot, rails.q_dot[0], rails.q_dot[1], rails.q_dot[2], rails.q_dot[3]];
-                let qdd_r = [0.0, rails.q_ddot[0], rails.q_ddot[1], rails.q_ddot[2], rails.q_ddot[3]];
+                let qd = [
+                    y_dot,
+                    rails.q_dot[0],
+                    rails.q_dot[1],
+                    rails.q_dot[2],
+                    rails.q_dot[3],
+                ];
+                let qdd_r = [
+                    0.0,
+                    rails.q_ddot[0],
+                    rails.q_ddot[1],
+                    rails.q_ddot[2],
+                    rails.q_ddot[3],
+                ];
                 let (mut z_dot, mut phi_dot, mut c_z, mut c_phi) = (0.0, 0.0, 0.0, 0.0);
                 for i in 0..5 {
                     z_dot += s.dx_dq[0][i] * qd[i];
@@ -265,8 +291,8 @@ impl WheelsetContact {
                 let eps = (1e-5 / speed.max(1e-9)).clamp(1e-6, 1e-2);
                 let shift = |e: f64| {
                     let mut q = rails.q;
-                    for k in 0..4 {
-                        q[k] += rails.q_dot[k] * e + 0.5 * rails.q_ddot[k] * e * e;
+                    for ((qk, vk), ak) in q.iter_mut().zip(rails.q_dot).zip(rails.q_ddot) {
+                        *qk += vk * e + 0.5 * ak * e * e;
                     }
                     (y + y_dot * e + 0.5 * y_ddot * e * e, q)
                 };
@@ -279,7 +305,18 @@ impl WheelsetContact {
                 let phi_dot = (php - phm) / (2.0 * eps);
                 let c_z = (zp - 2.0 * z + zm) / (eps * eps) - z_y * y_ddot;
                 let c_phi = (php - 2.0 * phi + phm) / (eps * eps) - phi_y * y_ddot;
-                Ok(WheelsetKinematics { z, phi, z_y, phi_y, z_dot, phi_dot, c_z, c_phi, contacts, s_knife: None })
+                Ok(WheelsetKinematics {
+                    z,
+                    phi,
+                    z_y,
+                    phi_y,
+                    z_dot,
+                    phi_dot,
+                    c_z,
+                    c_phi,
+                    contacts,
+                    s_knife: None,
+                })
             }
         }
     }

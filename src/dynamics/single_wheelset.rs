@@ -96,7 +96,15 @@ impl SingleWheelset {
     }
 
     fn unpack(x: &[f64]) -> WheelsetState {
-        WheelsetState { x: x[0], y: x[1], psi: x[2], x_dot: x[3], y_dot: x[4], psi_dot: x[5], omega: x[6] }
+        WheelsetState {
+            x: x[0],
+            y: x[1],
+            psi: x[2],
+            x_dot: x[3],
+            y_dot: x[4],
+            psi_dot: x[5],
+            omega: x[6],
+        }
     }
 
     /// Evaluates the model at (t, x).
@@ -112,7 +120,10 @@ impl SingleWheelset {
         let mut frame = FrameMotion::tangent(v);
         frame.accel[0] = if v > 0.0 { self.speed.ramp_m_s2 } else { 0.0 };
         let tie = &self.tie;
-        let mut load = Load { force: [0.0, 0.0, -self.axle_load_n], moment: [0.0; 3] };
+        let mut load = Load {
+            force: [0.0, 0.0, -self.axle_load_n],
+            moment: [0.0; 3],
+        };
         for b in [tie.half_spacing_m, -tie.half_spacing_m] {
             // Axle-box displacement relative to the frame (linearised rotation about z).
             let dx = st.x - st.psi * b;
@@ -128,7 +139,12 @@ impl SingleWheelset {
             .map_err(|e| format!("y = {:.4} mm: {e}", st.y * 1e3))?;
         self.lambda = dynamics.normal;
         self.last_y_ddot = dynamics.accel[1];
-        Ok(WheelsetSample { state: st, kin, dynamics, speed: v })
+        Ok(WheelsetSample {
+            state: st,
+            kin,
+            dynamics,
+            speed: v,
+        })
     }
 }
 

@@ -56,7 +56,11 @@ fn default_atol() -> f64 {
 
 impl Default for IntegratorSpec {
     fn default() -> Self {
-        IntegratorSpec { method: default_method(), rtol: default_rtol(), atol: default_atol() }
+        IntegratorSpec {
+            method: default_method(),
+            rtol: default_rtol(),
+            atol: default_atol(),
+        }
     }
 }
 
@@ -115,7 +119,9 @@ impl SimulationSpec {
         let mut p = Vec::new();
         let mut check = |name: &str, v: f64, lo: f64, hi: f64| {
             if !(v.is_finite() && v >= lo && v <= hi) {
-                p.push(format!("simulation.{name} = {v}: expected a value in [{lo}, {hi}]"));
+                p.push(format!(
+                    "simulation.{name} = {v}: expected a value in [{lo}, {hi}]"
+                ));
             }
         };
         check("speed_m_s", self.speed_m_s, 0.0, 200.0);
@@ -145,10 +151,30 @@ impl VehicleSpec {
                 for (i, v) in w.wheelset.inertia_kg_m2.iter().enumerate() {
                     check(&format!("wheelset.inertia_kg_m2[{i}]"), *v, 1e-3, 1e6);
                 }
-                check("tie.longitudinal_stiffness_n_per_m", w.tie.longitudinal_stiffness_n_per_m, 0.0, 1e10);
-                check("tie.lateral_stiffness_n_per_m", w.tie.lateral_stiffness_n_per_m, 0.0, 1e10);
-                check("tie.longitudinal_damping_n_s_per_m", w.tie.longitudinal_damping_n_s_per_m, 0.0, 1e8);
-                check("tie.lateral_damping_n_s_per_m", w.tie.lateral_damping_n_s_per_m, 0.0, 1e8);
+                check(
+                    "tie.longitudinal_stiffness_n_per_m",
+                    w.tie.longitudinal_stiffness_n_per_m,
+                    0.0,
+                    1e10,
+                );
+                check(
+                    "tie.lateral_stiffness_n_per_m",
+                    w.tie.lateral_stiffness_n_per_m,
+                    0.0,
+                    1e10,
+                );
+                check(
+                    "tie.longitudinal_damping_n_s_per_m",
+                    w.tie.longitudinal_damping_n_s_per_m,
+                    0.0,
+                    1e8,
+                );
+                check(
+                    "tie.lateral_damping_n_s_per_m",
+                    w.tie.lateral_damping_n_s_per_m,
+                    0.0,
+                    1e8,
+                );
                 check("tie.half_spacing_m", w.tie.half_spacing_m, 0.1, 3.0);
             }
         }

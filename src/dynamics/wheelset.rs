@@ -63,7 +63,11 @@ pub struct FrameMotion {
 impl FrameMotion {
     /// Tangent, level track at constant speed.
     pub fn tangent(speed: f64) -> FrameMotion {
-        FrameMotion { speed, gravity: [0.0, 0.0, -9.81], ..FrameMotion::default() }
+        FrameMotion {
+            speed,
+            gravity: [0.0, 0.0, -9.81],
+            ..FrameMotion::default()
+        }
     }
 }
 
@@ -151,10 +155,13 @@ pub fn evaluate(
         arm[i] = p - centre;
         normal[i] = Vector3::new(0.0, c.normal.0, c.normal.1);
         let side = if i == 0 { "left" } else { "right" };
-        frames[i] = Some(
-            ContactFrame::new(normal[i], axle, Vector3::x())
-                .map_err(|e| WheelsetError::Contact { side, message: e.to_string() })?,
-        );
+        frames[i] =
+            Some(
+                ContactFrame::new(normal[i], axle, Vector3::x()).map_err(|e| WheelsetError::Contact {
+                    side,
+                    message: e.to_string(),
+                })?,
+            );
     }
     let mut creepage = [Creepage::default(); 2];
     for i in 0..2 {
@@ -191,15 +198,31 @@ pub fn evaluate(
             let side = if i == 0 { "left" } else { "right" };
             let c = &kin.contacts[i];
             let n_force = lambda[i].max(1.0);
-            let curv = RelativeCurvature::wheel_rail(c.rolling_radius, c.contact_angle - side_roll(i, kin.phi), c.wheel_curvature, c.rail_curvature);
-            let hertz = HertzContact::solve(curv, n_force, &forces.material, &forces.material)
-                .map_err(|e| WheelsetError::Contact { side, message: e.to_string() })?;
+            let curv = RelativeCurvature::wheel_rail(
+                c.rolling_radius,
+                c.contact_angle - side_roll(i, kin.phi),
+                c.wheel_curvature,
+                c.rail_curvature,
+            );
+            let hertz =
+                HertzContact::solve(curv, n_force, &forces.material, &forces.material).map_err(|e| {
+                    WheelsetError::Contact {
+                        side,
+                        message: e.to_string(),
+                    }
+                })?;
             let patch = ContactPatch::from_hertz(&hertz, &forces.material, forces.friction, &forces.kalker)
-                .map_err(|e| WheelsetError::Contact { side, message: e.to_string() })?;
+                .map_err(|e| WheelsetError::Contact {
+                side,
+                message: e.to_string(),
+            })?;
             creep[i] = forces
                 .model
                 .forces(&patch, &creepage[i], frame.speed)
-                .map_err(|e| WheelsetError::Contact { side, message: e.to_string() })?;
+                .map_err(|e| WheelsetError::Contact {
+                    side,
+                    message: e.to_string(),
+                })?;
             let fr = frames[i].as_ref().ok_or(WheelsetError::Singular)?;
             let fc = fr.force_to_global(creep[i].fx, creep[i].fy, 0.0);
             f += fc;
@@ -242,17 +265,24 @@ pub fn evaluate(
             normal: new_lambda,
             creep,
             creepage,
-            lambda_change: (new_lambda[0] - prev_lambda[0]).abs().max((new_lambda[1] - prev_lambda[1]).abs()),
+            lambda_change: (new_lambda[0] - prev_lambda[0])
+                .abs()
+                .max((new_lambda[1] - prev_lambda[1]).abs()),
         };
         prev_lambda = new_lambda;
         lambda = new_lambda;
-        if pass > 0 && result.lambda_change <= LAMBDA_TOLERANCE * (1.0 + new_lambda[0].abs() + new_lambda[1].abs()) {
+        if pass > 0
+            && result.lambda_change <= LAMBDA_TOLERANCE * (1.0 + new_lambda[0].abs() + new_lambda[1].abs())
+        {
             break;
         }
     }
     for (i, side) in Side::BOTH.iter().enumerate() {
-        if !(result.normal[i] > 0.0) {
-            return Err(WheelsetError::Lift { side: side.name(), normal: result.normal[i] });
+        if result.normal[i].is_nan() || result.normal[i] <= 0.0 {
+            return Err(WheelsetError::Lift {
+                side: side.name(),
+                normal: result.normal[i],
+            });
         }
     }
     Ok(result)

@@ -20,6 +20,7 @@ pub mod creep;
 pub mod kec;
 pub mod profiles;
 pub mod readback;
+pub mod track;
 
 use std::path::PathBuf;
 

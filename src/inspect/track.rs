@@ -1,0 +1,184 @@
+//! `kecsim track`: the track plan, its curvature, cant and twist, and its irregularities.
+//!
+//! Timeline `s_mm`: arc length in mm (a sequence timeline, one step per sample). Entities:
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
+//! | `track/plan/centreline` | LineStrips2D, static | plan view X–Y in m, stored `[X, −Y]` (Rerun's 2D views are Y-down: global Y points up on screen) |
+//! | `track/plan/vertices` | Points2D, static | section starts, labelled with their type and s |
+//! | `track/geometry/curvature_1pm` | Scalars on `s_mm` | ρ_h, 1/m |
+//! | `track/geometry/cant_mrad` | Scalars | φ^t, mrad |
+//! | `track/geometry/twist_mrad_per_m` | Scalars | ρ_tw, mrad/m |
+//! | `track/geometry/z_m` | Scalars | height of the centreline, m |
+//! | `track/irregularities/{al,vp,gv,cl}_mm` | Scalars | alignment, vertical profile, gauge variation, cross level, mm |
+//! | `track/summary` | TextDocument | sections, end-of-track check, irregularity statistics |
+
+use rerun::blueprint::{
+    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+};
+use rerun::{
+    Color, LineStrips2D, Points2D, Radius, RecordingStream, Scalars, SeriesLines, TextDocument, TimeColumn,
+};
+
+use super::contact::log_err;
+use super::{log_static, InspectError};
+use crate::track::report::Sample;
+use crate::track::Track;
+
+/// The timeline: arc length in mm.
+pub const TIMELINE: &str = "s_mm";
+
+/// Layout: plan view and summary on the left, the s-diagrams on the right.
+pub fn blueprint() -> Blueprint {
+    let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
+    Blueprint::new(
+        Horizontal::new([
+            Vertical::new([
+                Spatial2DView::new("Plan view X–Y [m] (stored [X, −Y])")
+                    .with_origin("/track/plan")
+                    .into(),
+                TextDocumentView::new("Summary")
+                    .with_origin("/track/summary")
+                    .into(),
+            ])
+            .with_row_shares([3.0, 2.0])
+            .into(),
+            Vertical::new([
+                plot("curvature ρ_h [1/m]", "/track/geometry/curvature_1pm"),
+                plot("cant φ [mrad]", "/track/geometry/cant_mrad"),
+                plot("twist ρ_tw [mrad/m]", "/track/geometry/twist_mrad_per_m"),
+                plot("height Z [m]", "/track/geometry/z_m"),
+                plot("alignment al [mm]", "/track/irregularities/al_mm"),
+                plot("vertical profile vp [mm]", "/track/irregularities/vp_mm"),
+                plot("gauge variation gv [mm]", "/track/irregularities/gv_mm"),
+                plot("cross level cl [mm]", "/track/irregularities/cl_mm"),
+            ])
+            .into(),
+        ])
+        .with_column_shares([1.0, 1.2]),
+    )
+    .with_time_panel(
+        TimePanel::new()
+            .with_timeline(TIMELINE)
+            .with_play_state(rerun::blueprint::components::PlayState::Paused),
+    )
+}
+
+fn series(
+    rec: &RecordingStream,
+    entity: &str,
+    s_mm: &[i64],
+    values: Vec<f64>,
+    name: &str,
+    color: [u8; 3],
+) -> Result<(), InspectError> {
+    log_static(
+        rec,
+        entity,
+        &SeriesLines::new()
+            .with_names([name])
+            .with_colors([Color::from_rgb(color[0], color[1], color[2])]),
+    )?;
+    let columns = Scalars::new(values)
+        .columns(std::iter::repeat_n(1, s_mm.len()))
+        .map_err(|e| InspectError::Log {
+            entity: entity.to_string(),
+            source: e.into(),
+        })?;
+    rec.send_columns(
+        entity,
+        [TimeColumn::new_sequence(TIMELINE, s_mm.iter().copied())],
+        columns,
+    )
+    .map_err(log_err(entity))
+}
+
+/// Records the track sampled in `samples` and the `summary` text.
+pub fn record(
+    rec: &RecordingStream,
+    track: &Track,
+    samples: &[Sample],
+    summary: &str,
+) -> Result<(), InspectError> {
+    let plan: Vec<[f32; 2]> = samples
+        .iter()
+        .map(|s| [s.frame.position.x as f32, -s.frame.position.y as f32])
+        .collect();
+    log_static(
+        rec,
+        "track/plan/centreline",
+        &LineStrips2D::new([plan])
+            .with_colors([Color::from_rgb(60, 140, 230)])
+            .with_radii([Radius::new_ui_points(2.0)]),
+    )?;
+    let (h, _) = track.centreline.sections();
+    let mut pts = Vec::new();
+    let mut labels = Vec::new();
+    for sec in h {
+        let f = track
+            .centreline
+            .frame(sec.from_m)
+            .map_err(|e| InspectError::Model(e.to_string()))?;
+        pts.push([f.position.x as f32, -f.position.y as f32]);
+        labels.push(format!("{} @ {} m", sec.kind.name(), sec.from_m));
+    }
+    log_static(
+        rec,
+        "track/plan/vertices",
+        &Points2D::new(pts)
+            .with_labels(labels)
+            .with_colors([Color::from_rgb(230, 120, 40)])
+            .with_radii([Radius::new_ui_points(5.0)]),
+    )?;
+    let s_mm: Vec<i64> = samples.iter().map(|s| (s.frame.s * 1e3).round() as i64).collect();
+    let col = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
+    let blue = [60, 140, 230];
+    series(
+        rec,
+        "track/geometry/curvature_1pm",
+        &s_mm,
+        col(&|s| s.frame.rho_h),
+        "ρ_h",
+        blue,
+    )?;
+    series(
+        rec,
+        "track/geometry/cant_mrad",
+        &s_mm,
+        col(&|s| s.frame.cant_rad * 1e3),
+        "cant",
+        blue,
+    )?;
+    series(
+        rec,
+        "track/geometry/twist_mrad_per_m",
+        &s_mm,
+        col(&|s| s.frame.rho_tw * 1e3),
+        "twist",
+        blue,
+    )?;
+    series(
+        rec,
+        "track/geometry/z_m",
+        &s_mm,
+        col(&|s| s.frame.position.z),
+        "Z",
+        blue,
+    )?;
+    let colors = [[230, 120, 40], [60, 170, 90], [170, 80, 200], [220, 60, 60]];
+    for (c, name) in ["al", "vp", "gv", "cl"].into_iter().enumerate() {
+        series(
+            rec,
+            &format!("track/irregularities/{name}_mm"),
+            &s_mm,
+            col(&|s| s.irregularity[c] * 1e3),
+            name,
+            colors[c],
+        )?;
+    }
+    log_static(
+        rec,
+        "track/summary",
+        &TextDocument::from_markdown(summary.to_string()),
+    )
+}
