@@ -34,6 +34,18 @@ enum Command {
     Run {
         /// Scenario file (TOML); omit to run the embedded default.
         scenario: Option<PathBuf>,
+        /// Contact model, overriding the scenario's: kec, lookup or online.
+        #[arg(long, value_parser = ["kec", "lookup", "online"])]
+        contact: Option<String>,
+        /// Initial forward speed, m/s, overriding the scenario's.
+        #[arg(long, value_name = "M_S")]
+        speed: Option<f64>,
+        /// Write one CSV per wheelset into this directory.
+        #[arg(long, value_name = "DIR")]
+        csv: Option<PathBuf>,
+        /// Write the run summary as JSON.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
         #[command(flatten)]
         sink: SinkArgs,
     },
@@ -287,7 +299,14 @@ fn print_pair(pair: &WheelRailPair) {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Run { scenario, sink } => {
+        Command::Run {
+            scenario,
+            contact,
+            speed,
+            csv,
+            json,
+            sink,
+        } => {
             let (parsed, origin, base) = match &scenario {
                 Some(path) => (
                     Scenario::read(path)?,
@@ -311,6 +330,13 @@ fn run(cli: Cli) -> Result<()> {
                 cf.friction,
                 cf.material.young_pa * 1e-9,
                 cf.material.poisson
+            );
+            if let Some((sim, vehicle)) = &scene.simulation {
+                return run_simulation(&scene, sim, vehicle, contact, speed, csv, json, sink.sink());
+            }
+            anyhow::ensure!(
+                contact.is_none() && speed.is_none() && csv.is_none() && json.is_none(),
+                "this scenario has no [simulation]: --contact, --speed, --csv and --json need one"
             );
             // The wheelset's contact preprocessing: 1-entry table of the real profiles, then the
             // KEC-equivalent profiles, recorded as `kecsim kec` does.
@@ -595,6 +621,93 @@ fn run(cli: Cli) -> Result<()> {
                 print!("{}{builds}", kecsim::bench::contact_table(&rows));
             }
         },
+    }
+    Ok(())
+}
+
+/// `kecsim run` of a scenario with a simulation: progress on stderr, summary on stdout, CSV and
+/// JSON on request, the recording always (also when the run stops early: everything recorded up
+/// to the diagnosis is kept, then the error is returned).
+#[allow(clippy::too_many_arguments)]
+fn run_simulation(
+    scene: &kecsim::scenario::Scene,
+    sim: &kecsim::dynamics::spec::SimulationSpec,
+    vehicle: &kecsim::dynamics::spec::VehicleSpec,
+    contact: Option<String>,
+    speed: Option<f64>,
+    csv: Option<PathBuf>,
+    json: Option<PathBuf>,
+    sink: Sink,
+) -> Result<()> {
+    use kecsim::dynamics::contact_model::ContactKind;
+    use std::io::Write;
+    let kind = match contact {
+        Some(c) => ContactKind::parse(&c).with_context(|| format!("unknown contact model {c}"))?,
+        None => sim.contact_model,
+    };
+    let v = speed.unwrap_or(sim.speed_m_s);
+    anyhow::ensure!(
+        v.is_finite() && (0.0..=200.0).contains(&v),
+        "--speed {v}: expected 0 ..= 200 m/s"
+    );
+    println!(
+        "simulating {:.3} s at {v} m/s (ramp {} m/s²), contact model {}, {} creep, {:?} rtol {:.0e}",
+        sim.duration_s,
+        sim.speed_ramp_m_s2,
+        kind.name(),
+        scene.contact_forces.model.name(),
+        sim.integrator.method,
+        sim.integrator.rtol
+    );
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let mut bar = |f: f64| {
+        if !tty {
+            return;
+        }
+        let n = (f * 40.0).round() as usize;
+        eprint!(
+            "\r[{}{}] {:5.1} %",
+            "#".repeat(n.min(40)),
+            " ".repeat(40 - n.min(40)),
+            f * 100.0
+        );
+        let _ = std::io::stderr().flush();
+    };
+    let out =
+        kecsim::dynamics::run::run(scene, sim, vehicle, kind, v, &mut bar).map_err(anyhow::Error::msg)?;
+    if tty {
+        eprintln!();
+    }
+    let s = &out.summary;
+    {
+        let rec = inspect::open_recording("kecsim", &sink, inspect::run::blueprint)?;
+        inspect::run::record(&rec, scene, &out.samples, s)?;
+    }
+    println!(
+        "simulated {:.3} s in {:.3} s wall: real-time factor {:.1} (preprocessing {:.2} s); {} steps ({} rejected), {} right-hand sides",
+        s.simulated_s, s.wall_s, s.realtime_factor, s.preprocessing_s, s.steps, s.rejected_steps, s.rhs_evaluations
+    );
+    println!(
+        "max |y| {:.3} mm, max |yaw| {:.3} mrad, normal forces {:.1} .. {:.1} kN, max |Y/Q| {:.3}",
+        s.max_abs_y_mm,
+        s.max_abs_yaw_mrad,
+        s.min_normal_n * 1e-3,
+        s.max_normal_n * 1e-3,
+        s.max_abs_y_over_q
+    );
+    if let Some(dir) = csv {
+        let path = kecsim::dynamics::run::write_csv(&dir, &out.samples)
+            .with_context(|| format!("cannot write CSV into {}", dir.display()))?;
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = json {
+        let text = serde_json::to_string_pretty(s)?;
+        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    println!("{}", describe(&sink));
+    if let Some(e) = &s.error {
+        anyhow::bail!("the run stopped at t = {:.4} s: {e}", s.simulated_s);
     }
     Ok(())
 }

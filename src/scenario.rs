@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::contact::forces::{ContactForceSettings, CreepModel, Material};
+use crate::dynamics::spec::{SimulationSpec, VehicleSpec};
 use crate::profile::placement::{Inclination, TrackGauge, WheelRailPair, WheelsetGeometry};
 use crate::profile::{Profile, ProfileKind};
 
@@ -36,6 +37,12 @@ pub struct Scenario {
     pub wheelset: WheelsetSpec,
     #[serde(default)]
     pub contact_forces: ContactForcesSpec,
+    /// What to simulate (absent: `kecsim run` does the contact preprocessing only).
+    #[serde(default)]
+    pub simulation: Option<SimulationSpec>,
+    /// The vehicle model of the simulation.
+    #[serde(default)]
+    pub vehicle: Option<VehicleSpec>,
     /// The text it was parsed from (validation reports lines of the track sections).
     #[serde(skip)]
     source: String,
@@ -149,6 +156,8 @@ pub struct Scene {
     pub pair: WheelRailPair,
     pub contact_forces: ContactForceSettings,
     pub track: Option<crate::track::Track>,
+    /// The simulation and its vehicle, when the scenario has both.
+    pub simulation: Option<(SimulationSpec, VehicleSpec)>,
 }
 
 impl Scenario {
@@ -229,6 +238,22 @@ impl Scenario {
                 None
             }
         };
+        let simulation = match (&self.simulation, &self.vehicle) {
+            (Some(sim), Some(veh)) => {
+                problems.extend(sim.problems());
+                problems.extend(veh.problems());
+                Some((sim.clone(), veh.clone()))
+            }
+            (None, None) => None,
+            (Some(_), None) => {
+                problems.push("[simulation] needs a [vehicle] table".to_string());
+                None
+            }
+            (None, Some(_)) => {
+                problems.push("[vehicle] needs a [simulation] table".to_string());
+                None
+            }
+        };
         let mut load = |spec: &str, kind: ProfileKind| {
             let resolved = resolve_path(spec, base);
             match Profile::resolve(&resolved, kind) {
@@ -281,6 +306,7 @@ impl Scenario {
             pair,
             contact_forces,
             track,
+            simulation,
         })
     }
 }

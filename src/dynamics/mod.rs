@@ -3,6 +3,7 @@
 
 pub mod contact_model;
 pub mod integrator;
+pub mod run;
 pub mod single_wheelset;
 pub mod spec;
 pub mod wheelset;

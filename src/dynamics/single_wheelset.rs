@@ -1,7 +1,10 @@
 //! Scene: one solid-axle wheelset elastically tied to a frame that moves along the track at the
 //! reference speed (the Klingel and critical-speed scenes, issue 7). The frame applies the axle
 //! load and holds the wheelset through longitudinal and lateral spring–dampers at the two axle
-//! boxes (lateral semi-spacing b): yaw stiffness 2 k_x b².
+//! boxes (lateral semi-spacing b): yaw stiffness 2 k_x b². The frame is the wheelset-track frame
+//! itself: on a track with curves and irregularities the wheelset follows the centreline through
+//! Eq. 3–4 (frame motion, gravity with cant) and its contact sees the rail irregularities at its
+//! arc length; without a track it runs on tangent, level, ideal track.
 //!
 //! State: [x, y, ψ, ẋ, ẏ, ψ̇, Ω] (see [`super::wheelset`]); z, φ from the contact model.
 
@@ -9,6 +12,7 @@ use super::contact_model::{ContactWarmStart, RailMotion, WheelsetContact, Wheels
 use super::integrator::OdeSystem;
 use super::wheelset::{evaluate, FrameMotion, Load, WheelsetDynamics, WheelsetInertia, WheelsetState};
 use crate::contact::forces::ContactForceSettings;
+use crate::track::Track;
 
 /// The tie between the wheelset and the moving frame, per axle box.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -48,6 +52,10 @@ pub struct SingleWheelset {
     pub contact: WheelsetContact,
     pub forces: ContactForceSettings,
     pub r0: f64,
+    /// The track (None: tangent, level, ideal).
+    pub track: Option<Track>,
+    /// Arc length of the reference at t = 0, m.
+    pub s0: f64,
     warm: ContactWarmStart,
     lambda: [f64; 2],
     last_y_ddot: f64,
@@ -62,6 +70,10 @@ pub struct WheelsetSample {
     pub kin: WheelsetKinematics,
     pub dynamics: WheelsetDynamics,
     pub speed: f64,
+    /// Arc length of the wheelset, m.
+    pub s: f64,
+    /// Rail irregularities at the wheelset [y_lir, z_lir, y_rir, z_rir], m.
+    pub rails: [f64; 4],
 }
 
 impl SingleWheelset {
@@ -83,8 +95,29 @@ impl SingleWheelset {
             contact,
             forces,
             r0,
+            track: None,
+            s0: 0.0,
             warm: ContactWarmStart::default(),
             lambda: [static_n, static_n],
+            last_y_ddot: 0.0,
+            contact_evaluations: 0,
+        }
+    }
+
+    /// A fresh copy of the model (its own warm starts) for evaluating outputs.
+    pub fn clone_for_output(&self) -> SingleWheelset {
+        SingleWheelset {
+            inertia: self.inertia,
+            tie: self.tie,
+            axle_load_n: self.axle_load_n,
+            speed: self.speed,
+            contact: self.contact.clone(),
+            forces: self.forces.clone(),
+            r0: self.r0,
+            track: self.track.clone(),
+            s0: self.s0,
+            warm: ContactWarmStart::default(),
+            lambda: self.lambda,
             last_y_ddot: 0.0,
             contact_evaluations: 0,
         }
@@ -110,15 +143,45 @@ impl SingleWheelset {
     /// Evaluates the model at (t, x).
     pub fn sample(&mut self, t: f64, x: &[f64]) -> Result<WheelsetSample, String> {
         let st = Self::unpack(x);
-        let rails = RailMotion::default();
+        let v = self.speed.at(t);
+        let v_dot = if v > 0.0 { self.speed.ramp_m_s2 } else { 0.0 };
+        let s = self.s0 + self.speed.distance(t) + st.x;
+        let (frame, rails) = match &self.track {
+            None => {
+                let mut f = FrameMotion::tangent(v);
+                f.accel[0] = v_dot;
+                (f, RailMotion::default())
+            }
+            Some(track) => {
+                let (tf, irr) = track.eval(s).map_err(|e| format!("track at s = {s:.3} m: {e}"))?;
+                let m = tf.motion(v, v_dot);
+                let g = tf.gravity(9.81);
+                let frame = FrameMotion {
+                    speed: v,
+                    accel: m.acceleration.into(),
+                    omega: m.angular_velocity.into(),
+                    alpha: m.angular_acceleration.into(),
+                    gravity: g.into(),
+                };
+                let o = irr.rail_offsets();
+                let (dt, dtt) = irr.time_derivatives(v, v_dot);
+                let to_rails = |c: [f64; 4]| {
+                    let r = crate::contact::RailOffsets::from_irregularities(c[0], c[1], c[2], c[3]);
+                    [r.y_left, r.z_left, r.y_right, r.z_right]
+                };
+                let rails = RailMotion {
+                    q: [o.y_left, o.z_left, o.y_right, o.z_right],
+                    q_dot: to_rails(dt),
+                    q_ddot: to_rails(dtt),
+                };
+                (frame, rails)
+            }
+        };
         let kin = self
             .contact
             .kinematics(st.y, st.y_dot, self.last_y_ddot, &rails, &mut self.warm)
             .map_err(|e| format!("contact model at y = {:.4} mm: {e}", st.y * 1e3))?;
         self.contact_evaluations += 1;
-        let v = self.speed.at(t);
-        let mut frame = FrameMotion::tangent(v);
-        frame.accel[0] = if v > 0.0 { self.speed.ramp_m_s2 } else { 0.0 };
         let tie = &self.tie;
         let mut load = Load {
             force: [0.0, 0.0, -self.axle_load_n],
@@ -144,6 +207,8 @@ impl SingleWheelset {
             kin,
             dynamics,
             speed: v,
+            s,
+            rails: rails.q,
         })
     }
 }

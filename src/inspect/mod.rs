@@ -20,6 +20,7 @@ pub mod creep;
 pub mod kec;
 pub mod profiles;
 pub mod readback;
+pub mod run;
 pub mod track;
 
 use std::path::PathBuf;
@@ -128,6 +129,28 @@ pub(crate) fn send_scalar_columns(
     names: &[&str],
     colors: Vec<Color>,
 ) -> Result<(), InspectError> {
+    send_scalar_rows(
+        rec,
+        vec![TimeColumn::new_sequence(timeline, ticks.iter().copied())],
+        ticks.len(),
+        entity,
+        values,
+        names,
+        colors,
+    )
+}
+
+/// Scalar series on any timelines (each of `rows` entries), sent as columns: `values` holds
+/// `names.len()` values per row.
+pub(crate) fn send_scalar_rows(
+    rec: &RecordingStream,
+    timelines: Vec<TimeColumn>,
+    rows: usize,
+    entity: &str,
+    values: Vec<f64>,
+    names: &[&str],
+    colors: Vec<Color>,
+) -> Result<(), InspectError> {
     let per_row = names.len();
     log_static(
         rec,
@@ -141,12 +164,7 @@ pub(crate) fn send_scalar_columns(
         source,
     };
     let columns = Scalars::new(values)
-        .columns(std::iter::repeat_n(per_row, ticks.len()))
+        .columns(std::iter::repeat_n(per_row, rows))
         .map_err(|e| log_err(e.into()))?;
-    rec.send_columns(
-        entity,
-        [TimeColumn::new_sequence(timeline, ticks.iter().copied())],
-        columns,
-    )
-    .map_err(log_err)
+    rec.send_columns(entity, timelines, columns).map_err(log_err)
 }

@@ -1,0 +1,319 @@
+//! Running a scene: build the contact model, the system and the integrator from the scenario,
+//! integrate with fixed-rate output, and summarise (what `kecsim run` prints and writes).
+//!
+//! A run that fails part-way (a wheel lifts, the step size collapses, the contact model fails)
+//! returns what it recorded up to the failure together with the diagnosis, so that nothing is lost.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::contact_model::{ContactKind, WheelsetContact};
+use super::integrator::{integrate, Settings, Stats};
+use super::single_wheelset::{SingleWheelset, SpeedProfile, Tie};
+use super::spec::{SimulationSpec, VehicleSpec};
+use super::wheelset::WheelsetInertia;
+use crate::contact::geometry::ContactGeometry;
+use crate::contact::kec::KecModel;
+use crate::contact::lookup::{LookupTable1, TableSettings};
+use crate::scenario::Scene;
+
+/// One output sample of one wheelset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    pub t: f64,
+    /// Arc length of the wheelset, m.
+    pub s: f64,
+    pub speed: f64,
+    pub y: f64,
+    pub yaw: f64,
+    /// Centre height minus r0, m.
+    pub z: f64,
+    pub roll: f64,
+    /// Normal forces left, right, N.
+    pub normal: [f64; 2],
+    /// Creep forces (contact frame) left, right: Fx, Fy, N.
+    pub creep_x: [f64; 2],
+    pub creep_y: [f64; 2],
+    /// Lateral (Y) and vertical (Q) wheel–rail force on each wheel, track frame, N.
+    pub y_force: [f64; 2],
+    pub q_force: [f64; 2],
+    /// Contact on the real wheel and rail (paper convention), m.
+    pub s_wheel: [f64; 2],
+    pub s_rail: [f64; 2],
+    /// Contact positions (Y, Z) in the wheelset-track frame, m.
+    pub position: [(f64, f64); 2],
+    /// KEC: knife-edge contact parameters, m.
+    pub s_knife: Option<[f64; 2]>,
+    pub rails: [f64; 4],
+}
+
+/// The run summary (`--json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct RunSummary {
+    pub scene: String,
+    pub contact_model: String,
+    pub creep_model: String,
+    pub integrator: String,
+    pub simulated_s: f64,
+    pub wall_s: f64,
+    /// Simulated time over wall time.
+    pub realtime_factor: f64,
+    pub steps: usize,
+    pub rejected_steps: usize,
+    pub rhs_evaluations: usize,
+    pub preprocessing_s: f64,
+    pub max_abs_y_mm: f64,
+    pub max_abs_yaw_mrad: f64,
+    pub max_normal_n: f64,
+    pub min_normal_n: f64,
+    pub max_abs_y_over_q: f64,
+    /// Why the run stopped early, if it did.
+    pub error: Option<String>,
+}
+
+/// A finished (or stopped) run.
+pub struct RunOutput {
+    pub samples: Vec<Sample>,
+    pub summary: RunSummary,
+}
+
+/// Builds the contact model of `kind` for the scene's wheel/rail pair.
+pub fn build_contact(scene: &Scene, kind: ContactKind) -> Result<WheelsetContact, String> {
+    let pair = scene.pair.clone();
+    let geometry = ContactGeometry::with_defaults(pair.clone());
+    Ok(match kind {
+        ContactKind::Online => WheelsetContact::Online {
+            geometry: Box::new(geometry),
+        },
+        ContactKind::Lookup | ContactKind::Kec => {
+            let table =
+                LookupTable1::build(&geometry, &TableSettings::default()).map_err(|e| e.to_string())?;
+            if kind == ContactKind::Lookup {
+                WheelsetContact::Lookup {
+                    table: Box::new(table),
+                }
+            } else {
+                let model = KecModel::from_table(&table, pair.wheelset.l_w()).map_err(|e| e.to_string())?;
+                WheelsetContact::Kec {
+                    model: Box::new(model),
+                    pair: Box::new(pair),
+                }
+            }
+        }
+    })
+}
+
+/// Runs the scene's simulation with `contact` and initial speed `speed` (m/s); `progress` is
+/// called with the simulated fraction done.
+pub fn run(
+    scene: &Scene,
+    sim: &SimulationSpec,
+    vehicle: &VehicleSpec,
+    contact: ContactKind,
+    speed: f64,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunOutput, String> {
+    let t_pre = Instant::now();
+    let model = build_contact(scene, contact)?;
+    let preprocessing_s = t_pre.elapsed().as_secs_f64();
+    let r0 = scene.pair.wheelset.nominal_radius_m;
+    let VehicleSpec::WheelsetOnFrame(w) = vehicle;
+    let mut sys = SingleWheelset::new(
+        WheelsetInertia {
+            mass_kg: w.wheelset.mass_kg,
+            inertia_kg_m2: w.wheelset.inertia_kg_m2,
+        },
+        Tie {
+            longitudinal_stiffness_n_per_m: w.tie.longitudinal_stiffness_n_per_m,
+            lateral_stiffness_n_per_m: w.tie.lateral_stiffness_n_per_m,
+            longitudinal_damping_n_s_per_m: w.tie.longitudinal_damping_n_s_per_m,
+            lateral_damping_n_s_per_m: w.tie.lateral_damping_n_s_per_m,
+            half_spacing_m: w.tie.half_spacing_m,
+        },
+        w.axle_load_n,
+        SpeedProfile {
+            initial_m_s: speed,
+            ramp_m_s2: sim.speed_ramp_m_s2,
+        },
+        model,
+        scene.contact_forces.clone(),
+        r0,
+    );
+    sys.track = scene.track.clone();
+    if let Some(track) = &scene.track {
+        sys.s0 = track.centreline.range().0;
+    }
+    let x0 = sys.initial_state(sim.initial.lateral_m, sim.initial.yaw_rad);
+    let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
+    let dt_out = 1.0 / sim.record_rate_hz;
+    let mut samples: Vec<Sample> = Vec::new();
+    let duration = sim.duration_s;
+    // The observer re-evaluates the model at the output state for the forces (a second instance,
+    // so that the integrator's warm starts are untouched).
+    let mut observer_sys = sys.clone_for_output();
+    let t_run = Instant::now();
+    let mut last_progress = 0.0;
+    let result = integrate(&mut sys, 0.0, &x0, duration, dt_out, &settings, &mut |t, x| {
+        let s = observer_sys.sample(t, x)?;
+        samples.push(to_sample(t, &s, r0));
+        if t - last_progress >= 0.01 * duration {
+            progress(t / duration);
+            last_progress = t;
+        }
+        Ok(())
+    });
+    let wall_s = t_run.elapsed().as_secs_f64();
+    let (stats, error) = match result {
+        Ok(st) => (st, None),
+        Err(e) => (Stats::default(), Some(e.to_string())),
+    };
+    let simulated_s = samples.last().map_or(0.0, |s| s.t);
+    let summary = summarise(
+        scene,
+        sim,
+        contact,
+        &samples,
+        simulated_s,
+        wall_s,
+        preprocessing_s,
+        &stats,
+        error,
+    );
+    Ok(RunOutput { samples, summary })
+}
+
+fn to_sample(t: f64, s: &super::single_wheelset::WheelsetSample, r0: f64) -> Sample {
+    let d = &s.dynamics;
+    let mut y_force = [0.0; 2];
+    let mut q_force = [0.0; 2];
+    for i in 0..2 {
+        let n = s.kin.contacts[i].normal;
+        // Normal force along the rail normal plus the creep force's lateral/vertical components
+        // (the contact frame's t₂ lies in the cross-section: (0, n_z, −n_y) up to the yaw).
+        let (ny, nz) = n;
+        y_force[i] = d.normal[i] * ny + d.creep[i].fy * nz;
+        q_force[i] = d.normal[i] * nz - d.creep[i].fy * ny;
+    }
+    Sample {
+        t,
+        s: s.s,
+        speed: s.speed,
+        y: s.state.y,
+        yaw: s.state.psi,
+        z: s.kin.z - r0,
+        roll: s.kin.phi,
+        normal: d.normal,
+        creep_x: [d.creep[0].fx, d.creep[1].fx],
+        creep_y: [d.creep[0].fy, d.creep[1].fy],
+        y_force,
+        q_force,
+        s_wheel: [s.kin.contacts[0].s_wheel, s.kin.contacts[1].s_wheel],
+        s_rail: [s.kin.contacts[0].s_rail, s.kin.contacts[1].s_rail],
+        position: [s.kin.contacts[0].position, s.kin.contacts[1].position],
+        s_knife: s.kin.s_knife,
+        rails: s.rails,
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn summarise(
+    scene: &Scene,
+    sim: &SimulationSpec,
+    contact: ContactKind,
+    samples: &[Sample],
+    simulated_s: f64,
+    wall_s: f64,
+    preprocessing_s: f64,
+    stats: &Stats,
+    error: Option<String>,
+) -> RunSummary {
+    let fold = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(f).fold(0.0_f64, f64::max);
+    RunSummary {
+        scene: scene.name.clone(),
+        contact_model: contact.name().to_string(),
+        creep_model: scene.contact_forces.model.name().to_string(),
+        integrator: format!("{:?}", sim.integrator.method).to_lowercase(),
+        simulated_s,
+        wall_s,
+        realtime_factor: if wall_s > 0.0 { simulated_s / wall_s } else { 0.0 },
+        steps: stats.accepted,
+        rejected_steps: stats.rejected,
+        rhs_evaluations: stats.rhs_evaluations,
+        preprocessing_s,
+        max_abs_y_mm: fold(&|s| s.y.abs() * 1e3),
+        max_abs_yaw_mrad: fold(&|s| s.yaw.abs() * 1e3),
+        max_normal_n: fold(&|s| s.normal[0].max(s.normal[1])),
+        min_normal_n: samples
+            .iter()
+            .map(|s| s.normal[0].min(s.normal[1]))
+            .fold(f64::INFINITY, f64::min),
+        max_abs_y_over_q: fold(&|s| {
+            (s.y_force[0] / s.q_force[0])
+                .abs()
+                .max((s.y_force[1] / s.q_force[1]).abs())
+        }),
+        error,
+    }
+}
+
+/// Writes one CSV per wheelset into `dir` (`wheelset_1.csv`): `t_s, s_m, speed_m_s, y_mm,
+/// yaw_mrad, z_mm, roll_mrad, n_left_n, n_right_n, fx_left_n, fy_left_n, fx_right_n, fy_right_n,
+/// y_left_n, q_left_n, y_right_n, q_right_n, s_wheel_left_mm, s_rail_left_mm, s_wheel_right_mm,
+/// s_rail_right_mm`.
+pub fn write_csv(dir: &std::path::Path, samples: &[Sample]) -> Result<std::path::PathBuf, csv::Error> {
+    std::fs::create_dir_all(dir)?;
+    let path = dir.join("wheelset_1.csv");
+    let mut w = csv::Writer::from_path(&path)?;
+    w.write_record([
+        "t_s",
+        "s_m",
+        "speed_m_s",
+        "y_mm",
+        "yaw_mrad",
+        "z_mm",
+        "roll_mrad",
+        "n_left_n",
+        "n_right_n",
+        "fx_left_n",
+        "fy_left_n",
+        "fx_right_n",
+        "fy_right_n",
+        "y_left_n",
+        "q_left_n",
+        "y_right_n",
+        "q_right_n",
+        "s_wheel_left_mm",
+        "s_rail_left_mm",
+        "s_wheel_right_mm",
+        "s_rail_right_mm",
+    ])?;
+    for s in samples {
+        let v = [
+            s.t,
+            s.s,
+            s.speed,
+            s.y * 1e3,
+            s.yaw * 1e3,
+            s.z * 1e3,
+            s.roll * 1e3,
+            s.normal[0],
+            s.normal[1],
+            s.creep_x[0],
+            s.creep_y[0],
+            s.creep_x[1],
+            s.creep_y[1],
+            s.y_force[0],
+            s.q_force[0],
+            s.y_force[1],
+            s.q_force[1],
+            s.s_wheel[0] * 1e3,
+            s.s_rail[0] * 1e3,
+            s.s_wheel[1] * 1e3,
+            s.s_rail[1] * 1e3,
+        ];
+        w.write_record(v.iter().map(|x| format!("{x:.9e}")))?;
+    }
+    w.flush()?;
+    Ok(path)
+}
