@@ -695,6 +695,12 @@ fn run_simulation(
         s.max_normal_n * 1e-3,
         s.max_abs_y_over_q
     );
+    if let Some(v) = s.critical_speed_m_s {
+        println!("hunting onset on the speed ramp (critical speed): {v:.2} m/s ({:.0} km/h)", v * 3.6);
+    }
+    if let Some(note) = &s.stopped {
+        println!("stopped: {note}");
+    }
     if let Some(dir) = csv {
         let path = kecsim::dynamics::run::write_csv(&dir, &out.samples)
             .with_context(|| format!("cannot write CSV into {}", dir.display()))?;

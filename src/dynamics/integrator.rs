@@ -197,6 +197,23 @@ pub fn integrate(
     settings: &Settings,
     output: &mut Observer<'_>,
 ) -> Result<Stats, IntegrationError> {
+    let mut stats = Stats::default();
+    integrate_into(sys, t0, x0, t_end, dt_out, settings, output, &mut stats)?;
+    Ok(stats)
+}
+
+/// [`integrate`], keeping the work done in `stats` also when it fails.
+#[allow(clippy::too_many_arguments)]
+pub fn integrate_into(
+    sys: &mut dyn OdeSystem,
+    t0: f64,
+    x0: &[f64],
+    t_end: f64,
+    dt_out: f64,
+    settings: &Settings,
+    output: &mut Observer<'_>,
+    stats: &mut Stats,
+) -> Result<(), IntegrationError> {
     let n = sys.dim();
     if x0.len() != n {
         return Err(IntegrationError::Settings(format!(
@@ -210,7 +227,7 @@ pub fn integrate(
             settings.rtol, settings.atol
         )));
     }
-    let mut stats = Stats {
+    *stats = Stats {
         smallest_step: f64::INFINITY,
         ..Stats::default()
     };
@@ -252,7 +269,7 @@ pub fn integrate(
         if last {
             h = t_end - t;
         }
-        let attempt = stepper.step(sys, t, &x, &f0, h, settings, &mut x1, &mut f1, &mut stats);
+        let attempt = stepper.step(sys, t, &x, &f0, h, settings, &mut x1, &mut f1, stats);
         let err = match attempt {
             Ok(e) if e.is_finite() && all_finite(&x1) && all_finite(&f1) => e,
             Ok(_) => f64::INFINITY,
@@ -314,7 +331,7 @@ pub fn integrate(
     if stats.accepted == 0 {
         stats.smallest_step = 0.0;
     }
-    Ok(stats)
+    Ok(())
 }
 
 fn all_finite(v: &[f64]) -> bool {

@@ -9,7 +9,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::contact_model::{ContactKind, WheelsetContact};
-use super::integrator::{integrate, Settings, Stats};
+use super::integrator::{integrate_into, IntegrationError, Settings, Stats};
 use super::single_wheelset::{SingleWheelset, SpeedProfile, Tie};
 use super::spec::{SimulationSpec, VehicleSpec};
 use super::wheelset::WheelsetInertia;
@@ -70,6 +70,41 @@ pub struct RunSummary {
     pub max_abs_y_over_q: f64,
     /// Why the run stopped early, if it did.
     pub error: Option<String>,
+    /// A stop condition that ended the run normally (`stop_lateral_m`).
+    pub stopped: Option<String>,
+    /// With a speed ramp: the speed at which the lateral oscillation stopped decaying and started
+    /// to grow (hunting onset), m/s — see [`hunting_onset`].
+    pub critical_speed_m_s: Option<f64>,
+}
+
+/// Marker of the stop condition in the observer's error.
+const STOP: &str = "stop condition: ";
+
+/// Hunting onset on a speed ramp: the peaks of |y| between successive zero crossings form the
+/// envelope; where it is smallest the oscillation turned from decaying to growing, i.e. the
+/// damping of the hunting mode crossed zero. Returns the speed there, if the envelope afterwards
+/// grew to at least `growth` times its minimum (else the ramp never reached the critical speed).
+pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
+    let mut peaks: Vec<(f64, f64)> = Vec::new(); // (|y| peak, speed there)
+    let mut cur = (0.0_f64, 0.0_f64);
+    for w in samples.windows(2) {
+        if w[1].y.abs() > cur.0 {
+            cur = (w[1].y.abs(), w[1].speed);
+        }
+        if w[0].y.signum() != w[1].y.signum() && w[1].y != 0.0 {
+            if cur.0 > 0.0 {
+                peaks.push(cur);
+            }
+            cur = (0.0, 0.0);
+        }
+    }
+    if peaks.len() < 4 {
+        return None;
+    }
+    // Skip the first peak (the release transient).
+    let (imin, min) = peaks.iter().enumerate().skip(1).min_by(|a, b| a.1 .0.total_cmp(&b.1 .0))?;
+    let later = peaks[imin..].iter().map(|p| p.0).fold(0.0, f64::max);
+    (later >= growth * min.0).then_some(min.1)
 }
 
 /// A finished (or stopped) run.
@@ -154,22 +189,37 @@ pub fn run(
     let mut observer_sys = sys.clone_for_output();
     let t_run = Instant::now();
     let mut last_progress = 0.0;
-    let result = integrate(&mut sys, 0.0, &x0, duration, dt_out, &settings, &mut |t, x| {
+    let stop = sim.stop_lateral_m;
+    let mut stats = Stats::default();
+    let result = integrate_into(&mut sys, 0.0, &x0, duration, dt_out, &settings, &mut |t, x| {
         let s = observer_sys.sample(t, x)?;
         samples.push(to_sample(t, &s, r0));
+        if let Some(limit) = stop {
+            if s.state.y.abs() > limit {
+                return Err(format!(
+                    "{STOP}|y| = {:.3} mm exceeded {:.3} mm at t = {t:.3} s, V = {:.2} m/s",
+                    s.state.y.abs() * 1e3,
+                    limit * 1e3,
+                    s.speed
+                ));
+            }
+        }
         if t - last_progress >= 0.01 * duration {
             progress(t / duration);
             last_progress = t;
         }
         Ok(())
-    });
+    }, &mut stats);
     let wall_s = t_run.elapsed().as_secs_f64();
-    let (stats, error) = match result {
-        Ok(st) => (st, None),
-        Err(e) => (Stats::default(), Some(e.to_string())),
+    let (error, stopped) = match result {
+        Ok(()) => (None, None),
+        Err(IntegrationError::Model { message, .. }) if message.contains(STOP) => {
+            (None, Some(message.split(STOP).nth(1).unwrap_or_default().to_string()))
+        }
+        Err(e) => (Some(e.to_string()), None),
     };
     let simulated_s = samples.last().map_or(0.0, |s| s.t);
-    let summary = summarise(
+    let mut summary = summarise(
         scene,
         sim,
         contact,
@@ -180,6 +230,10 @@ pub fn run(
         &stats,
         error,
     );
+    summary.stopped = stopped;
+    if sim.speed_ramp_m_s2 != 0.0 {
+        summary.critical_speed_m_s = hunting_onset(&samples, 2.0);
+    }
     Ok(RunOutput { samples, summary })
 }
 
@@ -254,6 +308,8 @@ fn summarise(
                 .max((s.y_force[1] / s.q_force[1]).abs())
         }),
         error,
+        stopped: None,
+        critical_speed_m_s: None,
     }
 }
 

@@ -26,6 +26,10 @@ pub struct SimulationSpec {
     pub integrator: IntegratorSpec,
     #[serde(default)]
     pub initial: InitialSpec,
+    /// End the run (normally, with a note) when a wheelset's |y| exceeds this, m — e.g. to stop a
+    /// speed ramp once hunting has set in, before flange contact.
+    #[serde(default)]
+    pub stop_lateral_m: Option<f64>,
 }
 
 fn default_rate() -> f64 {
@@ -132,6 +136,9 @@ impl SimulationSpec {
         check("integrator.atol", self.integrator.atol, 1e-16, 1e-1);
         check("initial.lateral_m", self.initial.lateral_m, -0.02, 0.02);
         check("initial.yaw_rad", self.initial.yaw_rad, -0.05, 0.05);
+        if let Some(v) = self.stop_lateral_m {
+            check("stop_lateral_m", v, 1e-5, 0.05);
+        }
         p
     }
 }

@@ -9,10 +9,10 @@
 //! Unknowns: ẍ, ÿ, z̈, φ̈, ψ̈, Ω̇ and the normal-force multipliers λ_l, λ_r. Rows:
 //!
 //! ```text
-//! m (r̈ + a_t + 2 ω_t × ṙ)           = F + m g_t + Σ λ_i n_i                 (3 rows)
-//! I_x (φ̈ + α_tx) − I_y Ω (ψ̇ + ω_tz) = M_x + Σ λ_i (u_i × n_i)_x
-//! I_y Ω̇                              = M_y + Σ λ_i (u_i × n_i)_y
-//! I_z (ψ̈ + α_tz) + I_y Ω (φ̇ + ω_tx) = M_z + Σ λ_i (u_i × n_i)_z
+//! m (r̈ + a_t + 2 ω_t × ṙ)                      = F + m g_t + Σ λ_i n_i                 (3 rows)
+//! I_x (φ̈ + α_tx) − ψ I_y Ω̇ − I_y Ω (ψ̇ + ω_tz) = M_x + Σ λ_i (u_i × n_i)_x
+//! I_y Ω̇                                         = a · (M + Σ λ_i u_i × n_i)   (about the axle)
+//! I_z (ψ̈ + α_tz) + φ I_y Ω̇ + I_y Ω (φ̇ + ω_tx) = M_z + Σ λ_i (u_i × n_i)_z
 //! z̈ − Z_y ÿ = c_z,   φ̈ − Φ_y ÿ = c_φ                                         (constraints)
 //! ```
 //!
@@ -150,8 +150,16 @@ pub fn evaluate(
     let mut normal = [Vector3::zeros(); 2];
     let mut frames = [None; 2];
     for (i, c) in kin.contacts.iter().enumerate() {
-        let lat = c.position.0 - state.y;
-        let p = Vector3::new(state.x - state.psi * lat, c.position.0, c.position.1);
+        // Longitudinal position on the yawed wheel: the wheel is a surface of revolution about
+        // the axle a, and the point where its normal equals the rail's normal n (n_x = 0) lies
+        // where n · (a × u) = 0 (n in the wheel's meridian plane): with u = (u_x, u_Y, u_Z),
+        // u_x = ψ (n_Z u_Y − n_Y u_Z) / (n_Y φ − n_Z) ≈ −ψ (u_Y + r n_Y / n_Z) — the yaw-induced
+        // contact shift. Without it the rolling wheel's normal force would do work of order
+        // λ Ω r ψ n_Y (see the energy test).
+        let (u_y, u_z) = (c.position.0 - state.y, c.position.1 - kin.z);
+        let (n_y, n_z) = c.normal;
+        let u_x = state.psi * (n_z * u_y - n_y * u_z) / (n_y * kin.phi - n_z);
+        let p = Vector3::new(state.x + u_x, c.position.0, c.position.1);
         arm[i] = p - centre;
         normal[i] = Vector3::new(0.0, c.normal.0, c.normal.1);
         let side = if i == 0 { "left" } else { "right" };
@@ -181,12 +189,14 @@ pub fn evaluate(
     let g = Vector3::from(frame.gravity);
     let a_t = Vector3::from(frame.accel);
     let f_known = Vector3::from(load.force) + m * g - m * (a_t + 2.0 * w_t.cross(&r_dot));
-    let m_known = Vector3::from(load.moment)
-        + Vector3::new(
-            -ix * frame.alpha[0] + iy * state.omega * (state.psi_dot + frame.omega[2]),
-            0.0,
-            -iz * frame.alpha[2] - iy * state.omega * (kin.phi_dot + frame.omega[0]),
-        );
+    // Frame and gyroscopic terms of the roll and yaw rows.
+    let gyro_x = -ix * frame.alpha[0] + iy * state.omega * (state.psi_dot + frame.omega[2]);
+    let gyro_z = -iz * frame.alpha[2] - iy * state.omega * (kin.phi_dot + frame.omega[0]);
+    // Applied loads reach the wheelset through its axle-box bearings, which transmit no moment
+    // about the axle: remove that component (else e.g. a yaw spring's moment would spin the
+    // wheels through the roll angle, φ M_z).
+    let m_load = Vector3::from(load.moment);
+    let m_known = m_load - axle * axle.dot(&m_load);
     let mut lambda = lambda_guess;
     let mut result = WheelsetDynamics::default();
     let mut prev_lambda = lambda;
@@ -235,13 +245,18 @@ pub fn evaluate(
             a[(k, k)] = m;
             b[k] = f[k];
         }
-        // Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → y (Ω̇).
+        // Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → about the axle a (Ω̇). With
+        // H = I_x φ̇ x + I_y Ω a + I_z ψ̇ z and ȧ = (−ψ̇, 0, φ̇): the x and z rows carry I_y Ω̇ a_x,
+        // I_y Ω̇ a_z; the spin row is the moment about the axle, a · M (not M_y: a normal force
+        // at a yawed wheel's contact has a large M_x whose axle component −ψ M_x cancels M_y).
         a[(3, 3)] = ix;
+        a[(3, 5)] = iy * axle.x;
         a[(4, 4)] = iz;
+        a[(4, 5)] = iy * axle.z;
         a[(5, 5)] = iy;
-        b[3] = mo.x;
-        b[4] = mo.z;
-        b[5] = mo.y;
+        b[3] = mo.x + gyro_x;
+        b[4] = mo.z + gyro_z;
+        b[5] = axle.dot(&mo);
         for i in 0..2 {
             let t = arm[i].cross(&normal[i]);
             for k in 0..3 {
@@ -249,7 +264,7 @@ pub fn evaluate(
             }
             a[(3, 6 + i)] = -t.x;
             a[(4, 6 + i)] = -t.z;
-            a[(5, 6 + i)] = -t.y;
+            a[(5, 6 + i)] = -axle.dot(&t);
         }
         // Constraints.
         a[(6, 2)] = 1.0;

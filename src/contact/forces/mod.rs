@@ -318,8 +318,8 @@ impl ContactForceSettings {
     /// Validated settings; every problem is listed.
     pub fn new(model: CreepModel, friction: f64, material: Material) -> Result<Self, Vec<String>> {
         let mut p = model.problems();
-        if !(friction.is_finite() && friction > 0.0 && friction <= 1.5) {
-            p.push(format!("friction = {friction}: expected (0, 1.5]"));
+        if !(friction.is_finite() && (0.0..=1.5).contains(&friction)) {
+            p.push(format!("friction = {friction}: expected 0 ..= 1.5 (0: no creep forces)"));
         }
         if !(material.young_pa.is_finite() && material.young_pa > 1e9) {
             p.push(format!(
