@@ -221,6 +221,23 @@ pub fn contact(n: usize) -> Result<(Vec<ContactBenchRow>, String), crate::contac
         acc_warm.add(&warm[k], &geom.solve(y, &RailOffsets::default())?.x());
     }
     rows.push(acc_warm.row("online solve, warm (Newton from last step)", warm_us));
+    // Online, tracked: warm Newton plus the interpenetration check that keeps it on the contact.
+    let mut prev = geom.solve(0.0, &RailOffsets::default())?;
+    let t = Instant::now();
+    let mut tracked = Vec::with_capacity(n);
+    for &y in &path {
+        prev = geom.solve_tracked(y, &RailOffsets::default(), &prev)?;
+        tracked.push(prev.x());
+    }
+    let tracked_us = t.elapsed().as_secs_f64() * 1e6 / n as f64;
+    let mut acc_tracked = ErrorAcc::default();
+    for (k, &y) in path.iter().enumerate().step_by((n / 200).max(1)) {
+        acc_tracked.add(&tracked[k], &geom.solve(y, &RailOffsets::default())?.x());
+    }
+    rows.push(acc_tracked.row(
+        "online solve, tracked (warm + interpenetration check)",
+        tracked_us,
+    ));
     // 1-entry look-up.
     let t = Instant::now();
     let mut acc = 0.0;

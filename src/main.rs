@@ -696,7 +696,10 @@ fn run_simulation(
         s.max_abs_y_over_q
     );
     if let Some(v) = s.critical_speed_m_s {
-        println!("hunting onset on the speed ramp (critical speed): {v:.2} m/s ({:.0} km/h)", v * 3.6);
+        println!(
+            "hunting onset on the speed ramp (critical speed): {v:.2} m/s ({:.0} km/h)",
+            v * 3.6
+        );
     }
     if let Some(note) = &s.stopped {
         println!("stopped: {note}");

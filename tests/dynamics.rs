@@ -21,8 +21,13 @@ use kecsim::dynamics::wheelset::WheelsetInertia;
 use kecsim::scenario::{Scenario, Scene};
 
 fn scene(file: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes").join(file);
-    Scenario::read(&path).unwrap().compile(&path.display().to_string(), path.parent().unwrap()).unwrap()
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(file);
+    Scenario::read(&path)
+        .unwrap()
+        .compile(&path.display().to_string(), path.parent().unwrap())
+        .unwrap()
 }
 
 fn simulate(scene: &Scene, edit: impl Fn(&mut SimulationSpec), contact: ContactKind) -> RunOutput {
@@ -65,7 +70,11 @@ fn klingel_wavelength_matches_equivalent_conicity() {
         let ymin = inside.iter().map(|p| p.y).fold(f64::MAX, f64::min);
         let amplitude = 0.5 * (ymax - ymin);
         // e: half the lateral distance between the contact points, averaged over the cycle.
-        let e = inside.iter().map(|p| 0.5 * (p.position[0].0 - p.position[1].0)).sum::<f64>() / inside.len() as f64;
+        let e = inside
+            .iter()
+            .map(|p| 0.5 * (p.position[0].0 - p.position[1].0))
+            .sum::<f64>()
+            / inside.len() as f64;
         let lam = conicity(&table, &[amplitude])[0].annex_b.clone().unwrap();
         let klingel = 2.0 * std::f64::consts::PI * (r0 * e / lam).sqrt();
         let measured = (t1 - t0) * v;
@@ -87,7 +96,8 @@ fn klingel_wavelength_matches_equivalent_conicity() {
 #[test]
 fn energy_is_conserved_without_creep() {
     let sc = scene("wheelset_klingel.toml");
-    let forces = ContactForceSettings::new(CreepModel::by_name("polach").unwrap(), 0.0, Material::STEEL).unwrap();
+    let forces =
+        ContactForceSettings::new(CreepModel::by_name("polach").unwrap(), 0.0, Material::STEEL).unwrap();
     let tie = Tie {
         longitudinal_stiffness_n_per_m: 2e5,
         lateral_stiffness_n_per_m: 3e5,
@@ -95,7 +105,10 @@ fn energy_is_conserved_without_creep() {
         lateral_damping_n_s_per_m: 0.0,
         half_spacing_m: 1.0,
     };
-    let inertia = WheelsetInertia { mass_kg: 1813.0, inertia_kg_m2: [1120.0, 112.0, 1120.0] };
+    let inertia = WheelsetInertia {
+        mass_kg: 1813.0,
+        inertia_kg_m2: [1120.0, 112.0, 1120.0],
+    };
     let load = 100e3;
     let r0 = sc.pair.wheelset.nominal_radius_m;
     for kind in [ContactKind::Kec, ContactKind::Lookup] {
@@ -103,7 +116,10 @@ fn energy_is_conserved_without_creep() {
             inertia,
             tie,
             load,
-            SpeedProfile { initial_m_s: 10.0, ramp_m_s2: 0.0 },
+            SpeedProfile {
+                initial_m_s: 10.0,
+                ramp_m_s2: 0.0,
+            },
             build_contact(&sc, kind).unwrap(),
             forces.clone(),
             r0,
@@ -146,5 +162,262 @@ fn energy_is_conserved_without_creep() {
         );
         assert!(drift < 1e-4 * kinetic_max, "{}: drift {drift} J", kind.name());
         assert!(swing < 5e-3 * kinetic_max, "{}: swing {swing} J", kind.name());
+    }
+}
+
+/// KEC, the lookup table and the online constraints on the same scene: lateral displacement and
+/// yaw agree to a small fraction of the motion (the paper saw < 1 mm and < 0.5 mrad on its
+/// vehicle; here one wheelset, 4 s of the Klingel scene).
+#[test]
+fn contact_models_agree() {
+    let sc = scene("wheelset_klingel.toml");
+    let short = |s: &mut SimulationSpec| s.duration_s = 4.0;
+    let kec = simulate(&sc, short, ContactKind::Kec);
+    for kind in [ContactKind::Lookup, ContactKind::Online] {
+        let other = simulate(&sc, short, kind);
+        assert_eq!(other.samples.len(), kec.samples.len());
+        let dy = kec
+            .samples
+            .iter()
+            .zip(&other.samples)
+            .map(|(a, b)| (a.y - b.y).abs())
+            .fold(0.0, f64::max);
+        let dpsi = kec
+            .samples
+            .iter()
+            .zip(&other.samples)
+            .map(|(a, b)| (a.yaw - b.yaw).abs())
+            .fold(0.0, f64::max);
+        let dn = kec
+            .samples
+            .iter()
+            .zip(&other.samples)
+            .map(|(a, b)| (a.normal[0] - b.normal[0]).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "KEC vs {}: max |Δy| {:.4} mm, max |Δψ| {:.4} mrad, max |ΔN_left| {:.1} N; real-time factors {:.1} (KEC) and {:.1}",
+            kind.name(),
+            dy * 1e3,
+            dpsi * 1e3,
+            dn,
+            kec.summary.realtime_factor,
+            other.summary.realtime_factor
+        );
+        assert!(
+            dy < 0.05e-3 && dpsi < 0.05e-3,
+            "{}: Δy {dy}, Δψ {dpsi}",
+            kind.name()
+        );
+    }
+}
+
+/// Halving the tolerance changes the result by what the method's order says: the differences
+/// between successive tolerances (10⁻⁵, 10⁻⁶, 10⁻⁷) shrink, by roughly the tolerance ratio.
+#[test]
+fn integrator_convergence_on_the_scene() {
+    let sc = scene("wheelset_klingel.toml");
+    for method in [Method::Ros3, Method::Dopri5] {
+        let runs: Vec<RunOutput> = [1e-5, 1e-6, 1e-7]
+            .iter()
+            .map(|&tol| {
+                simulate(
+                    &sc,
+                    |s| {
+                        s.duration_s = 3.0;
+                        s.integrator.method = method;
+                        s.integrator.rtol = tol;
+                        s.integrator.atol = tol * 1e-2;
+                    },
+                    ContactKind::Kec,
+                )
+            })
+            .collect();
+        let diff = |a: &RunOutput, b: &RunOutput| {
+            a.samples
+                .iter()
+                .zip(&b.samples)
+                .map(|(p, q)| (p.y - q.y).abs())
+                .fold(0.0, f64::max)
+        };
+        let (d1, d2) = (diff(&runs[0], &runs[2]), diff(&runs[1], &runs[2]));
+        println!(
+            "{method:?}: max |Δy| against rtol 1e-7: rtol 1e-5 {:.2e} mm, rtol 1e-6 {:.2e} mm (ratio {:.1}); steps {} / {} / {}",
+            d1 * 1e3,
+            d2 * 1e3,
+            d1 / d2,
+            runs[0].summary.steps,
+            runs[1].summary.steps,
+            runs[2].summary.steps
+        );
+        assert!(d2 < d1 && d1 / d2 > 3.0, "{method:?}: {d1} {d2}");
+        assert!(
+            d2 < 1e-5,
+            "{method:?}: the scenes' tolerance (rtol 1e-6) is off by {d2} m"
+        );
+    }
+}
+
+/// The speed ramp finds the hunting onset; runs at fixed speed confirm it: 15 % below, a 0.3 mm
+/// disturbance decays; 25 % above, it does not (it grows or settles on a limit cycle).
+#[test]
+fn critical_speed_by_speed_ramp() {
+    let sc = scene("wheelset_critical_speed.toml");
+    let ramp = simulate(&sc, |_| {}, ContactKind::Kec);
+    let vc = ramp
+        .summary
+        .critical_speed_m_s
+        .expect("hunting onset found on the ramp");
+    println!(
+        "hunting onset on the ramp: {vc:.2} m/s; stopped: {:?}",
+        ramp.summary.stopped
+    );
+    assert!((20.0..60.0).contains(&vc), "{vc}");
+    let envelope = |v: f64| {
+        let out = simulate(
+            &sc,
+            |s| {
+                s.speed_m_s = v;
+                s.speed_ramp_m_s2 = 0.0;
+                s.duration_s = 6.0;
+                s.initial.lateral_m = 0.0003;
+                s.stop_lateral_m = None;
+            },
+            ContactKind::Kec,
+        );
+        let n = out.samples.len();
+        let peak = |r: &[Sample]| r.iter().map(|p| p.y.abs()).fold(0.0, f64::max);
+        (peak(&out.samples[n / 12..n / 4]), peak(&out.samples[3 * n / 4..]))
+    };
+    let (a0, a1) = envelope(0.85 * vc);
+    println!(
+        "at {:.1} m/s: |y| {:.4} → {:.4} mm",
+        0.85 * vc,
+        a0 * 1e3,
+        a1 * 1e3
+    );
+    assert!(a1 < 0.5 * a0, "below the critical speed the motion must decay");
+    let (b0, b1) = envelope(1.25 * vc);
+    println!(
+        "at {:.1} m/s: |y| {:.4} → {:.4} mm",
+        1.25 * vc,
+        b0 * 1e3,
+        b1 * 1e3
+    );
+    assert!(
+        b1 > 0.8 * b0,
+        "above the critical speed the motion must not decay"
+    );
+}
+
+/// `kecsim run SCENE --contact --speed --csv --json`: the Interface columns and keys, a recording
+/// that reads back, and errors for bad scenarios.
+#[test]
+fn run_interface_csv_json_and_recording() {
+    let dir = tmpdir("run");
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wheelset_klingel.toml");
+    let text = std::fs::read_to_string(&scene_path)
+        .unwrap()
+        .replace("duration_s = 12.0", "duration_s = 1.0");
+    let short = dir.join("short.toml");
+    std::fs::write(&short, text).unwrap();
+    let (csv_dir, json, rrd) = (dir.join("csv"), dir.join("run.json"), dir.join("run.rrd"));
+    let out = kecsim(
+        &[
+            "run",
+            short.to_str().unwrap(),
+            "--contact",
+            "lookup",
+            "--speed",
+            "8",
+            "--csv",
+            csv_dir.to_str().unwrap(),
+            "--json",
+            json.to_str().unwrap(),
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(csv_dir.join("wheelset_1.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    for c in [
+        "t_s",
+        "s_m",
+        "y_mm",
+        "yaw_mrad",
+        "z_mm",
+        "roll_mrad",
+        "n_left_n",
+        "n_right_n",
+    ] {
+        assert!(header.contains(&c), "missing {c}");
+    }
+    assert_eq!(csv.lines().count(), 1 + 201, "200 Hz over 1 s, both ends");
+    let last: Vec<f64> = csv
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!(
+        (last[0] - 1.0).abs() < 1e-9 && (last[1] - 8.0).abs() < 1e-3,
+        "t = 1 s at 8 m/s: s = 8 m"
+    );
+    let js: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    for k in [
+        "simulated_s",
+        "wall_s",
+        "realtime_factor",
+        "steps",
+        "contact_model",
+        "max_abs_y_mm",
+        "max_normal_n",
+    ] {
+        assert!(js.get(k).is_some(), "missing {k}");
+    }
+    assert_eq!(js["contact_model"], "lookup");
+    assert!((js["simulated_s"].as_f64().unwrap() - 1.0).abs() < 1e-9);
+    let rt = js["realtime_factor"].as_f64().unwrap();
+    assert!((rt - 1.0 / js["wall_s"].as_f64().unwrap()).abs() < 1e-6 * rt);
+    rerun_verify(&rrd);
+    let chunks = kecsim::inspect::readback::recording_chunks(&rrd).unwrap();
+    let paths: std::collections::BTreeSet<String> =
+        chunks.iter().map(|c| c.entity_path().to_string()).collect();
+    for e in [
+        "/run/wheelset_1/y_mm",
+        "/run/wheelset_1/normal_kn",
+        "/run/section/left/wheel",
+        "/run/summary",
+    ] {
+        assert!(paths.contains(e), "missing {e}: {paths:?}");
+    }
+
+    // Bad input: a [simulation] without [vehicle], an out-of-range value, an unknown key.
+    let base = std::fs::read_to_string(&short).unwrap();
+    let cut = &base[..base.find("[vehicle]").unwrap()];
+    for (name, text, expect) in [
+        ("novehicle.toml", cut.to_string(), "needs a [vehicle]"),
+        (
+            "neg.toml",
+            base.replace("duration_s = 1.0", "duration_s = -1.0"),
+            "duration_s = -1",
+        ),
+        (
+            "key.toml",
+            base.replace("record_rate_hz", "record_hz"),
+            "record_hz",
+        ),
+    ] {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        let out = kecsim(
+            &["run", p.to_str().unwrap(), "--save", rrd.to_str().unwrap()],
+            &dir,
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(expect), "{name}: {err}");
+        assert!(err.contains(name), "{name}: the error names the file: {err}");
     }
 }

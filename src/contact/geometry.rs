@@ -609,6 +609,50 @@ impl ContactGeometry {
         }
     }
 
+    /// Warm-started solve that stays on the true contact: Newton from a previous solution, then the
+    /// interpenetration check of [`ContactGeometry::solve`]; where the previous branch has ceased
+    /// to be the contact (past a contact-point jump the old branch survives a while as a local
+    /// tangency with the profiles interpenetrating elsewhere) or Newton fails, the full solve.
+    /// This is what a simulation with the `online` contact model needs: without the check the
+    /// contact point jumps late, z jumps with it, and the normal force spikes.
+    pub fn solve_tracked(
+        &self,
+        y: f64,
+        off: &RailOffsets,
+        previous: &ContactSolution,
+    ) -> Result<ContactSolution, ContactError> {
+        let checked = |x0: [f64; 6]| {
+            self.newton(y, off, x0)
+                .and_then(|(x, j, it)| self.finish(y, off, x, j, it, true))
+        };
+        match checked(previous.x()) {
+            Err(ContactError::Interpenetration { .. }) => {
+                // Re-seed each side at its deepest point (the other branch), Newton from there.
+                let mut x0 = previous.x();
+                for side in Side::BOTH {
+                    let env = self.envelope(side, off);
+                    let scan = self
+                        .scan(side, &env, y, x0[0], x0[1])
+                        .ok_or_else(|| Self::no_overlap(y, side))?;
+                    let (sw, sr, gap) = scan.samples[scan.min];
+                    if gap < 0.0 {
+                        let c0 = 2 + 2 * idx(side);
+                        x0[c0] = sw;
+                        x0[c0 + 1] = sr;
+                    }
+                }
+                match checked(x0) {
+                    Err(ContactError::Interpenetration { .. } | ContactError::NoConvergence { .. }) => {
+                        self.solve(y, off)
+                    }
+                    other => other,
+                }
+            }
+            Err(ContactError::NoConvergence { .. }) => self.solve(y, off),
+            other => other,
+        }
+    }
+
     fn finish(
         &self,
         y: f64,

@@ -102,7 +102,11 @@ pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
         return None;
     }
     // Skip the first peak (the release transient).
-    let (imin, min) = peaks.iter().enumerate().skip(1).min_by(|a, b| a.1 .0.total_cmp(&b.1 .0))?;
+    let (imin, min) = peaks
+        .iter()
+        .enumerate()
+        .skip(1)
+        .min_by(|a, b| a.1 .0.total_cmp(&b.1 .0))?;
     let later = peaks[imin..].iter().map(|p| p.0).fold(0.0, f64::max);
     (later >= growth * min.0).then_some(min.1)
 }
@@ -191,31 +195,41 @@ pub fn run(
     let mut last_progress = 0.0;
     let stop = sim.stop_lateral_m;
     let mut stats = Stats::default();
-    let result = integrate_into(&mut sys, 0.0, &x0, duration, dt_out, &settings, &mut |t, x| {
-        let s = observer_sys.sample(t, x)?;
-        samples.push(to_sample(t, &s, r0));
-        if let Some(limit) = stop {
-            if s.state.y.abs() > limit {
-                return Err(format!(
-                    "{STOP}|y| = {:.3} mm exceeded {:.3} mm at t = {t:.3} s, V = {:.2} m/s",
-                    s.state.y.abs() * 1e3,
-                    limit * 1e3,
-                    s.speed
-                ));
+    let result = integrate_into(
+        &mut sys,
+        0.0,
+        &x0,
+        duration,
+        dt_out,
+        &settings,
+        &mut |t, x| {
+            let s = observer_sys.sample(t, x)?;
+            samples.push(to_sample(t, &s, r0));
+            if let Some(limit) = stop {
+                if s.state.y.abs() > limit {
+                    return Err(format!(
+                        "{STOP}|y| = {:.3} mm exceeded {:.3} mm at t = {t:.3} s, V = {:.2} m/s",
+                        s.state.y.abs() * 1e3,
+                        limit * 1e3,
+                        s.speed
+                    ));
+                }
             }
-        }
-        if t - last_progress >= 0.01 * duration {
-            progress(t / duration);
-            last_progress = t;
-        }
-        Ok(())
-    }, &mut stats);
+            if t - last_progress >= 0.01 * duration {
+                progress(t / duration);
+                last_progress = t;
+            }
+            Ok(())
+        },
+        &mut stats,
+    );
     let wall_s = t_run.elapsed().as_secs_f64();
     let (error, stopped) = match result {
         Ok(()) => (None, None),
-        Err(IntegrationError::Model { message, .. }) if message.contains(STOP) => {
-            (None, Some(message.split(STOP).nth(1).unwrap_or_default().to_string()))
-        }
+        Err(IntegrationError::Model { message, .. }) if message.contains(STOP) => (
+            None,
+            Some(message.split(STOP).nth(1).unwrap_or_default().to_string()),
+        ),
         Err(e) => (Some(e.to_string()), None),
     };
     let simulated_s = samples.last().map_or(0.0, |s| s.t);

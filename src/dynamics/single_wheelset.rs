@@ -58,7 +58,6 @@ pub struct SingleWheelset {
     pub s0: f64,
     warm: ContactWarmStart,
     lambda: [f64; 2],
-    last_y_ddot: f64,
     /// Contact-model evaluations (for the statistics).
     pub contact_evaluations: usize,
 }
@@ -99,7 +98,6 @@ impl SingleWheelset {
             s0: 0.0,
             warm: ContactWarmStart::default(),
             lambda: [static_n, static_n],
-            last_y_ddot: 0.0,
             contact_evaluations: 0,
         }
     }
@@ -118,7 +116,6 @@ impl SingleWheelset {
             s0: self.s0,
             warm: ContactWarmStart::default(),
             lambda: self.lambda,
-            last_y_ddot: 0.0,
             contact_evaluations: 0,
         }
     }
@@ -179,7 +176,7 @@ impl SingleWheelset {
         };
         let kin = self
             .contact
-            .kinematics(st.y, st.y_dot, self.last_y_ddot, &rails, &mut self.warm)
+            .kinematics(st.y, st.y_dot, &rails, &mut self.warm)
             .map_err(|e| format!("contact model at y = {:.4} mm: {e}", st.y * 1e3))?;
         self.contact_evaluations += 1;
         let tie = &self.tie;
@@ -201,7 +198,6 @@ impl SingleWheelset {
         let dynamics = evaluate(&self.inertia, &st, &kin, &frame, &load, &self.forces, self.lambda)
             .map_err(|e| format!("y = {:.4} mm: {e}", st.y * 1e3))?;
         self.lambda = dynamics.normal;
-        self.last_y_ddot = dynamics.accel[1];
         Ok(WheelsetSample {
             state: st,
             kin,

@@ -319,7 +319,9 @@ impl ContactForceSettings {
     pub fn new(model: CreepModel, friction: f64, material: Material) -> Result<Self, Vec<String>> {
         let mut p = model.problems();
         if !(friction.is_finite() && (0.0..=1.5).contains(&friction)) {
-            p.push(format!("friction = {friction}: expected 0 ..= 1.5 (0: no creep forces)"));
+            p.push(format!(
+                "friction = {friction}: expected 0 ..= 1.5 (0: no creep forces)"
+            ));
         }
         if !(material.young_pa.is_finite() && material.young_pa > 1e9) {
             p.push(format!(
