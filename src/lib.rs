@@ -7,6 +7,8 @@
 //! * [`contact`]: contact geometry (approximate constraints, Eq. 35–42) and what builds on it.
 //! * [`profile`]: wheel and rail profiles as C² curves, standard profiles, files, placement (§3).
 //! * [`track`]: the track centreline from sections and its irregularities (§2.2–2.3).
+//! * [`vehicle`]: bodies, wheelsets and force elements of a vehicle (§2.4–2.5).
+//! * [`dynamics`]: equations of motion, contact reactions, integrators, runs.
 //! * [`scenario`]: scenario files (TOML) compiled into scenes.
 //! * [`bench`]: measured speed with its error, printed by `kecsim bench`.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
@@ -18,3 +20,4 @@ pub mod inspect;
 pub mod profile;
 pub mod scenario;
 pub mod track;
+pub mod vehicle;

@@ -679,9 +679,20 @@ fn run_simulation(
         eprintln!();
     }
     let s = &out.summary;
+    if let Some(st) = &out.settling {
+        println!(
+            "static settling: axle loads {} kN (elements preloaded; residual {:.1e} N)",
+            st.axle_loads
+                .iter()
+                .map(|q| format!("{:.1}", q * 1e-3))
+                .collect::<Vec<_>>()
+                .join(", "),
+            st.residual
+        );
+    }
     {
         let rec = inspect::open_recording("kecsim", &sink, inspect::run::blueprint)?;
-        inspect::run::record(&rec, scene, &out.samples, s)?;
+        inspect::run::record(&rec, scene, &out.wheelsets, s)?;
     }
     println!(
         "simulated {:.3} s in {:.3} s wall: real-time factor {:.1} (preprocessing {:.2} s); {} steps ({} rejected), {} right-hand sides",
@@ -705,9 +716,11 @@ fn run_simulation(
         println!("stopped: {note}");
     }
     if let Some(dir) = csv {
-        let path = kecsim::dynamics::run::write_csv(&dir, &out.samples)
+        let paths = kecsim::dynamics::run::write_csvs(&dir, &out.wheelsets)
             .with_context(|| format!("cannot write CSV into {}", dir.display()))?;
-        println!("wrote {}", path.display());
+        for path in paths {
+            println!("wrote {}", path.display());
+        }
     }
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(s)?;

@@ -10,6 +10,7 @@ use serde::Serialize;
 
 use super::contact_model::{ContactKind, WheelsetContact};
 use super::integrator::{integrate_into, IntegrationError, Settings, Stats};
+use super::multibody::{BodySample, Multibody, Settling};
 use super::single_wheelset::{SingleWheelset, SpeedProfile, Tie};
 use super::spec::{SimulationSpec, VehicleSpec};
 use super::wheelset::WheelsetInertia;
@@ -113,7 +114,14 @@ pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
 
 /// A finished (or stopped) run.
 pub struct RunOutput {
+    /// The first wheelset's samples.
     pub samples: Vec<Sample>,
+    /// Every wheelset's samples, by name (the first is `samples` again).
+    pub wheelsets: Vec<(String, Vec<Sample>)>,
+    /// Every rigid body's samples, by name (none on the single-wheelset scenes).
+    pub bodies: Vec<(String, Vec<(f64, BodySample)>)>,
+    /// Multibody vehicles: the static settling behind the elements' preloads.
+    pub settling: Option<Settling>,
     pub summary: RunSummary,
 }
 
@@ -153,11 +161,146 @@ pub fn run(
     speed: f64,
     progress: &mut dyn FnMut(f64),
 ) -> Result<RunOutput, String> {
+    match vehicle {
+        VehicleSpec::WheelsetOnFrame(w) => run_single(scene, sim, w, contact, speed, progress),
+        VehicleSpec::Multibody(m) => run_multibody(scene, sim, m, contact, speed, progress),
+    }
+}
+
+/// Splits an integration result into (error, stop note).
+fn outcome(result: Result<(), IntegrationError>) -> (Option<String>, Option<String>) {
+    match result {
+        Ok(()) => (None, None),
+        Err(IntegrationError::Model { message, .. }) if message.contains(STOP) => (
+            None,
+            Some(message.split(STOP).nth(1).unwrap_or_default().to_string()),
+        ),
+        Err(e) => (Some(e.to_string()), None),
+    }
+}
+
+fn run_multibody(
+    scene: &Scene,
+    sim: &SimulationSpec,
+    spec: &crate::vehicle::MultibodySpec,
+    contact: ContactKind,
+    speed: f64,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunOutput, String> {
+    let t_pre = Instant::now();
+    let model = build_contact(scene, contact)?;
+    let r0 = scene.pair.wheelset.nominal_radius_m;
+    let mut sys = Multibody::from_spec(
+        spec,
+        model,
+        scene.contact_forces.clone(),
+        r0,
+        SpeedProfile {
+            initial_m_s: speed,
+            ramp_m_s2: sim.speed_ramp_m_s2,
+        },
+    );
+    let settling = sys.settle()?;
+    let preprocessing_s = t_pre.elapsed().as_secs_f64();
+    sys.track = scene.track.clone();
+    if let Some(track) = &scene.track {
+        // The rearmost body starts at the beginning of the track.
+        let rear = sys
+            .bodies
+            .iter()
+            .map(|b| b.d)
+            .chain(sys.wheelsets.iter().map(|w| w.d))
+            .fold(0.0_f64, f64::min);
+        sys.s0 = track.centreline.range().0 - rear;
+    }
+    if let Some(s0) = sim.start_m {
+        sys.s0 = s0;
+    }
+    let x0 = sys.initial_state(sim.initial.lateral_m, sim.initial.yaw_rad);
+    let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
+    let dt_out = 1.0 / sim.record_rate_hz;
+    let names: Vec<String> = sys.wheelsets.iter().map(|w| w.name.clone()).collect();
+    let body_names: Vec<String> = sys.bodies.iter().map(|b| b.name.clone()).collect();
+    let mut wheelsets: Vec<(String, Vec<Sample>)> = names.iter().map(|n| (n.clone(), Vec::new())).collect();
+    let mut bodies: Vec<(String, Vec<(f64, BodySample)>)> =
+        body_names.iter().map(|n| (n.clone(), Vec::new())).collect();
+    let duration = sim.duration_s;
+    let mut observer_sys = sys.clone_for_output();
+    let t_run = Instant::now();
+    let mut last_progress = 0.0;
+    let stop = sim.stop_lateral_m;
+    let mut stats = Stats::default();
+    let result = integrate_into(
+        &mut sys,
+        0.0,
+        &x0,
+        duration,
+        dt_out,
+        &settings,
+        &mut |t, x| {
+            let s = observer_sys.evaluate_at(t, x, None)?;
+            for (k, w) in s.wheelsets.iter().enumerate() {
+                wheelsets[k].1.push(to_sample(t, w, r0));
+            }
+            for (k, b) in s.bodies.iter().enumerate() {
+                bodies[k].1.push((t, *b));
+            }
+            if let Some(limit) = stop {
+                if let Some(w) = s.wheelsets.iter().find(|w| w.state.y.abs() > limit) {
+                    return Err(format!(
+                        "{STOP}|y| = {:.3} mm exceeded {:.3} mm at t = {t:.3} s, V = {:.2} m/s",
+                        w.state.y.abs() * 1e3,
+                        limit * 1e3,
+                        w.speed
+                    ));
+                }
+            }
+            if t - last_progress >= 0.01 * duration {
+                progress(t / duration);
+                last_progress = t;
+            }
+            Ok(())
+        },
+        &mut stats,
+    );
+    let wall_s = t_run.elapsed().as_secs_f64();
+    let (error, stopped) = outcome(result);
+    let samples = wheelsets.first().map(|w| w.1.clone()).unwrap_or_default();
+    let simulated_s = samples.last().map_or(0.0, |s| s.t);
+    let all: Vec<Sample> = wheelsets.iter().flat_map(|w| w.1.iter().copied()).collect();
+    let mut summary = summarise(
+        scene,
+        sim,
+        contact,
+        &all,
+        simulated_s,
+        wall_s,
+        preprocessing_s,
+        &stats,
+        error,
+    );
+    summary.stopped = stopped;
+    Ok(RunOutput {
+        samples,
+        wheelsets,
+        bodies,
+        settling: Some(settling),
+        summary,
+    })
+}
+
+fn run_single(
+    scene: &Scene,
+    sim: &SimulationSpec,
+    w: &super::spec::WheelsetOnFrameSpec,
+    contact: ContactKind,
+    speed: f64,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunOutput, String> {
     let t_pre = Instant::now();
     let model = build_contact(scene, contact)?;
     let preprocessing_s = t_pre.elapsed().as_secs_f64();
     let r0 = scene.pair.wheelset.nominal_radius_m;
-    let VehicleSpec::WheelsetOnFrame(w) = vehicle;
     let mut sys = SingleWheelset::new(
         WheelsetInertia {
             mass_kg: w.wheelset.mass_kg,
@@ -182,6 +325,9 @@ pub fn run(
     sys.track = scene.track.clone();
     if let Some(track) = &scene.track {
         sys.s0 = track.centreline.range().0;
+    }
+    if let Some(s0) = sim.start_m {
+        sys.s0 = s0;
     }
     let x0 = sys.initial_state(sim.initial.lateral_m, sim.initial.yaw_rad);
     let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
@@ -224,14 +370,7 @@ pub fn run(
         &mut stats,
     );
     let wall_s = t_run.elapsed().as_secs_f64();
-    let (error, stopped) = match result {
-        Ok(()) => (None, None),
-        Err(IntegrationError::Model { message, .. }) if message.contains(STOP) => (
-            None,
-            Some(message.split(STOP).nth(1).unwrap_or_default().to_string()),
-        ),
-        Err(e) => (Some(e.to_string()), None),
-    };
+    let (error, stopped) = outcome(result);
     let simulated_s = samples.last().map_or(0.0, |s| s.t);
     let mut summary = summarise(
         scene,
@@ -248,10 +387,17 @@ pub fn run(
     if sim.speed_ramp_m_s2 != 0.0 {
         summary.critical_speed_m_s = hunting_onset(&samples, 2.0);
     }
-    Ok(RunOutput { samples, summary })
+    Ok(RunOutput {
+        wheelsets: vec![("wheelset_1".to_string(), samples.clone())],
+        samples,
+        bodies: Vec::new(),
+        settling: None,
+        summary,
+    })
 }
 
-fn to_sample(t: f64, s: &super::single_wheelset::WheelsetSample, r0: f64) -> Sample {
+/// The output sample of one wheelset evaluation (Y and Q per wheel in the track frame).
+pub fn to_sample(t: f64, s: &super::single_wheelset::WheelsetSample, r0: f64) -> Sample {
     let d = &s.dynamics;
     let mut y_force = [0.0; 2];
     let mut q_force = [0.0; 2];
@@ -331,9 +477,25 @@ fn summarise(
 /// yaw_mrad, z_mm, roll_mrad, n_left_n, n_right_n, fx_left_n, fy_left_n, fx_right_n, fy_right_n,
 /// y_left_n, q_left_n, y_right_n, q_right_n, s_wheel_left_mm, s_rail_left_mm, s_wheel_right_mm,
 /// s_rail_right_mm`.
-pub fn write_csv(dir: &std::path::Path, samples: &[Sample]) -> Result<std::path::PathBuf, csv::Error> {
+/// One CSV per wheelset, `DIR/NAME.csv`.
+pub fn write_csvs(
+    dir: &std::path::Path,
+    wheelsets: &[(String, Vec<Sample>)],
+) -> Result<Vec<std::path::PathBuf>, csv::Error> {
+    wheelsets
+        .iter()
+        .map(|(name, samples)| write_csv(dir, name, samples))
+        .collect()
+}
+
+/// The CSV of one wheelset, `DIR/NAME.csv`.
+pub fn write_csv(
+    dir: &std::path::Path,
+    name: &str,
+    samples: &[Sample],
+) -> Result<std::path::PathBuf, csv::Error> {
     std::fs::create_dir_all(dir)?;
-    let path = dir.join("wheelset_1.csv");
+    let path = dir.join(format!("{name}.csv"));
     let mut w = csv::Writer::from_path(&path)?;
     w.write_record([
         "t_s",

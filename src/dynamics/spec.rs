@@ -30,6 +30,10 @@ pub struct SimulationSpec {
     /// speed ramp once hunting has set in, before flange contact.
     #[serde(default)]
     pub stop_lateral_m: Option<f64>,
+    /// Arc length of the vehicle reference at t = 0, m (default: the rearmost body at the
+    /// track's start).
+    #[serde(default)]
+    pub start_m: Option<f64>,
 }
 
 fn default_rate() -> f64 {
@@ -85,6 +89,9 @@ pub enum VehicleSpec {
     /// One solid-axle wheelset tied by spring–dampers at its axle boxes to a frame moving at the
     /// reference speed, which also carries the axle load.
     WheelsetOnFrame(WheelsetOnFrameSpec),
+    /// Rigid bodies, solid-axle wheelsets and force elements ([`crate::vehicle::spec`]): a bogie,
+    /// a whole vehicle.
+    Multibody(crate::vehicle::MultibodySpec),
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -136,6 +143,9 @@ impl SimulationSpec {
         check("integrator.atol", self.integrator.atol, 1e-16, 1e-1);
         check("initial.lateral_m", self.initial.lateral_m, -0.02, 0.02);
         check("initial.yaw_rad", self.initial.yaw_rad, -0.05, 0.05);
+        if let Some(v) = self.start_m {
+            check("start_m", v, -1e7, 1e7);
+        }
         if let Some(v) = self.stop_lateral_m {
             check("stop_lateral_m", v, 1e-5, 0.05);
         }
@@ -147,6 +157,7 @@ impl VehicleSpec {
     pub fn problems(&self) -> Vec<String> {
         let mut p = Vec::new();
         match self {
+            VehicleSpec::Multibody(m) => p.extend(m.problems()),
             VehicleSpec::WheelsetOnFrame(w) => {
                 let mut check = |name: &str, v: f64, lo: f64, hi: f64| {
                     if !(v.is_finite() && v >= lo && v <= hi) {

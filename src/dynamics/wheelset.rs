@@ -197,6 +197,27 @@ pub fn evaluate(
     // wheels through the roll angle, φ M_z).
     let m_load = Vector3::from(load.moment);
     let m_known = m_load - axle * axle.dot(&m_load);
+    // The ellipse shape depends on the curvatures only: solve Hertz once per wheel at the guessed
+    // load and scale it (a, b ∝ N^⅓) in every pass.
+    let mut hertz0 = [None; 2];
+    for i in 0..2 {
+        let side = if i == 0 { "left" } else { "right" };
+        let c = &kin.contacts[i];
+        let curv = RelativeCurvature::wheel_rail(
+            c.rolling_radius,
+            c.contact_angle - side_roll(i, kin.phi),
+            c.wheel_curvature,
+            c.rail_curvature,
+        );
+        hertz0[i] = Some(
+            HertzContact::solve(curv, lambda_guess[i].max(1.0), &forces.material, &forces.material).map_err(
+                |e| WheelsetError::Contact {
+                    side,
+                    message: e.to_string(),
+                },
+            )?,
+        );
+    }
     let mut lambda = lambda_guess;
     let mut result = WheelsetDynamics::default();
     let mut prev_lambda = lambda;
@@ -206,21 +227,8 @@ pub fn evaluate(
         let mut creep = [CreepForce::default(); 2];
         for i in 0..2 {
             let side = if i == 0 { "left" } else { "right" };
-            let c = &kin.contacts[i];
             let n_force = lambda[i].max(1.0);
-            let curv = RelativeCurvature::wheel_rail(
-                c.rolling_radius,
-                c.contact_angle - side_roll(i, kin.phi),
-                c.wheel_curvature,
-                c.rail_curvature,
-            );
-            let hertz =
-                HertzContact::solve(curv, n_force, &forces.material, &forces.material).map_err(|e| {
-                    WheelsetError::Contact {
-                        side,
-                        message: e.to_string(),
-                    }
-                })?;
+            let hertz = hertz0[i].as_ref().ok_or(WheelsetError::Singular)?.scaled(n_force);
             let patch = ContactPatch::from_hertz(&hertz, &forces.material, forces.friction, &forces.kalker)
                 .map_err(|e| WheelsetError::Contact {
                 side,

@@ -4,14 +4,21 @@
 //! Timelines: `time` (simulated time, a duration) and `distance_mm` (the wheelset's arc length, mm,
 //! a sequence).
 //!
+//! Every wheelset `NAME` of the vehicle (the single-wheelset scenes: `wheelset_1`) has:
+//!
 //! | entity | archetype | what |
 //! |---|---|---|
-//! | `run/wheelset_1/{y_mm, yaw_mrad, z_mm, roll_mrad}` | Scalars | kinematics (z − r0) |
-//! | `run/wheelset_1/normal_kn` | Scalars (left, right) | normal forces (constraint reactions, Eq. 53) |
-//! | `run/wheelset_1/creep_fx_kn`, `creep_fy_kn` | Scalars (left, right) | creep forces, contact frame |
-//! | `run/wheelset_1/y_over_q` | Scalars (left, right) | lateral over vertical wheel–rail force |
-//! | `run/wheelset_1/s_wheel_mm`, `s_rail_mm` | Scalars (left, right) | contact position on the real wheel and rail |
-//! | `run/wheelset_1/s_knife_mm` | Scalars (left, right) | KEC only: contact on the equivalent profiles |
+//! | `run/NAME/{y_mm, yaw_mrad, z_mm, roll_mrad}` | Scalars | kinematics (z − r0) |
+//! | `run/NAME/normal_kn` | Scalars (left, right) | normal forces (constraint reactions, Eq. 53) |
+//! | `run/NAME/creep_fx_kn`, `creep_fy_kn` | Scalars (left, right) | creep forces, contact frame |
+//! | `run/NAME/y_over_q` | Scalars (left, right) | lateral over vertical wheel–rail force |
+//! | `run/NAME/s_wheel_mm`, `s_rail_mm` | Scalars (left, right) | contact position on the real wheel and rail |
+//! | `run/NAME/s_knife_mm` | Scalars (left, right) | KEC only: contact on the equivalent profiles |
+//!
+//! and the first wheelset's cross-section and position:
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
 //! | `run/section/{left,right}/{rail,wheel,contact}` | LineStrips2D / Points2D | cross-section (mm, `[Y, −Z]`), at ≤ 50 Hz |
 //! | `run/track/plan`, `run/track/position` | LineStrips2D static / Points2D | track plan (m, `[X, −Y]`) and the wheelset on it |
 //! | `run/summary` | TextDocument | the run summary |
@@ -85,17 +92,12 @@ fn lr_colors() -> Vec<Color> {
     vec![Color::from_rgb(230, 120, 40), Color::from_rgb(60, 140, 230)]
 }
 
-/// Records the samples of a run and its summary.
-pub fn record(
-    rec: &RecordingStream,
-    scene: &Scene,
-    samples: &[Sample],
-    summary: &RunSummary,
-) -> Result<(), InspectError> {
+/// The time series of one wheelset under `run/{name}/…`.
+fn record_wheelset(rec: &RecordingStream, name: &str, samples: &[Sample]) -> Result<(), InspectError> {
     let n = samples.len();
     let times = || TimeColumn::new_duration_secs(TIME, samples.iter().map(|s| s.t));
     let dist = || TimeColumn::new_sequence(DISTANCE, samples.iter().map(|s| (s.s * 1e3).round() as i64));
-    let w = "run/wheelset_1";
+    let w = format!("run/{name}");
     let one = |entity: &str, f: &dyn Fn(&Sample) -> f64, name: &str| {
         send_scalar_rows(
             rec,
@@ -136,6 +138,23 @@ pub fn record(
         })?;
     }
 
+    Ok(())
+}
+
+/// Records the samples of a run (every wheelset's time series; the cross-section and the track
+/// position of the first wheelset) and its summary.
+pub fn record(
+    rec: &RecordingStream,
+    scene: &Scene,
+    wheelsets: &[(String, Vec<Sample>)],
+    summary: &RunSummary,
+) -> Result<(), InspectError> {
+    for (name, samples) in wheelsets {
+        record_wheelset(rec, name, samples)?;
+    }
+    let Some((_, samples)) = wheelsets.first() else {
+        return Ok(());
+    };
     // Cross-sections: static rails (ideal placement), the wheel and the contact points at ≤ 50 Hz.
     let pair = &scene.pair;
     for side in Side::BOTH {

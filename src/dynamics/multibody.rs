@@ -1,0 +1,704 @@
+//! A vehicle of rigid bodies and solid-axle wheelsets joined by force elements, moving along the
+//! track (paper §2.4–2.5, §5, §7; DYNAMICS.md §1–4): the system the bogie and Manchester scenes
+//! integrate.
+//!
+//! **Bodies** (carbodies, bogie frames): 6 coordinates each, q = (x, y, z, φ, θ, ψ) relative to the
+//! body-track frame at s_i = s₀ + d_i + x_i (see [`crate::vehicle`]). Linearised Newton–Euler in
+//! the moving frame (DYNAMICS.md §2), with r = (0, y, h + z) and ṙ = (ẋ, ẏ, ż):
+//!
+//! ```text
+//! m (r̈ + a_t + 2 ω_t × ṙ + α_t × r + ω_t × (ω_t × r)) = F + m g_t
+//! I (Θ̈ + α_t) + ω × (I ω) = M,    ω = ω_t + Θ̇
+//! ```
+//!
+//! with a_t, ω_t, α_t the track frame's motion at V (Eq. 3–4) and g_t gravity in track components
+//! (Eq. 2); the mass matrix is diagonal, so each body's accelerations are explicit.
+//!
+//! **Wheelsets**: [`super::wheelset::evaluate`] (the 8×8 Newton–Euler + normal-force solve of
+//! Eq. 53, creep forces at the real contact points), each with its own track frame, rail
+//! irregularities and contact model kinematics; they couple to the bodies through the elements'
+//! forces only, so each is solved on its own (DYNAMICS.md §3).
+//!
+//! **Static preloads.** Scenario files give the loaded vehicle's geometry, as the railway world
+//! writes it; the elements' static forces are then computed: the bodies are settled under gravity
+//! on level tangent track with the wheelsets held at their centred contact position (Newton on the
+//! bodies' 6 n static equations, finite-difference stiffness), and each element is preloaded with
+//! the force it carries there. At the nominal configuration the vehicle is then in equilibrium
+//! (checked by a test) and the wheel loads are the static ones.
+//!
+//! State: per body [q, q̇] (12), then per wheelset [x, y, ψ, ẋ, ẏ, ψ̇, Ω] (7).
+
+use std::sync::Arc;
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+use super::contact_model::{ContactWarmStart, RailMotion, WheelsetContact};
+use super::integrator::OdeSystem;
+use super::single_wheelset::{SpeedProfile, WheelsetSample};
+use super::wheelset::{evaluate, FrameMotion, Load, WheelsetInertia, WheelsetState};
+use crate::contact::forces::ContactForceSettings;
+use crate::track::Track;
+use crate::vehicle::elements::{BodyRef, Element, ElementLoad, FrameLoads, Pose};
+use crate::vehicle::spec::MultibodySpec;
+
+const G: f64 = 9.81;
+
+/// A rigid body of the vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigidBody {
+    pub name: String,
+    pub mass_kg: f64,
+    /// Principal moments (roll, pitch, yaw), kg m².
+    pub inertia: Vector3<f64>,
+    /// Nominal position along the vehicle d_i, m.
+    pub d: f64,
+    /// Nominal centre height above the rail top h_i, m.
+    pub h: f64,
+}
+
+/// A solid-axle wheelset of the vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelsetBody {
+    pub name: String,
+    pub d: f64,
+    pub inertia: WheelsetInertia,
+}
+
+/// A body's state and where it is, for output.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodySample {
+    pub s: f64,
+    /// (x, y, z, φ, θ, ψ).
+    pub q: [f64; 6],
+    pub q_dot: [f64; 6],
+}
+
+/// Everything one evaluation knows, for output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MultibodySample {
+    pub bodies: Vec<BodySample>,
+    pub wheelsets: Vec<WheelsetSample>,
+    /// Per element: deflection and force in its first body's axes.
+    pub elements: Vec<(Vector3<f64>, Vector3<f64>)>,
+}
+
+/// The static settling: what the preloads came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settling {
+    /// Static displacement (x, y, z, φ, θ, ψ) of each body had the elements not been preloaded.
+    pub sag: Vec<[f64; 6]>,
+    /// Largest static residual after settling, N or N m.
+    pub residual: f64,
+    /// Static axle loads (both wheels, wheelset weight included), N.
+    pub axle_loads: Vec<f64>,
+}
+
+/// The multibody vehicle system.
+pub struct Multibody {
+    pub bodies: Vec<RigidBody>,
+    pub wheelsets: Vec<WheelsetBody>,
+    pub elements: Vec<Element>,
+    pub contact: Arc<WheelsetContact>,
+    pub forces: ContactForceSettings,
+    pub r0: f64,
+    pub speed: SpeedProfile,
+    /// None: tangent, level, ideal track.
+    pub track: Option<Track>,
+    /// Arc length of the vehicle reference at t = 0, m.
+    pub s0: f64,
+    warm: Vec<ContactWarmStart>,
+    lambda: Vec<[f64; 2]>,
+    pub contact_evaluations: usize,
+}
+
+/// The track frame at one arc length, as a body sees it.
+struct FrameAt {
+    origin: Vector3<f64>,
+    rotation: Matrix3<f64>,
+    motion: FrameMotion,
+    rails: RailMotion,
+}
+
+fn v3(a: [f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+impl Multibody {
+    /// Builds the system from a validated `[vehicle]` table.
+    pub fn from_spec(
+        spec: &MultibodySpec,
+        contact: WheelsetContact,
+        forces: ContactForceSettings,
+        r0: f64,
+        speed: SpeedProfile,
+    ) -> Multibody {
+        let bodies: Vec<RigidBody> = spec
+            .bodies
+            .iter()
+            .map(|b| RigidBody {
+                name: b.name.clone(),
+                mass_kg: b.mass_kg,
+                inertia: Vector3::from(b.inertia_kg_m2),
+                d: b.position_m[0],
+                h: b.position_m[2],
+            })
+            .collect();
+        let wheelsets: Vec<WheelsetBody> = spec
+            .wheelsets
+            .iter()
+            .map(|w| WheelsetBody {
+                name: w.name.clone(),
+                d: w.x_m,
+                inertia: WheelsetInertia {
+                    mass_kg: w.mass_kg,
+                    inertia_kg_m2: w.inertia_kg_m2,
+                },
+            })
+            .collect();
+        let n = wheelsets.len();
+        Multibody {
+            bodies,
+            wheelsets,
+            elements: spec.elements(r0),
+            contact: Arc::new(contact),
+            forces,
+            r0,
+            speed,
+            track: None,
+            s0: 0.0,
+            warm: vec![ContactWarmStart::default(); n],
+            lambda: vec![[5e4, 5e4]; n],
+            contact_evaluations: 0,
+        }
+    }
+
+    /// A copy with its own warm starts (for evaluating outputs beside the integrator).
+    pub fn clone_for_output(&self) -> Multibody {
+        Multibody {
+            bodies: self.bodies.clone(),
+            wheelsets: self.wheelsets.clone(),
+            elements: self.elements.clone(),
+            contact: self.contact.clone(),
+            forces: self.forces.clone(),
+            r0: self.r0,
+            speed: self.speed,
+            track: self.track.clone(),
+            s0: self.s0,
+            warm: vec![ContactWarmStart::default(); self.wheelsets.len()],
+            lambda: self.lambda.clone(),
+            contact_evaluations: 0,
+        }
+    }
+
+    fn body_offset(&self, i: usize) -> usize {
+        12 * i
+    }
+
+    fn wheelset_offset(&self, j: usize) -> usize {
+        12 * self.bodies.len() + 7 * j
+    }
+
+    /// Initial state: every wheelset at lateral offset y₀ and yaw ψ₀, rolling without
+    /// longitudinal creep, Ω = V₀ / r̄ with r̄ the mean rolling radius of its two contacts there
+    /// (ideal rails); bodies at their nominal positions.
+    pub fn initial_state(&self, y0: f64, psi0: f64) -> Vec<f64> {
+        let mut x = vec![0.0; self.dim()];
+        let mut warm = ContactWarmStart::default();
+        let r_mean = self
+            .contact
+            .kinematics(y0, 0.0, &RailMotion::default(), &mut warm)
+            .map(|k| 0.5 * (k.contacts[0].rolling_radius + k.contacts[1].rolling_radius))
+            .unwrap_or(self.r0);
+        for j in 0..self.wheelsets.len() {
+            let o = self.wheelset_offset(j);
+            x[o + 1] = y0;
+            x[o + 2] = psi0;
+            x[o + 6] = self.speed.at(0.0) / r_mean;
+        }
+        x
+    }
+
+    fn frame_at(&self, s: f64, v: f64, v_dot: f64) -> Result<FrameAt, String> {
+        match &self.track {
+            None => {
+                let mut motion = FrameMotion::tangent(v);
+                motion.accel[0] = v_dot;
+                Ok(FrameAt {
+                    origin: Vector3::new(s, 0.0, 0.0),
+                    rotation: Matrix3::identity(),
+                    motion,
+                    rails: RailMotion::default(),
+                })
+            }
+            Some(track) => {
+                let (tf, irr) = track.eval(s).map_err(|e| format!("track at s = {s:.3} m: {e}"))?;
+                let m = tf.motion(v, v_dot);
+                let motion = FrameMotion {
+                    speed: v,
+                    accel: m.acceleration.into(),
+                    omega: m.angular_velocity.into(),
+                    alpha: m.angular_acceleration.into(),
+                    gravity: tf.gravity(G).into(),
+                };
+                let o = irr.rail_offsets();
+                let (dt, dtt) = irr.time_derivatives(v, v_dot);
+                let to_rails = |c: [f64; 4]| {
+                    let r = crate::contact::RailOffsets::from_irregularities(c[0], c[1], c[2], c[3]);
+                    [r.y_left, r.z_left, r.y_right, r.z_right]
+                };
+                Ok(FrameAt {
+                    origin: tf.position,
+                    rotation: tf.rotation,
+                    motion,
+                    rails: RailMotion {
+                        q: [o.y_left, o.z_left, o.y_right, o.z_right],
+                        q_dot: to_rails(dt),
+                        q_ddot: to_rails(dtt),
+                    },
+                })
+            }
+        }
+    }
+
+    /// Pose of the track reference at its point with nominal x (arms include x: centre −x e_x).
+    fn track_pose(&self, s_ref: f64, x: f64, v: f64, v_dot: f64) -> Result<(Pose, FrameAt), String> {
+        let f = self.frame_at(s_ref + x, v, v_dot)?;
+        Ok((
+            Pose {
+                origin: f.origin,
+                rotation: f.rotation,
+                centre: Vector3::new(-x, 0.0, 0.0),
+                theta: Vector3::zeros(),
+                centre_velocity: Vector3::zeros(),
+                theta_dot: Vector3::zeros(),
+                speed: v,
+                omega_t: v3(f.motion.omega),
+            },
+            f,
+        ))
+    }
+
+    /// The elements' loads at the given poses (bodies, then wheelsets).
+    fn element_loads(
+        &self,
+        poses: &[Pose],
+        frames: &[FrameLoads],
+        s_ref: f64,
+        v: f64,
+        v_dot: f64,
+    ) -> Result<Vec<ElementLoad>, String> {
+        let mut out = Vec::with_capacity(self.elements.len());
+        for e in &self.elements {
+            let (a, b) = e.ends();
+            let end = |r: BodyRef, arm_x: f64| -> Result<(Pose, FrameLoads), String> {
+                match r {
+                    BodyRef::Body(i) => Ok((poses[i], frames[i])),
+                    BodyRef::Track => {
+                        let (p, f) = self.track_pose(s_ref, arm_x, v, v_dot)?;
+                        Ok((
+                            p,
+                            FrameLoads {
+                                accel: v3(f.motion.accel),
+                                alpha: v3(f.motion.alpha),
+                                gravity: v3(f.motion.gravity),
+                            },
+                        ))
+                    }
+                }
+            };
+            let (xa, xb) = match e {
+                Element::Bushing { arm_a, arm_b, .. } | Element::Axial { arm_a, arm_b, .. } => {
+                    (arm_a.x, arm_b.x)
+                }
+                Element::CarriedMass { arm, .. } => (arm.x, arm.x),
+            };
+            let (pa, _) = end(a, xa)?;
+            let (pb, fb) = end(b, xb)?;
+            out.push(e.load(&pa, &pb, &fb));
+        }
+        Ok(out)
+    }
+
+    /// Adds element loads to the bodies' (force, moment about the centre) in their track axes.
+    fn accumulate(&self, poses: &[Pose], loads: &[ElementLoad], acc: &mut [(Vector3<f64>, Vector3<f64>)]) {
+        for (e, l) in self.elements.iter().zip(loads) {
+            let (a, b) = e.ends();
+            let mut apply = |r: BodyRef, sign: f64, point: &Vector3<f64>| {
+                if let BodyRef::Body(i) = r {
+                    let p = &poses[i];
+                    let at = p.rotation.transpose();
+                    let f = at * (sign * l.force);
+                    let arm = at * (point - p.origin) - p.centre;
+                    acc[i].0 += f;
+                    acc[i].1 += arm.cross(&f) + at * (sign * l.moment);
+                }
+            };
+            if !matches!(e, Element::CarriedMass { .. }) {
+                apply(a, -1.0, &l.point_a);
+            }
+            apply(b, 1.0, &l.point_b);
+        }
+    }
+
+    /// Evaluates the system at (t, x): accelerations into `dxdt` (when given) and the sample.
+    pub fn evaluate_at(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        dxdt: Option<&mut [f64]>,
+    ) -> Result<MultibodySample, String> {
+        let v = self.speed.at(t);
+        let v_dot = if v > 0.0 { self.speed.ramp_m_s2 } else { 0.0 };
+        let s_ref = self.s0 + self.speed.distance(t);
+        let nb = self.bodies.len();
+        let nw = self.wheelsets.len();
+        let mut poses = Vec::with_capacity(nb + nw);
+        let mut frames = Vec::with_capacity(nb + nw);
+        let mut motions = Vec::with_capacity(nb + nw);
+        let mut body_samples = Vec::with_capacity(nb);
+        for (i, b) in self.bodies.iter().enumerate() {
+            let o = self.body_offset(i);
+            let q = &x[o..o + 6];
+            let qd = &x[o + 6..o + 12];
+            let s = s_ref + b.d + q[0];
+            let f = self.frame_at(s, v, v_dot)?;
+            poses.push(Pose {
+                origin: f.origin,
+                rotation: f.rotation,
+                centre: Vector3::new(0.0, q[1], b.h + q[2]),
+                theta: Vector3::new(q[3], q[4], q[5]),
+                centre_velocity: Vector3::new(qd[0], qd[1], qd[2]),
+                theta_dot: Vector3::new(qd[3], qd[4], qd[5]),
+                speed: v,
+                omega_t: v3(f.motion.omega),
+            });
+            frames.push(FrameLoads {
+                accel: v3(f.motion.accel),
+                alpha: v3(f.motion.alpha),
+                gravity: v3(f.motion.gravity),
+            });
+            motions.push(f.motion);
+            body_samples.push(BodySample {
+                s,
+                q: [q[0], q[1], q[2], q[3], q[4], q[5]],
+                q_dot: [qd[0], qd[1], qd[2], qd[3], qd[4], qd[5]],
+            });
+        }
+        let mut ws_states = Vec::with_capacity(nw);
+        let mut kins = Vec::with_capacity(nw);
+        let mut ws_s = Vec::with_capacity(nw);
+        let mut ws_rails = Vec::with_capacity(nw);
+        for j in 0..nw {
+            let o = self.wheelset_offset(j);
+            let st = WheelsetState {
+                x: x[o],
+                y: x[o + 1],
+                psi: x[o + 2],
+                x_dot: x[o + 3],
+                y_dot: x[o + 4],
+                psi_dot: x[o + 5],
+                omega: x[o + 6],
+            };
+            let s = s_ref + self.wheelsets[j].d + st.x;
+            let f = self.frame_at(s, v, v_dot)?;
+            let kin = self
+                .contact
+                .kinematics(st.y, st.y_dot, &f.rails, &mut self.warm[j])
+                .map_err(|e| {
+                    format!(
+                        "{}: contact model at y = {:.4} mm: {e}",
+                        self.wheelsets[j].name,
+                        st.y * 1e3
+                    )
+                })?;
+            self.contact_evaluations += 1;
+            poses.push(Pose {
+                origin: f.origin,
+                rotation: f.rotation,
+                centre: Vector3::new(0.0, st.y, kin.z),
+                theta: Vector3::new(kin.phi, 0.0, st.psi),
+                centre_velocity: Vector3::new(st.x_dot, st.y_dot, kin.z_dot),
+                theta_dot: Vector3::new(kin.phi_dot, 0.0, st.psi_dot),
+                speed: v,
+                omega_t: v3(f.motion.omega),
+            });
+            frames.push(FrameLoads {
+                accel: v3(f.motion.accel),
+                alpha: v3(f.motion.alpha),
+                gravity: v3(f.motion.gravity),
+            });
+            motions.push(f.motion);
+            ws_states.push(st);
+            kins.push(kin);
+            ws_s.push(s);
+            ws_rails.push(f.rails.q);
+        }
+        let loads = self.element_loads(&poses, &frames, s_ref, v, v_dot)?;
+        let mut acc = vec![(Vector3::zeros(), Vector3::zeros()); nb + nw];
+        self.accumulate(&poses, &loads, &mut acc);
+        let mut dxdt = dxdt;
+        for (i, b) in self.bodies.iter().enumerate() {
+            let m = &motions[i];
+            let p = &poses[i];
+            let (f, mo) = acc[i];
+            let (w_t, a_t, al_t, g_t) = (v3(m.omega), v3(m.accel), v3(m.alpha), v3(m.gravity));
+            let r = p.centre;
+            let r_dot = p.centre_velocity;
+            let acc_lin = f / b.mass_kg + g_t
+                - a_t
+                - 2.0 * w_t.cross(&r_dot)
+                - al_t.cross(&r)
+                - w_t.cross(&w_t.cross(&r));
+            let w = w_t + p.theta_dot;
+            let iw = b.inertia.component_mul(&w);
+            let acc_rot = (mo - w.cross(&iw)).component_div(&b.inertia) - al_t;
+            if let Some(d) = dxdt.as_deref_mut() {
+                let o = self.body_offset(i);
+                for k in 0..6 {
+                    d[o + k] = x[o + 6 + k];
+                }
+                for k in 0..3 {
+                    d[o + 6 + k] = acc_lin[k];
+                    d[o + 9 + k] = acc_rot[k];
+                }
+            }
+        }
+        let mut ws_samples = Vec::with_capacity(nw);
+        for j in 0..nw {
+            let (f, mo) = acc[nb + j];
+            let load = Load {
+                force: f.into(),
+                moment: mo.into(),
+            };
+            let dynamics = evaluate(
+                &self.wheelsets[j].inertia,
+                &ws_states[j],
+                &kins[j],
+                &motions[nb + j],
+                &load,
+                &self.forces,
+                self.lambda[j],
+            )
+            .map_err(|e| {
+                format!(
+                    "{} at y = {:.4} mm: {e}",
+                    self.wheelsets[j].name,
+                    ws_states[j].y * 1e3
+                )
+            })?;
+            self.lambda[j] = dynamics.normal;
+            if let Some(d) = dxdt.as_deref_mut() {
+                let o = self.wheelset_offset(j);
+                let a = dynamics.accel;
+                d[o] = x[o + 3];
+                d[o + 1] = x[o + 4];
+                d[o + 2] = x[o + 5];
+                d[o + 3] = a[0];
+                d[o + 4] = a[1];
+                d[o + 5] = a[4];
+                d[o + 6] = a[5];
+            }
+            ws_samples.push(WheelsetSample {
+                state: ws_states[j],
+                kin: kins[j],
+                dynamics,
+                speed: v,
+                s: ws_s[j],
+                rails: ws_rails[j],
+            });
+        }
+        Ok(MultibodySample {
+            bodies: body_samples,
+            wheelsets: ws_samples,
+            elements: loads.iter().map(|l| (l.deflection, l.local_force)).collect(),
+        })
+    }
+
+    /// Static residual of the bodies (6 per body: force, moment in track axes) with body
+    /// displacements `u`, wheelsets centred (z, φ from the contact model at y = 0), on level
+    /// tangent track at rest.
+    fn static_residual(
+        &self,
+        u: &[f64],
+        wheelset_poses: &[Pose],
+    ) -> Result<(DVector<f64>, Vec<ElementLoad>), String> {
+        let nb = self.bodies.len();
+        let mut poses = Vec::with_capacity(nb + wheelset_poses.len());
+        for (i, b) in self.bodies.iter().enumerate() {
+            let q = &u[6 * i..6 * i + 6];
+            poses.push(Pose {
+                origin: Vector3::new(b.d + q[0], 0.0, 0.0),
+                rotation: Matrix3::identity(),
+                centre: Vector3::new(0.0, q[1], b.h + q[2]),
+                theta: Vector3::new(q[3], q[4], q[5]),
+                centre_velocity: Vector3::zeros(),
+                theta_dot: Vector3::zeros(),
+                speed: 0.0,
+                omega_t: Vector3::zeros(),
+            });
+        }
+        poses.extend_from_slice(wheelset_poses);
+        let level = FrameLoads {
+            accel: Vector3::zeros(),
+            alpha: Vector3::zeros(),
+            gravity: Vector3::new(0.0, 0.0, -G),
+        };
+        let frames = vec![level; poses.len()];
+        let mut loads = Vec::with_capacity(self.elements.len());
+        for e in &self.elements {
+            let (a, b) = e.ends();
+            let end = |r: BodyRef, arm_x: f64| match r {
+                BodyRef::Body(i) => poses[i],
+                BodyRef::Track => Pose {
+                    origin: Vector3::new(arm_x, 0.0, 0.0),
+                    rotation: Matrix3::identity(),
+                    centre: Vector3::new(-arm_x, 0.0, 0.0),
+                    theta: Vector3::zeros(),
+                    centre_velocity: Vector3::zeros(),
+                    theta_dot: Vector3::zeros(),
+                    speed: 0.0,
+                    omega_t: Vector3::zeros(),
+                },
+            };
+            let (xa, xb) = match e {
+                Element::Bushing { arm_a, arm_b, .. } | Element::Axial { arm_a, arm_b, .. } => {
+                    (arm_a.x, arm_b.x)
+                }
+                Element::CarriedMass { arm, .. } => (arm.x, arm.x),
+            };
+            loads.push(e.load(&end(a, xa), &end(b, xb), &level));
+        }
+        let mut acc = vec![(Vector3::zeros(), Vector3::zeros()); poses.len()];
+        self.accumulate(&poses, &loads, &mut acc);
+        let mut r = DVector::zeros(6 * nb);
+        for (i, b) in self.bodies.iter().enumerate() {
+            let f = acc[i].0 + b.mass_kg * frames[i].gravity;
+            for k in 0..3 {
+                r[6 * i + k] = f[k];
+                r[6 * i + 3 + k] = acc[i].1[k];
+            }
+        }
+        // The wheelsets' shares, for the report: what the elements put on them, plus their weight.
+        Ok((r, loads))
+    }
+
+    /// Settles the bodies under gravity and preloads the elements with their static forces (see
+    /// the module doc). Returns the static sag the preloads replace, the residual and the static
+    /// wheel loads.
+    pub fn settle(&mut self) -> Result<Settling, String> {
+        let nb = self.bodies.len();
+        let mut warm = ContactWarmStart::default();
+        let kin = self
+            .contact
+            .kinematics(0.0, 0.0, &RailMotion::default(), &mut warm)
+            .map_err(|e| format!("centred contact: {e}"))?;
+        let ws_poses: Vec<Pose> = self
+            .wheelsets
+            .iter()
+            .map(|w| Pose {
+                origin: Vector3::new(w.d, 0.0, 0.0),
+                rotation: Matrix3::identity(),
+                centre: Vector3::new(0.0, 0.0, kin.z),
+                theta: Vector3::new(kin.phi, 0.0, 0.0),
+                centre_velocity: Vector3::zeros(),
+                theta_dot: Vector3::zeros(),
+                speed: 0.0,
+                omega_t: Vector3::zeros(),
+            })
+            .collect();
+        let n = 6 * nb;
+        let mut u = vec![0.0; n];
+        let weight: f64 = self.bodies.iter().map(|b| b.mass_kg * G).sum::<f64>().max(1.0);
+        let mut residual = 0.0;
+        for _ in 0..20 {
+            let (r, _) = self.static_residual(&u, &ws_poses)?;
+            residual = r.amax();
+            if residual < 1e-9 * weight || n == 0 {
+                break;
+            }
+            let mut jac = DMatrix::zeros(n, n);
+            let h = 1e-7;
+            for k in 0..n {
+                let mut up = u.clone();
+                up[k] += h;
+                let (rp, _) = self.static_residual(&up, &ws_poses)?;
+                jac.set_column(k, &((rp - &r) / h));
+            }
+            let names = || {
+                self.bodies
+                    .iter()
+                    .map(|b| b.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let du = jac.lu().solve(&(-&r)).ok_or_else(|| {
+                format!(
+                    "the static equations are singular: some body among [{}] is not held in some direction by the elements",
+                    names()
+                )
+            })?;
+            for k in 0..n {
+                u[k] += du[k];
+            }
+        }
+        let (_, settled) = self.static_residual(&u, &ws_poses)?;
+        let (_, nominal) = self.static_residual(&vec![0.0; n], &ws_poses)?;
+        for ((e, ls), ln) in self.elements.iter_mut().zip(&settled).zip(&nominal) {
+            e.set_preload(ls, ln);
+            e.set_moment_preload(&ls.moment, &ln.moment);
+        }
+        // Check: at the nominal configuration the preloaded elements balance gravity.
+        let (r, loads) = self.static_residual(&vec![0.0; n], &ws_poses)?;
+        residual = residual.max(r.amax());
+        let mut all_poses: Vec<Pose> = self
+            .bodies
+            .iter()
+            .map(|b| Pose {
+                origin: Vector3::new(b.d, 0.0, 0.0),
+                rotation: Matrix3::identity(),
+                centre: Vector3::new(0.0, 0.0, b.h),
+                theta: Vector3::zeros(),
+                centre_velocity: Vector3::zeros(),
+                theta_dot: Vector3::zeros(),
+                speed: 0.0,
+                omega_t: Vector3::zeros(),
+            })
+            .collect();
+        all_poses.extend_from_slice(&ws_poses);
+        let mut acc = vec![(Vector3::zeros(), Vector3::zeros()); all_poses.len()];
+        self.accumulate(&all_poses, &loads, &mut acc);
+        let axle_loads: Vec<f64> = self
+            .wheelsets
+            .iter()
+            .enumerate()
+            .map(|(j, w)| -acc[nb + j].0.z + w.inertia.mass_kg * G)
+            .collect();
+        self.lambda = axle_loads.iter().map(|q| [0.5 * q, 0.5 * q]).collect();
+        Ok(Settling {
+            sag: (0..nb)
+                .map(|i| {
+                    [
+                        u[6 * i],
+                        u[6 * i + 1],
+                        u[6 * i + 2],
+                        u[6 * i + 3],
+                        u[6 * i + 4],
+                        u[6 * i + 5],
+                    ]
+                })
+                .collect(),
+            residual,
+            axle_loads,
+        })
+    }
+}
+
+impl OdeSystem for Multibody {
+    fn dim(&self) -> usize {
+        12 * self.bodies.len() + 7 * self.wheelsets.len()
+    }
+
+    fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), String> {
+        self.evaluate_at(t, x, Some(dxdt)).map(|_| ())
+    }
+}

@@ -1,0 +1,392 @@
+//! The `[vehicle] kind = "multibody"` table: bodies, wheelsets and force elements, as written in a
+//! scenario (nominal vehicle coordinates, SI units), validated into [`super::Element`]s.
+//!
+//! ```toml
+//! [vehicle]
+//! kind = "multibody"
+//! [[vehicle.bodies]]
+//! name = "bogie"
+//! mass_kg = 2615.0
+//! inertia_kg_m2 = [1722.0, 1476.0, 3067.0]   # about x (roll), y (pitch), z (yaw)
+//! position_m = [0.0, 0.0, 0.6]               # x along the vehicle, y = 0, CG height above rail
+//! [[vehicle.wheelsets]]
+//! name = "wheelset_1"
+//! x_m = 1.28
+//! mass_kg = 1813.0
+//! inertia_kg_m2 = [1120.0, 112.0, 1120.0]
+//! [[vehicle.elements]]
+//! type = "bushing"                           # or "axial", "rotational", "carried_mass"
+//! name = "primary_1_left"
+//! bodies = ["bogie", "wheelset_1"]           # "track": the ideal track-following reference
+//! at_m = [1.28, 1.0, 0.46]
+//! stiffness = [31.391e6, 3.884e6, 1.22e6, 0.0, 0.0, 0.0]
+//! damping = [15e3, 2e3, 4e3, 0.0, 0.0, 0.0]
+//! ```
+
+use nalgebra::Vector3;
+use serde::Deserialize;
+
+use super::elements::{BodyRef, Element};
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MultibodySpec {
+    #[serde(default)]
+    pub bodies: Vec<BodySpec>,
+    pub wheelsets: Vec<WheelsetBodySpec>,
+    #[serde(default)]
+    pub elements: Vec<ElementSpec>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    pub name: String,
+    pub mass_kg: f64,
+    pub inertia_kg_m2: [f64; 3],
+    /// Nominal centre: [x along the vehicle, 0, height above the rail top], m.
+    pub position_m: [f64; 3],
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetBodySpec {
+    pub name: String,
+    /// Nominal position along the vehicle, m.
+    pub x_m: f64,
+    pub mass_kg: f64,
+    pub inertia_kg_m2: [f64; 3],
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BumpStopSpec {
+    pub axis: Axis,
+    pub clearance_m: f64,
+    pub stiffness_n_per_m: f64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ElementSpec {
+    /// 6-component bushing at one point (stiffness/damping in the first body's track axes:
+    /// x, y, z in N/m and N s/m, then φ, θ, ψ in N m/rad and N m s/rad).
+    Bushing {
+        name: String,
+        bodies: [String; 2],
+        at_m: [f64; 3],
+        #[serde(default)]
+        stiffness: [f64; 6],
+        #[serde(default)]
+        damping: [f64; 6],
+        #[serde(default)]
+        bump_stops: Vec<BumpStopSpec>,
+    },
+    /// Spring–damper along the line between two points (traction rod, damper).
+    Axial {
+        name: String,
+        bodies: [String; 2],
+        from_m: [f64; 3],
+        to_m: [f64; 3],
+        #[serde(default)]
+        stiffness_n_per_m: f64,
+        #[serde(default)]
+        damping_n_s_per_m: f64,
+    },
+    /// Rotational spring–damper about one axis (anti-roll bar: x; secondary bending: y, z).
+    Rotational {
+        name: String,
+        bodies: [String; 2],
+        at_m: [f64; 3],
+        axis: Axis,
+        stiffness_n_m_per_rad: f64,
+        #[serde(default)]
+        damping_n_m_s_per_rad: f64,
+    },
+    /// A mass carried along the track by a body at a point: its weight and the track frame's
+    /// inertial forces load the body (e.g. half a carbody on a bogie scene).
+    CarriedMass {
+        name: String,
+        body: String,
+        at_m: [f64; 3],
+        mass_kg: f64,
+    },
+}
+
+/// A problem found in the vehicle table.
+pub type VehicleProblem = String;
+
+/// Nominal centre of a system body (index over bodies, then wheelsets), vehicle coordinates.
+pub fn nominal_centre(spec: &MultibodySpec, r0: f64, i: usize) -> Vector3<f64> {
+    if i < spec.bodies.len() {
+        Vector3::from(spec.bodies[i].position_m)
+    } else {
+        Vector3::new(spec.wheelsets[i - spec.bodies.len()].x_m, 0.0, r0)
+    }
+}
+
+impl MultibodySpec {
+    /// Index of a body by name (bodies first, then wheelsets), or the track reference.
+    fn lookup(&self, name: &str) -> Option<BodyRef> {
+        if name == "track" {
+            return Some(BodyRef::Track);
+        }
+        self.bodies
+            .iter()
+            .map(|b| &b.name)
+            .chain(self.wheelsets.iter().map(|w| &w.name))
+            .position(|n| n == name)
+            .map(BodyRef::Body)
+    }
+
+    /// Names of the system bodies in order (bodies, then wheelsets).
+    pub fn body_names(&self) -> Vec<String> {
+        self.bodies
+            .iter()
+            .map(|b| b.name.clone())
+            .chain(self.wheelsets.iter().map(|w| w.name.clone()))
+            .collect()
+    }
+
+    /// Problems with values and names, each naming the entry.
+    pub fn problems(&self) -> Vec<VehicleProblem> {
+        let mut p = Vec::new();
+        let mut check = |what: String, v: f64, lo: f64, hi: f64| {
+            if !(v.is_finite() && v >= lo && v <= hi) {
+                p.push(format!("vehicle.{what} = {v}: expected a value in [{lo}, {hi}]"));
+            }
+        };
+        if self.wheelsets.is_empty() {
+            check("wheelsets (count)".into(), 0.0, 1.0, 64.0);
+        }
+        for b in &self.bodies {
+            check(format!("bodies[{}].mass_kg", b.name), b.mass_kg, 1.0, 1e6);
+            for (i, v) in b.inertia_kg_m2.iter().enumerate() {
+                check(format!("bodies[{}].inertia_kg_m2[{i}]", b.name), *v, 1e-3, 1e8);
+            }
+            check(
+                format!("bodies[{}].position_m[1]", b.name),
+                b.position_m[1],
+                0.0,
+                0.0,
+            );
+            check(
+                format!("bodies[{}].position_m[2]", b.name),
+                b.position_m[2],
+                0.0,
+                10.0,
+            );
+            check(
+                format!("bodies[{}].position_m[0]", b.name),
+                b.position_m[0],
+                -200.0,
+                200.0,
+            );
+        }
+        for w in &self.wheelsets {
+            check(format!("wheelsets[{}].mass_kg", w.name), w.mass_kg, 1.0, 1e5);
+            check(format!("wheelsets[{}].x_m", w.name), w.x_m, -200.0, 200.0);
+            for (i, v) in w.inertia_kg_m2.iter().enumerate() {
+                check(format!("wheelsets[{}].inertia_kg_m2[{i}]", w.name), *v, 1e-3, 1e6);
+            }
+        }
+        let names = self.body_names();
+        for (i, n) in names.iter().enumerate() {
+            if n == "track" || names[..i].contains(n) {
+                p.push(format!("vehicle: body name \"{n}\" is reserved or used twice"));
+            }
+        }
+        for e in &self.elements {
+            let (name, ends): (&String, Vec<&String>) = match e {
+                ElementSpec::Bushing { name, bodies, .. }
+                | ElementSpec::Axial { name, bodies, .. }
+                | ElementSpec::Rotational { name, bodies, .. } => (name, bodies.iter().collect()),
+                ElementSpec::CarriedMass { name, body, .. } => (name, vec![body]),
+            };
+            for b in &ends {
+                if self.lookup(b).is_none() {
+                    p.push(format!(
+                        "vehicle.elements[{name}]: unknown body \"{b}\" (known: track, {})",
+                        names.join(", ")
+                    ));
+                }
+            }
+            if ends.len() == 2 && ends[0] == ends[1] {
+                p.push(format!("vehicle.elements[{name}]: both ends on \"{}\"", ends[0]));
+            }
+            let mut nonneg = |what: &str, v: f64| {
+                if !(v.is_finite() && v >= 0.0) {
+                    p.push(format!(
+                        "vehicle.elements[{name}].{what} = {v}: expected a value ≥ 0"
+                    ));
+                }
+            };
+            match e {
+                ElementSpec::Bushing {
+                    stiffness,
+                    damping,
+                    bump_stops,
+                    ..
+                } => {
+                    for k in 0..6 {
+                        nonneg(&format!("stiffness[{k}]"), stiffness[k]);
+                        nonneg(&format!("damping[{k}]"), damping[k]);
+                    }
+                    for b in bump_stops {
+                        nonneg("bump_stops.clearance_m", b.clearance_m);
+                        nonneg("bump_stops.stiffness_n_per_m", b.stiffness_n_per_m);
+                    }
+                }
+                ElementSpec::Axial {
+                    from_m,
+                    to_m,
+                    stiffness_n_per_m,
+                    damping_n_s_per_m,
+                    ..
+                } => {
+                    nonneg("stiffness_n_per_m", *stiffness_n_per_m);
+                    nonneg("damping_n_s_per_m", *damping_n_s_per_m);
+                    let l = (Vector3::from(*to_m) - Vector3::from(*from_m)).norm();
+                    if l.is_nan() || l <= 1e-3 {
+                        p.push(format!(
+                            "vehicle.elements[{name}]: from_m and to_m are {l} m apart (an axial element needs a length)"
+                        ));
+                    }
+                }
+                ElementSpec::Rotational {
+                    stiffness_n_m_per_rad,
+                    damping_n_m_s_per_rad,
+                    ..
+                } => {
+                    nonneg("stiffness_n_m_per_rad", *stiffness_n_m_per_rad);
+                    nonneg("damping_n_m_s_per_rad", *damping_n_m_s_per_rad);
+                }
+                ElementSpec::CarriedMass { mass_kg, .. } => nonneg("mass_kg", *mass_kg),
+            }
+        }
+        p
+    }
+
+    /// The elements, with arms from the bodies' nominal centres (call after [`Self::problems`]
+    /// found none). `r0` is the wheelsets' nominal rolling radius (their centre height).
+    pub fn elements(&self, r0: f64) -> Vec<Element> {
+        let centre = |r: BodyRef| match r {
+            BodyRef::Track => Vector3::zeros(),
+            BodyRef::Body(i) => nominal_centre(self, r0, i),
+        };
+        let body = |n: &String| self.lookup(n).expect("validated");
+        // On the track reference the arm is the point's nominal position itself; the system places
+        // that point in the track frame at its own arc length (s_ref + x).
+        let arm = |r: BodyRef, at: Vector3<f64>| at - centre(r);
+        self.elements
+            .iter()
+            .map(|e| match e {
+                ElementSpec::Bushing {
+                    name,
+                    bodies,
+                    at_m,
+                    stiffness,
+                    damping,
+                    bump_stops,
+                } => {
+                    let (a, b) = (body(&bodies[0]), body(&bodies[1]));
+                    let at = Vector3::from(*at_m);
+                    let mut stops = [None; 3];
+                    for s in bump_stops {
+                        stops[s.axis.index()] = Some((s.clearance_m, s.stiffness_n_per_m));
+                    }
+                    Element::Bushing {
+                        name: name.clone(),
+                        a,
+                        b,
+                        arm_a: arm(a, at),
+                        arm_b: arm(b, at),
+                        stiffness: *stiffness,
+                        damping: *damping,
+                        bump_stops: stops,
+                        preload: [0.0; 6],
+                    }
+                }
+                ElementSpec::Axial {
+                    name,
+                    bodies,
+                    from_m,
+                    to_m,
+                    stiffness_n_per_m,
+                    damping_n_s_per_m,
+                } => {
+                    let (a, b) = (body(&bodies[0]), body(&bodies[1]));
+                    let (from, to) = (Vector3::from(*from_m), Vector3::from(*to_m));
+                    Element::Axial {
+                        name: name.clone(),
+                        a,
+                        b,
+                        arm_a: arm(a, from),
+                        arm_b: arm(b, to),
+                        length_m: (to - from).norm(),
+                        stiffness: *stiffness_n_per_m,
+                        damping: *damping_n_s_per_m,
+                        preload: 0.0,
+                    }
+                }
+                ElementSpec::Rotational {
+                    name,
+                    bodies,
+                    at_m,
+                    axis,
+                    stiffness_n_m_per_rad,
+                    damping_n_m_s_per_rad,
+                } => {
+                    let (a, b) = (body(&bodies[0]), body(&bodies[1]));
+                    let at = Vector3::from(*at_m);
+                    let (mut k, mut c) = ([0.0; 6], [0.0; 6]);
+                    k[3 + axis.index()] = *stiffness_n_m_per_rad;
+                    c[3 + axis.index()] = *damping_n_m_s_per_rad;
+                    Element::Bushing {
+                        name: name.clone(),
+                        a,
+                        b,
+                        arm_a: arm(a, at),
+                        arm_b: arm(b, at),
+                        stiffness: k,
+                        damping: c,
+                        bump_stops: [None; 3],
+                        preload: [0.0; 6],
+                    }
+                }
+                ElementSpec::CarriedMass {
+                    name,
+                    body: on,
+                    at_m,
+                    mass_kg,
+                } => {
+                    let b = body(on);
+                    Element::CarriedMass {
+                        name: name.clone(),
+                        body: b,
+                        arm: arm(b, Vector3::from(*at_m)),
+                        mass_kg: *mass_kg,
+                    }
+                }
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,298 @@
+//! Multibody scenes checked against hand calculations: static settling (axle loads, sag), the
+//! equilibrium of the preloaded vehicle, quasi-static curving of a bogie in the Tab. 6 curve (the
+//! cant-deficiency balance, load transfer to the outer wheels, the wheelsets' yaw against the
+//! curve geometry), KEC against the lookup table on the same scene, and bad vehicle tables.
+
+use std::path::Path;
+
+mod common;
+use common::{kecsim, tmpdir};
+
+use kecsim::dynamics::contact_model::ContactKind;
+use kecsim::dynamics::integrator::OdeSystem;
+use kecsim::dynamics::integrator::{integrate, Settings};
+use kecsim::dynamics::multibody::{Multibody, MultibodySample};
+use kecsim::dynamics::run::{build_contact, to_sample};
+use kecsim::dynamics::single_wheelset::SpeedProfile;
+use kecsim::dynamics::spec::VehicleSpec;
+use kecsim::scenario::{Scenario, Scene};
+
+const G: f64 = 9.81;
+
+fn scene(file: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(file);
+    Scenario::read(&path)
+        .unwrap()
+        .compile(&path.display().to_string(), path.parent().unwrap())
+        .unwrap()
+}
+
+fn build(sc: &Scene, kind: ContactKind, with_track: bool) -> Multibody {
+    let (sim, veh) = sc.simulation.clone().unwrap();
+    let VehicleSpec::Multibody(spec) = veh else {
+        panic!("not a multibody scene")
+    };
+    let mut sys = Multibody::from_spec(
+        &spec,
+        build_contact(sc, kind).unwrap(),
+        sc.contact_forces.clone(),
+        sc.pair.wheelset.nominal_radius_m,
+        SpeedProfile {
+            initial_m_s: sim.speed_m_s,
+            ramp_m_s2: 0.0,
+        },
+    );
+    sys.settle().unwrap();
+    if with_track {
+        sys.track = sc.track.clone();
+        sys.s0 = sim.start_m.unwrap();
+    }
+    sys
+}
+
+/// Runs the scene's duration and returns the samples at the recording rate and the final sample.
+fn simulate(sc: &Scene, kind: ContactKind) -> (Vec<MultibodySample>, MultibodySample) {
+    let (sim, _) = sc.simulation.clone().unwrap();
+    let mut sys = build(sc, kind, true);
+    let mut out_sys = sys.clone_for_output();
+    let x0 = sys.initial_state(0.0, 0.0);
+    let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
+    let mut samples = Vec::new();
+    integrate(
+        &mut sys,
+        0.0,
+        &x0,
+        sim.duration_s,
+        1.0 / sim.record_rate_hz,
+        &settings,
+        &mut |t, x| {
+            samples.push(out_sys.evaluate_at(t, x, None)?);
+            Ok(())
+        },
+    )
+    .unwrap();
+    let last = samples.last().unwrap().clone();
+    (samples, last)
+}
+
+/// Settling: the axle loads are half the sprung weight plus the wheelset's, the sag the preloads
+/// replace is the weight over the primary vertical stiffness; preloaded, the vehicle centred on
+/// tangent track at speed, centred, has no acceleration.
+#[test]
+fn static_settling_and_equilibrium() {
+    let sc = scene("bogie_tab6_curve.toml");
+    let (_, veh) = sc.simulation.clone().unwrap();
+    let VehicleSpec::Multibody(spec) = veh else {
+        panic!()
+    };
+    let mut sys = Multibody::from_spec(
+        &spec,
+        build_contact(&sc, ContactKind::Kec).unwrap(),
+        sc.contact_forces.clone(),
+        sc.pair.wheelset.nominal_radius_m,
+        SpeedProfile {
+            initial_m_s: 19.0,
+            ramp_m_s2: 0.0,
+        },
+    );
+    let st = sys.settle().unwrap();
+    let sprung = (2615.0 + 16000.0) * G;
+    for q in &st.axle_loads {
+        let hand = 0.5 * sprung + 1813.0 * G;
+        assert!((q - hand).abs() < 1e-6 * hand, "axle load {q} vs {hand}");
+    }
+    let sag = st.sag[0][2];
+    let hand_sag = -sprung / (4.0 * 1.22e6);
+    println!(
+        "axle loads {:.1} kN; static sag the preloads replace {:.2} mm (hand {:.2} mm); residual {:.1e} N",
+        st.axle_loads[0] * 1e-3,
+        sag * 1e3,
+        hand_sag * 1e3,
+        st.residual
+    );
+    // (Within 1 %: the wheelset centre of the centred contact is not exactly r0 above the rail
+    // plane, which pre-deflects the primary springs by that difference, 0.2 mm here.)
+    assert!((sag - hand_sag).abs() < 1e-2 * hand_sag.abs());
+    let x0 = sys.initial_state(0.0, 0.0);
+    let mut dx = vec![0.0; sys.dim()];
+    sys.rhs(0.0, &x0, &mut dx).unwrap();
+    let worst = dx.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-6, "nominal state not at rest: {dx:?}");
+}
+
+/// The bogie in the Tab. 6 curve at 19 m/s settles quasi-statically. Checked against hand
+/// calculations: the lateral wheel–rail forces plus the secondary's balance the cant deficiency
+/// m (V²/R − g |φ|); the vertical ones the weight; the outer (right) wheels carry more; the
+/// wheelsets' relative yaw is the curve's 2a/R less what the primary's longitudinal flexibility
+/// lets them steer; the leading wheelset runs to the outer rail.
+#[test]
+fn bogie_curving_is_quasi_static_and_balanced() {
+    let sc = scene("bogie_tab6_curve.toml");
+    let (samples, last) = simulate(&sc, ContactKind::Kec);
+    let r0 = sc.pair.wheelset.nominal_radius_m;
+    let n = samples.len();
+    // Steady: the last second changes by < 1 µm.
+    let y_of = |s: &MultibodySample, j: usize| s.wheelsets[j].state.y;
+    for j in 0..2 {
+        let drift = (y_of(&samples[n - 1], j) - y_of(&samples[n - 101], j)).abs();
+        assert!(drift < 1e-6, "wheelset {j} still moving: {drift}");
+    }
+    let ws: Vec<_> = last.wheelsets.iter().map(|w| to_sample(0.0, w, r0)).collect();
+    let m_tot = 2615.0 + 2.0 * 1813.0 + 16000.0;
+    let (v, radius, cant) = (19.0, 235.65, 0.07599);
+    let hand_y = m_tot * (v * v / radius - G * cant);
+    let rails_y: f64 = ws.iter().map(|s| s.y_force[0] + s.y_force[1]).sum();
+    let rails_q: f64 = ws.iter().map(|s| s.q_force[0] + s.q_force[1]).sum();
+    // The secondary bushings' lateral forces on the bogie (track axes).
+    let names: Vec<String> = {
+        let (_, veh) = sc.simulation.clone().unwrap();
+        let VehicleSpec::Multibody(spec) = veh else {
+            panic!()
+        };
+        spec.elements
+            .iter()
+            .map(|e| match e {
+                kecsim::vehicle::spec::ElementSpec::Bushing { name, .. }
+                | kecsim::vehicle::spec::ElementSpec::Rotational { name, .. }
+                | kecsim::vehicle::spec::ElementSpec::Axial { name, .. }
+                | kecsim::vehicle::spec::ElementSpec::CarriedMass { name, .. } => name.clone(),
+            })
+            .collect()
+    };
+    let secondary_y: f64 = names
+        .iter()
+        .zip(&last.elements)
+        .filter(|(n, _)| n.starts_with("secondary_left") || n.starts_with("secondary_right"))
+        .map(|(_, (_, f))| f.y)
+        .sum();
+    println!(
+        "lateral: rails {:.2} kN + secondary {:.2} kN = {:.2} kN; hand m (V²/R − g|φ|) = {:.2} kN",
+        rails_y * 1e-3,
+        secondary_y * 1e-3,
+        (rails_y + secondary_y) * 1e-3,
+        hand_y * 1e-3
+    );
+    assert!(
+        (rails_y + secondary_y - hand_y).abs() < 0.01 * hand_y,
+        "cant-deficiency balance"
+    );
+    println!(
+        "vertical: rails {:.2} kN; weight {:.2} kN",
+        rails_q * 1e-3,
+        m_tot * G * 1e-3
+    );
+    assert!((rails_q - m_tot * G).abs() < 0.01 * m_tot * G);
+    for (j, s) in ws.iter().enumerate() {
+        println!(
+            "wheelset {}: y {:.3} mm, yaw {:.3} mrad, Q {:.1} / {:.1} kN (left/right), Y/Q {:.3} / {:.3}",
+            j + 1,
+            s.y * 1e3,
+            s.yaw * 1e3,
+            s.q_force[0] * 1e-3,
+            s.q_force[1] * 1e-3,
+            s.y_force[0] / s.q_force[0],
+            s.y_force[1] / s.q_force[1]
+        );
+        assert!(s.normal[1] > s.normal[0], "outer (right) wheel carries more");
+        assert!(
+            (s.y_force[1] / s.q_force[1]).abs() < 0.8,
+            "Y/Q within Nadal's limit"
+        );
+    }
+    assert!(
+        ws[0].y < -3e-3,
+        "the leading wheelset runs towards the outer rail"
+    );
+    let relative_yaw = ws[1].yaw - ws[0].yaw;
+    let geometric = 2.0 * 1.28 / radius;
+    println!(
+        "relative yaw of the wheelsets {:.3} mrad; curve geometry 2a/R = {:.3} mrad",
+        relative_yaw * 1e3,
+        geometric * 1e3
+    );
+    assert!((0.8 * geometric..1.0 * geometric).contains(&relative_yaw));
+}
+
+/// KEC and the lookup table on the bogie scene: lateral displacement and yaw of both wheelsets
+/// over curve entry and steady curving (the paper saw < 1 mm and < 0.5 mrad on its vehicle).
+#[test]
+fn bogie_kec_against_lookup() {
+    let sc = scene("bogie_tab6_curve.toml");
+    let (kec, _) = simulate(&sc, ContactKind::Kec);
+    let (lookup, _) = simulate(&sc, ContactKind::Lookup);
+    assert_eq!(kec.len(), lookup.len());
+    for j in 0..2 {
+        let (mut dy, mut dpsi) = (0.0_f64, 0.0_f64);
+        for (a, b) in kec.iter().zip(&lookup) {
+            dy = dy.max((a.wheelsets[j].state.y - b.wheelsets[j].state.y).abs());
+            dpsi = dpsi.max((a.wheelsets[j].state.psi - b.wheelsets[j].state.psi).abs());
+        }
+        println!(
+            "wheelset {}: KEC vs lookup max |Δy| {:.4} mm, max |Δψ| {:.4} mrad",
+            j + 1,
+            dy * 1e3,
+            dpsi * 1e3
+        );
+        assert!(dy < 0.5e-3 && dpsi < 0.5e-3, "wheelset {j}: {dy} {dpsi}");
+    }
+}
+
+/// `kecsim run` on a multibody scene: one CSV per wheelset; bad vehicle tables are clear errors.
+#[test]
+fn multibody_run_interface_and_bad_tables() {
+    let dir = tmpdir("vehicle");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/bogie_tab6_curve.toml");
+    let base = std::fs::read_to_string(&path).unwrap();
+    let short = dir.join("short.toml");
+    std::fs::write(&short, base.replace("duration_s = 7.0", "duration_s = 0.5")).unwrap();
+    let csv = dir.join("csv");
+    let out = kecsim(
+        &[
+            "run",
+            short.to_str().unwrap(),
+            "--csv",
+            csv.to_str().unwrap(),
+            "--save",
+            dir.join("r.rrd").to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for name in ["wheelset_1", "wheelset_2"] {
+        let text = std::fs::read_to_string(csv.join(format!("{name}.csv"))).unwrap();
+        assert!(text.starts_with("t_s,s_m,"));
+        assert_eq!(text.lines().count(), 1 + 51);
+    }
+    for (name, text, expect) in [
+        (
+            "unknown.toml",
+            base.replace(
+                "bodies = [\"bogie\", \"wheelset_2\"]",
+                "bodies = [\"bogie\", \"wheelset_3\"]",
+            ),
+            "unknown body \"wheelset_3\"",
+        ),
+        (
+            "negative.toml",
+            base.replacen("mass_kg = 1813.0", "mass_kg = -1.0", 1),
+            "wheelsets[wheelset_1].mass_kg = -1",
+        ),
+        (
+            "key.toml",
+            base.replace(
+                "at_m = [0.0, 0.0, 0.8275]\nmass_kg",
+                "at_m = [0.0, 0.0, 0.8275]\nmass = 1.0\nmass_kg",
+            ),
+            "mass",
+        ),
+    ] {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        let out = kecsim(&["run", p.to_str().unwrap()], &dir);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(expect), "{name}: {err}");
+        assert!(err.contains(name), "{name}: names the file: {err}");
+    }
+}
