@@ -34,8 +34,8 @@ enum Command {
     Run {
         /// Scenario file (TOML); omit to run the embedded default.
         scenario: Option<PathBuf>,
-        /// Contact model, overriding the scenario's: kec, lookup or online.
-        #[arg(long, value_parser = ["kec", "lookup", "online"])]
+        /// Contact model, overriding the scenario's: kec, lookup (1-entry), lookup2 (y, gv) or online.
+        #[arg(long, value_parser = ["kec", "lookup", "lookup2", "online"])]
         contact: Option<String>,
         /// Initial forward speed, m/s, overriding the scenario's.
         #[arg(long, value_name = "M_S")]
@@ -174,6 +174,9 @@ enum BenchTarget {
     Creep,
     /// Track-frame and irregularity evaluation on the Tab. 6 track.
     Track,
+    /// Real-time factor of every scene with every contact model (kec, lookup, lookup2, online), and each
+    /// model's difference from KEC on the same scene.
+    Dynamics,
 }
 
 /// A wheel/rail pair and its placement.
@@ -619,6 +622,20 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 let (rows, builds) = kecsim::bench::kec(calls.min(200_000)).map_err(anyhow::Error::msg)?;
                 print!("{}{builds}", kecsim::bench::contact_table(&rows));
+            }
+            BenchTarget::Dynamics => {
+                if cfg!(debug_assertions) {
+                    eprintln!("kecsim: warning: debug build, timings are not representative (use --release)");
+                }
+                use kecsim::dynamics::contact_model::ContactKind;
+                let table = kecsim::dynamics::bench::dynamics(&[
+                    ContactKind::Kec,
+                    ContactKind::Lookup,
+                    ContactKind::Lookup2,
+                    ContactKind::Online,
+                ])
+                .map_err(anyhow::Error::msg)?;
+                print!("{table}");
             }
         },
     }

@@ -7,10 +7,12 @@
 //! Three interchangeable models, chosen per scene:
 //! - `kec` — the KEC constraints (Eq. 49–51) solved online on the knife-edge-equivalent profiles;
 //!   derivatives analytic (first and second, from [`KecSolution`]);
-//! - `lookup` — the 1-entry contact lookup table (Eq. 44–46 for the irregularities);
+//! - `lookup` — the 1-entry contact lookup table (Eq. 44–46 for the irregularities; the gauge
+//!   variation is not in it);
+//! - `lookup2` — the 2-entry table over (y, gv), gauge variation ±10 mm by 1 mm;
 //! - `online` — the approximate contact constraints (Eq. 35–42) solved at every evaluation.
 //!
-//! For `lookup` and `online`, ż and the velocity-dependent part c_z of z̈ = Z_y ÿ + c_z come from
+//! For the tables and `online`, ż and the velocity-dependent part c_z of z̈ = Z_y ÿ + c_z come from
 //! the directional difference of z along the motion: with g(ε) = Z(y + ε ẏ, q_r(t + ε)) (the rails
 //! advanced to second order), ż = g'(0) and c_z = g''(0), by central differences (three evaluations,
 //! each moving the wheelset ~10 µm). The stencil depends on the state only, never on an earlier
@@ -24,7 +26,7 @@ use thiserror::Error;
 
 use crate::contact::geometry::{ContactError, ContactGeometry, ContactSolution};
 use crate::contact::kec::{KecError, KecModel, KecSolution};
-use crate::contact::lookup::{LookupTable1, TableError, TableRow};
+use crate::contact::lookup::{LookupTable1, LookupTable2, TableError, TableRow};
 use crate::contact::RailOffsets;
 use crate::profile::placement::WheelRailPair;
 use crate::profile::Side;
@@ -34,7 +36,10 @@ use crate::profile::Side;
 #[serde(rename_all = "lowercase")]
 pub enum ContactKind {
     Kec,
+    /// 1-entry table over y (the irregularities' gauge variation is not in it).
     Lookup,
+    /// 2-entry table over (y, gv): gauge variation included.
+    Lookup2,
     Online,
 }
 
@@ -43,6 +48,7 @@ impl ContactKind {
         match self {
             ContactKind::Kec => "kec",
             ContactKind::Lookup => "lookup",
+            ContactKind::Lookup2 => "lookup2",
             ContactKind::Online => "online",
         }
     }
@@ -51,6 +57,7 @@ impl ContactKind {
         match s {
             "kec" => Some(ContactKind::Kec),
             "lookup" => Some(ContactKind::Lookup),
+            "lookup2" => Some(ContactKind::Lookup2),
             "online" => Some(ContactKind::Online),
             _ => None,
         }
@@ -123,6 +130,9 @@ pub enum WheelsetContact {
     },
     Lookup {
         table: Box<LookupTable1>,
+    },
+    Lookup2 {
+        table: Box<LookupTable2>,
     },
     Online {
         geometry: Box<ContactGeometry>,
@@ -200,6 +210,7 @@ impl WheelsetContact {
         match self {
             WheelsetContact::Kec { .. } => ContactKind::Kec,
             WheelsetContact::Lookup { .. } => ContactKind::Lookup,
+            WheelsetContact::Lookup2 { .. } => ContactKind::Lookup2,
             WheelsetContact::Online { .. } => ContactKind::Online,
         }
     }
@@ -218,6 +229,10 @@ impl WheelsetContact {
                 Ok((s.z, s.phi, s.dx_dq[0][0], s.dx_dq[1][0], from_kec(&s, pair)))
             }
             WheelsetContact::Lookup { table } => {
+                let row = table.contact(y, &offsets(q))?;
+                Ok((row.z(), row.phi(), row.dx_dy[0], row.dx_dy[1], from_row(&row)))
+            }
+            WheelsetContact::Lookup2 { table } => {
                 let row = table.contact(y, &offsets(q))?;
                 Ok((row.z(), row.phi(), row.dx_dy[0], row.dx_dy[1], from_row(&row)))
             }

@@ -270,10 +270,21 @@ pub fn integrate_into(
             h = t_end - t;
         }
         let attempt = stepper.step(sys, t, &x, &f0, h, settings, &mut x1, &mut f1, stats);
-        let err = match attempt {
-            Ok(e) if e.is_finite() && all_finite(&x1) && all_finite(&f1) => e,
+        let err = match &attempt {
+            Ok(e) if e.is_finite() && all_finite(&x1) && all_finite(&f1) => *e,
             Ok(_) => f64::INFINITY,
-            Err(StepFailure::Model(m)) => return Err(IntegrationError::Model { t, message: m }),
+            // A model failure at a trial stage (a wheel lifting, the contact model off its table)
+            // may be the step's fault, not the motion's: reject and retry shorter; if the step
+            // collapses on it, it is the motion's, and the model's diagnosis is reported.
+            Err(StepFailure::Model(m)) => {
+                if h * 0.25 < settings.h_min.max(1e-12 * t.abs().max(1.0)) {
+                    return Err(IntegrationError::Model {
+                        t,
+                        message: m.clone(),
+                    });
+                }
+                f64::INFINITY
+            }
             Err(StepFailure::Singular) => f64::INFINITY,
         };
         if settings.fixed_step.is_some() && err.is_finite() {

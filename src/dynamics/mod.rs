@@ -2,6 +2,7 @@
 //! wheelset equations with their normal-force reactions, the single-wheelset and multibody
 //! systems, the time integrators, and running a scene.
 
+pub mod bench;
 pub mod contact_model;
 pub mod integrator;
 pub mod multibody;

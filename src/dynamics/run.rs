@@ -16,7 +16,7 @@ use super::spec::{SimulationSpec, VehicleSpec};
 use super::wheelset::WheelsetInertia;
 use crate::contact::geometry::ContactGeometry;
 use crate::contact::kec::KecModel;
-use crate::contact::lookup::{LookupTable1, TableSettings};
+use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
 use crate::scenario::Scene;
 
 /// One output sample of one wheelset.
@@ -133,6 +133,18 @@ pub fn build_contact(scene: &Scene, kind: ContactKind) -> Result<WheelsetContact
         ContactKind::Online => WheelsetContact::Online {
             geometry: Box::new(geometry),
         },
+        ContactKind::Lookup2 => {
+            // y up to flange contact of the centred gauge (as `kecsim bench kec`), gv ±10 mm by 1 mm.
+            let settings = TableSettings::default();
+            let t1 = LookupTable1::build(&geometry, &settings).map_err(|e| e.to_string())?;
+            let (lo, hi) = t1.range();
+            let gvs: Vec<f64> = (-10..=10).map(|k| k as f64 * 1e-3).collect();
+            let table = LookupTable2::build(&geometry, lo.abs().min(hi), &gvs, &settings)
+                .map_err(|e| e.to_string())?;
+            WheelsetContact::Lookup2 {
+                table: Box::new(table),
+            }
+        }
         ContactKind::Lookup | ContactKind::Kec => {
             let table =
                 LookupTable1::build(&geometry, &TableSettings::default()).map_err(|e| e.to_string())?;
@@ -519,6 +531,10 @@ pub fn write_csv(
         "s_rail_left_mm",
         "s_wheel_right_mm",
         "s_rail_right_mm",
+        "rail_y_left_mm",
+        "rail_z_left_mm",
+        "rail_y_right_mm",
+        "rail_z_right_mm",
     ])?;
     for s in samples {
         let v = [
@@ -543,6 +559,10 @@ pub fn write_csv(
             s.s_rail[0] * 1e3,
             s.s_wheel[1] * 1e3,
             s.s_rail[1] * 1e3,
+            s.rails[0] * 1e3,
+            s.rails[1] * 1e3,
+            s.rails[2] * 1e3,
+            s.rails[3] * 1e3,
         ];
         w.write_record(v.iter().map(|x| format!("{x:.9e}")))?;
     }

@@ -162,6 +162,8 @@ pub struct IrregularitySpec {
     pub cosines: Option<usize>,
     pub step_m: Option<f64>,
     pub file: Option<String>,
+    /// Run-in length from the track's start over which the irregularities grow from zero, m.
+    pub run_in_m: Option<f64>,
 }
 
 /// A track file: `schema_version`, `name`, `[track]`.
@@ -458,6 +460,25 @@ impl TrackSpec {
                 }
                 Some(irr)
             }
+        };
+        let run_in = self.irregularities.as_ref().and_then(|i| i.get_ref().run_in_m);
+        let irregularities = match (irregularities, run_in) {
+            (Some(mut irr), Some(l)) => {
+                if !(l.is_finite() && l > 0.0 && l < b - a) {
+                    let offset = self.irregularities.as_ref().map_or(0, |s| s.span().start);
+                    loc.at(
+                        offset,
+                        format!("track.irregularities.run_in_m = {l}: expected 0 < run_in_m < the track's length {}", b - a),
+                    );
+                    return Err(TrackError::Invalid {
+                        path: origin.to_string(),
+                        problems: loc.problems,
+                    });
+                }
+                irr.run_in = Some((a, l));
+                Some(irr)
+            }
+            (irr, _) => irr,
         };
         Ok(Track {
             name: name.to_string(),

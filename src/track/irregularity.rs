@@ -248,6 +248,9 @@ pub struct Irregularities {
     /// Uniform grid: s_0 and 1/h; `None` for a non-uniform one.
     uniform: Option<(f64, f64)>,
     pub origin: Origin,
+    /// Run-in: over `[s_a, s_a + L]` the irregularities grow from zero with the C² ramp
+    /// w(u) = 10u³ − 15u⁴ + 6u⁵, u = (s − s_a)/L, so that a vehicle can start on ideal track.
+    pub run_in: Option<(f64, f64)>,
 }
 
 impl Irregularities {
@@ -284,6 +287,7 @@ impl Irregularities {
             s,
             nodes,
             origin,
+            run_in: None,
         })
     }
 
@@ -405,6 +409,21 @@ impl Irregularities {
             out.d1[c] = dot(&d1b) * inv_h;
             out.d2[c] = dot(&d2b) * inv_h * inv_h;
         }
+        if let Some((s_a, l)) = self.run_in {
+            let u = ((s - s_a) / l).clamp(0.0, 1.0);
+            if u < 1.0 {
+                // Product rule with the ramp w(u): v = w g, v' = w' g + w g', v'' = w'' g + 2 w' g' + w g''.
+                let w = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+                let w1 = 30.0 * u * u * (1.0 - u) * (1.0 - u) / l;
+                let w2 = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u) / (l * l);
+                for c in 0..4 {
+                    let (g, g1, g2) = (out.value[c], out.d1[c], out.d2[c]);
+                    out.value[c] = w * g;
+                    out.d1[c] = w1 * g + w * g1;
+                    out.d2[c] = w2 * g + 2.0 * w1 * g1 + w * g2;
+                }
+            }
+        }
         Ok(out)
     }
 
@@ -417,6 +436,37 @@ impl Irregularities {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn run_in_ramps_from_zero_with_consistent_derivatives() {
+        let g = Generation::new(Psd::Fra(4), 3);
+        let (mut irr, _) = Irregularities::generate(&g, 0.0, 200.0).unwrap();
+        let full = irr.eval(30.0).unwrap();
+        irr.run_in = Some((0.0, 20.0));
+        assert_eq!(irr.eval(0.0).unwrap().value, [0.0; 4]);
+        assert_eq!(irr.eval(30.0).unwrap(), full, "unchanged past the run-in");
+        // Derivatives against central differences of the tapered values, inside the ramp.
+        let h = 1e-4;
+        let (p, m, c) = (
+            irr.eval(7.0 + h).unwrap(),
+            irr.eval(7.0 - h).unwrap(),
+            irr.eval(7.0).unwrap(),
+        );
+        for k in 0..4 {
+            let d1 = (p.value[k] - m.value[k]) / (2.0 * h);
+            let d2 = (p.d1[k] - m.d1[k]) / (2.0 * h);
+            assert!(
+                (d1 - c.d1[k]).abs() < 1e-6 * (1e-3 + c.d1[k].abs()),
+                "{k}: {d1} {}",
+                c.d1[k]
+            );
+            assert!(
+                (d2 - c.d2[k]).abs() < 1e-5 * (1e-2 + c.d2[k].abs()),
+                "{k}: {d2} {}",
+                c.d2[k]
+            );
+        }
+    }
 
     fn small() -> (Irregularities, [CosineSum; 4]) {
         let mut g = Generation::new(Psd::GermanHigh, 7);

@@ -1,0 +1,96 @@
+//! `kecsim bench dynamics`: the real-time factor of every scene with every contact model, measured
+//! in one run, with each model's difference from KEC on the same scene (lateral displacement and
+//! yaw of every wheelset over the run) — the speed figure next to its error.
+//!
+//! The scenes are the repository's scene files, embedded; each runs over a window that shows what
+//! it is for (durations below), so that the whole measurement takes a few minutes.
+
+use std::fmt::Write as _;
+
+use super::contact_model::ContactKind;
+use super::run::{run, RunOutput};
+use crate::scenario::Scenario;
+
+/// The embedded scenes and the simulated window the benchmark runs, s.
+pub const SCENES: [(&str, &str, f64); 3] = [
+    (
+        "wheelset_klingel",
+        include_str!("../../assets/scenes/wheelset_klingel.toml"),
+        4.0,
+    ),
+    (
+        "bogie_tab6_curve",
+        include_str!("../../assets/scenes/bogie_tab6_curve.toml"),
+        4.0,
+    ),
+    (
+        "manchester_vehicle1_tab6",
+        include_str!("../../assets/scenes/manchester_vehicle1_tab6.toml"),
+        3.0,
+    ),
+];
+
+/// Largest |Δy| and |Δψ| over all wheelsets and samples between two runs of one scene.
+pub fn differences(a: &RunOutput, b: &RunOutput) -> (f64, f64) {
+    let (mut dy, mut dpsi) = (0.0_f64, 0.0_f64);
+    for ((_, sa), (_, sb)) in a.wheelsets.iter().zip(&b.wheelsets) {
+        for (p, q) in sa.iter().zip(sb) {
+            dy = dy.max((p.y - q.y).abs());
+            dpsi = dpsi.max((p.yaw - q.yaw).abs());
+        }
+    }
+    (dy, dpsi)
+}
+
+/// Runs every scene with every contact model and returns the table (Markdown).
+pub fn dynamics(models: &[ContactKind]) -> Result<String, String> {
+    let mut out = String::from(
+        "| scene | contact model | simulated s | wall s | real-time factor | steps (rejected) | max Δy vs KEC [mm] | max Δψ vs KEC [mrad] |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    for (name, text, window) in SCENES {
+        let scenario = Scenario::parse(text, name).map_err(|e| e.to_string())?;
+        let scene = scenario
+            .compile(name, std::path::Path::new("."))
+            .map_err(|e| e.to_string())?;
+        let (mut sim, vehicle) = scene
+            .simulation
+            .clone()
+            .ok_or_else(|| format!("{name}: no simulation"))?;
+        sim.duration_s = window;
+        let mut kec: Option<RunOutput> = None;
+        for &kind in models {
+            let o = run(&scene, &sim, &vehicle, kind, sim.speed_m_s, &mut |_| {})?;
+            let s = &o.summary;
+            let diff = match (&kec, kind) {
+                (Some(k), ContactKind::Lookup | ContactKind::Lookup2 | ContactKind::Online) => {
+                    let (dy, dpsi) = differences(k, &o);
+                    (format!("{:.4}", dy * 1e3), format!("{:.4}", dpsi * 1e3))
+                }
+                _ => ("—".to_string(), "—".to_string()),
+            };
+            let note = match (&s.error, &s.stopped) {
+                (Some(e), _) => format!(" (stopped: {e})"),
+                _ => String::new(),
+            };
+            let _ = writeln!(
+                out,
+                "| {name} | {} | {:.2} | {:.3} | {:.1}{note} | {} ({}) | {} | {} |",
+                kind.name(),
+                s.simulated_s,
+                s.wall_s,
+                s.realtime_factor,
+                s.steps,
+                s.rejected_steps,
+                diff.0,
+                diff.1
+            );
+            if kind == ContactKind::Kec {
+                kec = Some(o);
+            }
+        }
+    }
+    out.push_str(
+        "\nreal-time factor = simulated / wall time of the integration (the contact-table and KEC preprocessing excluded, reported by `kecsim run`); differences against the KEC run of the same scene, all wheelsets, all samples\n",
+    );
+    Ok(out)
+}
