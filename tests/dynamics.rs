@@ -108,6 +108,7 @@ fn energy_is_conserved_without_creep() {
     let inertia = WheelsetInertia {
         mass_kg: 1813.0,
         inertia_kg_m2: [1120.0, 112.0, 1120.0],
+        irw: None,
     };
     let load = 100e3;
     let r0 = sc.pair.wheelset.nominal_radius_m;

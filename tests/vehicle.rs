@@ -357,3 +357,67 @@ fn manchester_vehicle_settles_and_runs_on_irregular_track() {
     );
     assert!(dy < 0.05e-3 && dpsi < 0.1e-3, "{dy} {dpsi}");
 }
+
+/// The same bogie on IRW-wheelsets (independently rotating wheels on non-rotating bridges) over
+/// the curve entry (2.5 s, before its trailing wheelset reaches the inner rail's two-point contact,
+/// see the README): each wheel spins at its own rate and rolls without longitudinal creep
+/// (Ω r = V per wheel), where the solid axles' wheels carry kN of longitudinal creep force.
+#[test]
+fn irw_bogie_rolls_without_longitudinal_creep() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/bogie_tab6_curve.toml");
+    let base = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("duration_s = 7.0", "duration_s = 2.5");
+    let irw_text = base.replace(
+        "inertia_kg_m2 = [1120.0, 112.0, 1120.0]",
+        "inertia_kg_m2 = [1120.0, 112.0, 1120.0]\nindependent_wheels = { wheel_spin_inertia_kg_m2 = 50.0 }",
+    );
+    let compile = |t: &str| {
+        Scenario::parse(t, "irw")
+            .unwrap()
+            .compile("irw", path.parent().unwrap())
+            .unwrap()
+    };
+    let (_, last) = simulate(&compile(&irw_text), ContactKind::Kec);
+    let (_, solid) = simulate(&compile(&base), ContactKind::Kec);
+    for (j, (w, ws)) in last.wheelsets.iter().zip(&solid.wheelsets).enumerate() {
+        let fx_irw = w.dynamics.creep[0].fx.abs().max(w.dynamics.creep[1].fx.abs());
+        let fx_solid = ws.dynamics.creep[0].fx.abs().max(ws.dynamics.creep[1].fx.abs());
+        let roll = [
+            w.state.omega * w.kin.contacts[0].rolling_radius / w.speed,
+            w.state.omega_right * w.kin.contacts[1].rolling_radius / w.speed,
+        ];
+        println!(
+            "wheelset {}: IRW y {:.3} mm, yaw {:.3} mrad, Ω r / V = {:.6} / {:.6}, max |Fx| {:.1} N (solid axle: y {:.3} mm, max |Fx| {:.1} N)",
+            j + 1,
+            w.state.y * 1e3,
+            w.state.psi * 1e3,
+            roll[0],
+            roll[1],
+            fx_irw,
+            ws.state.y * 1e3,
+            fx_solid
+        );
+        assert!(fx_irw < 0.1 * fx_solid, "IRW wheels roll free");
+        // Each wheel's own path: V (1 ∓ l/R) on the inner (left) and outer (right) rail.
+        let l_over_r = 0.75 / 235.65;
+        println!(
+            "    path speeds / V in the curve: {:.6} / {:.6}; longitudinal creepages {:.2e} / {:.2e}",
+            1.0 - l_over_r,
+            1.0 + l_over_r,
+            w.dynamics.creepage[0].longitudinal,
+            w.dynamics.creepage[1].longitudinal
+        );
+        for c in &w.dynamics.creepage {
+            assert!(
+                c.longitudinal.abs() < 1e-4,
+                "rolling without longitudinal creep: {c:?}"
+            );
+        }
+        assert!(roll[1] > roll[0], "the outer wheel turns faster");
+        assert!(
+            (w.state.omega - w.state.omega_right).abs() > 1e-3,
+            "the wheels spin at different rates"
+        );
+    }
+}

@@ -26,7 +26,8 @@
 //! the force it carries there. At the nominal configuration the vehicle is then in equilibrium
 //! (checked by a test) and the wheel loads are the static ones.
 //!
-//! State: per body [q, q̇] (12), then per wheelset [x, y, ψ, ẋ, ẏ, ψ̇, Ω] (7).
+//! State: per body [q, q̇] (12), then per wheelset [x, y, ψ, ẋ, ẏ, ψ̇, Ω] (7) or, per
+//! IRW-wheelset, [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, Ω_r] (8: each wheel's spin; the bridge does not pitch).
 
 use std::sync::Arc;
 
@@ -35,7 +36,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use super::contact_model::{ContactWarmStart, RailMotion, WheelsetContact};
 use super::integrator::OdeSystem;
 use super::single_wheelset::{SpeedProfile, WheelsetSample};
-use super::wheelset::{evaluate, FrameMotion, Load, WheelsetInertia, WheelsetState};
+use super::wheelset::{evaluate, FrameMotion, IrwInertia, Load, WheelsetInertia, WheelsetState};
 use crate::contact::forces::ContactForceSettings;
 use crate::track::Track;
 use crate::vehicle::elements::{BodyRef, Element, ElementLoad, FrameLoads, Pose};
@@ -152,6 +153,9 @@ impl Multibody {
                 inertia: WheelsetInertia {
                     mass_kg: w.mass_kg,
                     inertia_kg_m2: w.inertia_kg_m2,
+                    irw: w.independent_wheels.map(|i| IrwInertia {
+                        wheel_spin_kg_m2: i.wheel_spin_inertia_kg_m2,
+                    }),
                 },
             })
             .collect();
@@ -194,8 +198,18 @@ impl Multibody {
         12 * i
     }
 
+    /// State size of wheelset j: solid axle [x, y, ψ, ẋ, ẏ, ψ̇, Ω] (7); IRW-wheelset
+    /// [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, Ω_r] (8).
+    fn wheelset_size(&self, j: usize) -> usize {
+        if self.wheelsets[j].inertia.irw.is_some() {
+            8
+        } else {
+            7
+        }
+    }
+
     fn wheelset_offset(&self, j: usize) -> usize {
-        12 * self.bodies.len() + 7 * j
+        12 * self.bodies.len() + (0..j).map(|k| self.wheelset_size(k)).sum::<usize>()
     }
 
     /// Initial state: every wheelset at lateral offset y₀ and yaw ψ₀, rolling without
@@ -214,6 +228,9 @@ impl Multibody {
             x[o + 1] = y0;
             x[o + 2] = psi0;
             x[o + 6] = self.speed.at(0.0) / r_mean;
+            if self.wheelset_size(j) == 8 {
+                x[o + 7] = x[o + 6];
+            }
         }
         x
     }
@@ -390,6 +407,7 @@ impl Multibody {
         let mut ws_rails = Vec::with_capacity(nw);
         for j in 0..nw {
             let o = self.wheelset_offset(j);
+            let irw = self.wheelset_size(j) == 8;
             let st = WheelsetState {
                 x: x[o],
                 y: x[o + 1],
@@ -398,6 +416,7 @@ impl Multibody {
                 y_dot: x[o + 4],
                 psi_dot: x[o + 5],
                 omega: x[o + 6],
+                omega_right: if irw { x[o + 7] } else { x[o + 6] },
             };
             let s = s_ref + self.wheelsets[j].d + st.x;
             let f = self.frame_at(s, v, v_dot)?;
@@ -497,6 +516,9 @@ impl Multibody {
                 d[o + 4] = a[1];
                 d[o + 5] = a[4];
                 d[o + 6] = a[5];
+                if self.wheelset_size(j) == 8 {
+                    d[o + 7] = dynamics.spin_accel_right;
+                }
             }
             ws_samples.push(WheelsetSample {
                 state: ws_states[j],
@@ -695,7 +717,10 @@ impl Multibody {
 
 impl OdeSystem for Multibody {
     fn dim(&self) -> usize {
-        12 * self.bodies.len() + 7 * self.wheelsets.len()
+        12 * self.bodies.len()
+            + (0..self.wheelsets.len())
+                .map(|j| self.wheelset_size(j))
+                .sum::<usize>()
     }
 
     fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), String> {

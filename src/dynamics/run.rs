@@ -317,6 +317,7 @@ fn run_single(
         WheelsetInertia {
             mass_kg: w.wheelset.mass_kg,
             inertia_kg_m2: w.wheelset.inertia_kg_m2,
+            irw: None,
         },
         Tie {
             longitudinal_stiffness_n_per_m: w.tie.longitudinal_stiffness_n_per_m,

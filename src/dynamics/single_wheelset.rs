@@ -134,6 +134,7 @@ impl SingleWheelset {
             y_dot: x[4],
             psi_dot: x[5],
             omega: x[6],
+            ..WheelsetState::default()
         }
     }
 

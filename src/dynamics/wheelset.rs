@@ -41,8 +41,18 @@ use crate::profile::Side;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WheelsetInertia {
     pub mass_kg: f64,
-    /// Principal moments about x (roll), y (axle), z (yaw), kg m².
+    /// Principal moments about x (roll), y (axle), z (yaw), kg m² (an IRW-wheelset: of the whole,
+    /// bridge and wheels; the y entry is then unused).
     pub inertia_kg_m2: [f64; 3],
+    /// `Some`: an IRW-wheelset (two independently rotating wheels on a non-rotating bridge).
+    pub irw: Option<IrwInertia>,
+}
+
+/// What an IRW-wheelset adds: each wheel's inertia about its axle (the bridge does not pitch:
+/// its suspension holds it, as a solid axle's axle boxes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IrwInertia {
+    pub wheel_spin_kg_m2: f64,
 }
 
 /// The motion of the wheelset-track frame (Eq. 3–4) and gravity, in its own components.
@@ -80,8 +90,10 @@ pub struct WheelsetState {
     pub x_dot: f64,
     pub y_dot: f64,
     pub psi_dot: f64,
-    /// Spin rate about the axle, rad/s.
+    /// Spin rate about the axle, rad/s (an IRW-wheelset: of the left wheel).
     pub omega: f64,
+    /// IRW-wheelsets: the right wheel's spin rate, rad/s (solid axle: unused).
+    pub omega_right: f64,
 }
 
 /// Applied force and moment about the wheelset centre (suspension, loads), track components.
@@ -94,8 +106,10 @@ pub struct Load {
 /// What one evaluation gives.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct WheelsetDynamics {
-    /// ẍ, ÿ, z̈, φ̈, ψ̈, Ω̇.
+    /// ẍ, ÿ, z̈, φ̈, ψ̈, Ω̇ (an IRW-wheelset: Ω̇ of the left wheel).
     pub accel: [f64; 6],
+    /// IRW-wheelsets: the right wheel's Ω̇ (solid axle: Ω̇ again).
+    pub spin_accel_right: f64,
     /// Normal forces λ_l, λ_r, N.
     pub normal: [f64; 2],
     /// Creep forces (contact frame) left, right.
@@ -142,7 +156,18 @@ pub fn evaluate(
     let axle = Vector3::new(-state.psi, 1.0, kin.phi).normalize();
     let w_t = Vector3::from(frame.omega);
     // Angular velocity of the wheelset (ground, track components).
-    let w = w_t + Vector3::new(kin.phi_dot, 0.0, state.psi_dot) + axle * state.omega;
+    // Angular velocity of each wheel (ground, track components): the axle's or, on an
+    // IRW-wheelset, each wheel's own spin about the common axle.
+    let omega_wheel = [
+        state.omega,
+        if inertia.irw.is_some() {
+            state.omega_right
+        } else {
+            state.omega
+        },
+    ];
+    let w_axle = w_t + Vector3::new(kin.phi_dot, 0.0, state.psi_dot);
+    let w_wheel = [w_axle + axle * omega_wheel[0], w_axle + axle * omega_wheel[1]];
     // Ground velocity of the centre: frame speed + relative (Coriolis of r dropped, see doc).
     let v_c = Vector3::new(frame.speed, 0.0, 0.0) + r_dot + w_t.cross(&centre);
     // Contact points (3D, the yawed wheel's lowest line) and normals.
@@ -174,12 +199,12 @@ pub fn evaluate(
     let mut creepage = [Creepage::default(); 2];
     for i in 0..2 {
         let f = frames[i].as_ref().ok_or(WheelsetError::Singular)?;
-        let v_w = v_c + w.cross(&arm[i]);
+        let v_w = v_c + w_wheel[i].cross(&arm[i]);
         creepage[i] = Creepage::from_velocities(
             f,
             v_w,
             Vector3::zeros(),
-            w,
+            w_wheel[i],
             Vector3::zeros(),
             frame.speed,
             crate::contact::forces::creepage::REGULARISATION_SPEED,
@@ -189,12 +214,21 @@ pub fn evaluate(
     let g = Vector3::from(frame.gravity);
     let a_t = Vector3::from(frame.accel);
     let f_known = Vector3::from(load.force) + m * g - m * (a_t + 2.0 * w_t.cross(&r_dot));
+    // Spin inertia per wheel and the spin angular momentum about the axle, H_s a.
+    let i_spin = match inertia.irw {
+        Some(irw) => irw.wheel_spin_kg_m2,
+        None => iy,
+    };
+    let h_spin = match inertia.irw {
+        Some(irw) => irw.wheel_spin_kg_m2 * (state.omega + state.omega_right),
+        None => iy * state.omega,
+    };
     // Frame and gyroscopic terms of the roll and yaw rows.
-    let gyro_x = -ix * frame.alpha[0] + iy * state.omega * (state.psi_dot + frame.omega[2]);
-    let gyro_z = -iz * frame.alpha[2] - iy * state.omega * (kin.phi_dot + frame.omega[0]);
-    // Applied loads reach the wheelset through its axle-box bearings, which transmit no moment
-    // about the axle: remove that component (else e.g. a yaw spring's moment would spin the
-    // wheels through the roll angle, φ M_z).
+    let gyro_x = -ix * frame.alpha[0] + h_spin * (state.psi_dot + frame.omega[2]);
+    let gyro_z = -iz * frame.alpha[2] - h_spin * (kin.phi_dot + frame.omega[0]);
+    // Applied loads reach the wheels through bearings, which transmit no moment about the axle:
+    // remove that component (else e.g. a yaw spring's moment would spin the wheels through the
+    // roll angle, φ M_z). On an IRW-wheelset it pitches the bridge instead.
     let m_load = Vector3::from(load.moment);
     let m_known = m_load - axle * axle.dot(&m_load);
     // The ellipse shape depends on the curvatures only: solve Hertz once per wheel at the guessed
@@ -224,6 +258,8 @@ pub fn evaluate(
     for pass in 0..MAX_PASSES {
         let mut f = f_known;
         let mut mo = m_known;
+        // Moments of each wheel's creep forces about the centre.
+        let mut mo_wheel = [Vector3::zeros(); 2];
         let mut creep = [CreepForce::default(); 2];
         for i in 0..2 {
             let side = if i == 0 { "left" } else { "right" };
@@ -244,11 +280,12 @@ pub fn evaluate(
             let fr = frames[i].as_ref().ok_or(WheelsetError::Singular)?;
             let fc = fr.force_to_global(creep[i].fx, creep[i].fy, 0.0);
             f += fc;
-            mo += arm[i].cross(&fc) + fr.moment_to_global(creep[i].mz);
+            mo_wheel[i] = arm[i].cross(&fc) + fr.moment_to_global(creep[i].mz);
+            mo += mo_wheel[i];
         }
-        // 8×8: [ẍ ÿ z̈ φ̈ ψ̈ Ω̇ λl λr].
-        let mut a = SMatrix::<f64, 8, 8>::zeros();
-        let mut b = SVector::<f64, 8>::zeros();
+        // 10×10: [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr θ̈_bridge Ω̇_r].
+        let mut a = SMatrix::<f64, 10, 10>::zeros();
+        let mut b = SVector::<f64, 10>::zeros();
         for k in 0..3 {
             a[(k, k)] = m;
             b[k] = f[k];
@@ -257,14 +294,16 @@ pub fn evaluate(
         // H = I_x φ̇ x + I_y Ω a + I_z ψ̇ z and ȧ = (−ψ̇, 0, φ̇): the x and z rows carry I_y Ω̇ a_x,
         // I_y Ω̇ a_z; the spin row is the moment about the axle, a · M (not M_y: a normal force
         // at a yawed wheel's contact has a large M_x whose axle component −ψ M_x cancels M_y).
+        // An IRW-wheelset has one spin row per wheel (its own contact's moment about the axle,
+        // rows 5 and 9); a solid axle ties Ω̇_r = Ω̇_l. Row 8 (θ̈ = 0) keeps a place for a bridge
+        // pitch degree of freedom, which neither model has: the suspension holds the bridge.
         a[(3, 3)] = ix;
-        a[(3, 5)] = iy * axle.x;
         a[(4, 4)] = iz;
-        a[(4, 5)] = iy * axle.z;
-        a[(5, 5)] = iy;
         b[3] = mo.x + gyro_x;
         b[4] = mo.z + gyro_z;
-        b[5] = axle.dot(&mo);
+        a[(3, 5)] = i_spin * axle.x;
+        a[(4, 5)] = i_spin * axle.z;
+        a[(5, 5)] = i_spin;
         for i in 0..2 {
             let t = arm[i].cross(&normal[i]);
             for k in 0..3 {
@@ -272,7 +311,29 @@ pub fn evaluate(
             }
             a[(3, 6 + i)] = -t.x;
             a[(4, 6 + i)] = -t.z;
-            a[(5, 6 + i)] = -axle.dot(&t);
+        }
+        match inertia.irw {
+            None => {
+                b[5] = axle.dot(&mo);
+                for i in 0..2 {
+                    a[(5, 6 + i)] = -axle.dot(&arm[i].cross(&normal[i]));
+                }
+                a[(8, 8)] = 1.0;
+                a[(9, 9)] = 1.0;
+                a[(9, 5)] = -1.0;
+            }
+            Some(_) => {
+                a[(3, 9)] = i_spin * axle.x;
+                a[(4, 9)] = i_spin * axle.z;
+                a[(9, 9)] = i_spin;
+                b[5] = axle.dot(&mo_wheel[0]);
+                b[9] = axle.dot(&mo_wheel[1]);
+                a[(5, 6)] = -axle.dot(&arm[0].cross(&normal[0]));
+                a[(9, 7)] = -axle.dot(&arm[1].cross(&normal[1]));
+                // The bridge's pitch is held by its suspension (as a solid axle's axle boxes): the
+                // loads' moment about the axle is reacted there and reaches neither wheel.
+                a[(8, 8)] = 1.0;
+            }
         }
         // Constraints.
         a[(6, 2)] = 1.0;
@@ -285,6 +346,7 @@ pub fn evaluate(
         let new_lambda = [sol[6], sol[7]];
         result = WheelsetDynamics {
             accel: [sol[0], sol[1], sol[2], sol[3], sol[4], sol[5]],
+            spin_accel_right: sol[9],
             normal: new_lambda,
             creep,
             creepage,

@@ -55,7 +55,19 @@ pub struct WheelsetBodySpec {
     /// Nominal position along the vehicle, m.
     pub x_m: f64,
     pub mass_kg: f64,
+    /// About x (roll), y (axle), z (yaw); an IRW-wheelset: of the whole (y unused).
     pub inertia_kg_m2: [f64; 3],
+    /// Present: an IRW-wheelset, two independently rotating wheels on a non-rotating bridge.
+    #[serde(default)]
+    pub independent_wheels: Option<IrwSpec>,
+}
+
+/// `independent_wheels = { wheel_spin_inertia_kg_m2 = … }`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IrwSpec {
+    /// Each wheel about its axle, kg m².
+    pub wheel_spin_inertia_kg_m2: f64,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
@@ -206,6 +218,17 @@ impl MultibodySpec {
             check(format!("wheelsets[{}].x_m", w.name), w.x_m, -200.0, 200.0);
             for (i, v) in w.inertia_kg_m2.iter().enumerate() {
                 check(format!("wheelsets[{}].inertia_kg_m2[{i}]", w.name), *v, 1e-3, 1e6);
+            }
+            if let Some(irw) = &w.independent_wheels {
+                check(
+                    format!(
+                        "wheelsets[{}].independent_wheels.wheel_spin_inertia_kg_m2",
+                        w.name
+                    ),
+                    irw.wheel_spin_inertia_kg_m2,
+                    1e-3,
+                    1e5,
+                );
             }
         }
         let names = self.body_names();
