@@ -74,7 +74,7 @@ pub fn dynamics(models: &[ContactKind]) -> Result<String, String> {
             };
             let _ = writeln!(
                 out,
-                "| {name} | {} | {:.2} | {:.3} | {:.1}{note} | {} ({}) | {} | {} |",
+                "| {name} | {} | {:.2} | {:.3} | {:.2}{note} | {} ({}) | {} | {} |",
                 kind.name(),
                 s.simulated_s,
                 s.wall_s,

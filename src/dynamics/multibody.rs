@@ -81,7 +81,27 @@ pub struct MultibodySample {
     pub wheelsets: Vec<WheelsetSample>,
     /// Per element: deflection and force in its first body's axes.
     pub elements: Vec<(Vector3<f64>, Vector3<f64>)>,
+    /// Per spherical joint: the position violation |G_b − G_a|, m.
+    pub joint_error: Vec<f64>,
 }
+
+/// A spherical joint between two rigid bodies at one point (arms from their centres).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    pub name: String,
+    pub a: usize,
+    pub b: usize,
+    pub arm_a: Vector3<f64>,
+    pub arm_b: Vector3<f64>,
+}
+
+/// Static residual, element loads and joint penalty forces of one configuration.
+type StaticState = (DVector<f64>, Vec<ElementLoad>, Vec<Vector3<f64>>);
+
+/// Baumgarte's stabilisation of the joints, ω_c (rad/s): the violation obeys ë + 2ω_c ė + ω_c² e = 0.
+pub const JOINT_STABILISATION_RAD_S: f64 = 20.0;
+/// Penalty stiffness standing for the joints in the static settling, N/m.
+const JOINT_PENALTY_N_PER_M: f64 = 1e10;
 
 /// The static settling: what the preloads came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -99,6 +119,7 @@ pub struct Multibody {
     pub bodies: Vec<RigidBody>,
     pub wheelsets: Vec<WheelsetBody>,
     pub elements: Vec<Element>,
+    pub joints: Vec<Joint>,
     pub contact: Arc<WheelsetContact>,
     pub forces: ContactForceSettings,
     pub r0: f64,
@@ -164,6 +185,21 @@ impl Multibody {
             bodies,
             wheelsets,
             elements: spec.elements(r0),
+            joints: spec
+                .joints
+                .iter()
+                .map(|j| {
+                    let (a, b) = spec.joint_bodies(j);
+                    let at = Vector3::from(j.at_m);
+                    Joint {
+                        name: j.name.clone(),
+                        a,
+                        b,
+                        arm_a: at - crate::vehicle::spec::nominal_centre(spec, r0, a),
+                        arm_b: at - crate::vehicle::spec::nominal_centre(spec, r0, b),
+                    }
+                })
+                .collect(),
             contact: Arc::new(contact),
             forces,
             r0,
@@ -182,6 +218,7 @@ impl Multibody {
             bodies: self.bodies.clone(),
             wheelsets: self.wheelsets.clone(),
             elements: self.elements.clone(),
+            joints: self.joints.clone(),
             contact: self.contact.clone(),
             forces: self.forces.clone(),
             r0: self.r0,
@@ -456,6 +493,7 @@ impl Multibody {
         let mut acc = vec![(Vector3::zeros(), Vector3::zeros()); nb + nw];
         self.accumulate(&poses, &loads, &mut acc);
         let mut dxdt = dxdt;
+        let mut qdd: Vec<[Vector3<f64>; 2]> = Vec::with_capacity(nb);
         for (i, b) in self.bodies.iter().enumerate() {
             let m = &motions[i];
             let p = &poses[i];
@@ -471,14 +509,18 @@ impl Multibody {
             let w = w_t + p.theta_dot;
             let iw = b.inertia.component_mul(&w);
             let acc_rot = (mo - w.cross(&iw)).component_div(&b.inertia) - al_t;
-            if let Some(d) = dxdt.as_deref_mut() {
+            qdd.push([acc_lin, acc_rot]);
+        }
+        let joint_error = self.apply_joints(&poses, &motions, &mut qdd)?;
+        if let Some(d) = dxdt.as_deref_mut() {
+            for (i, q) in qdd.iter().enumerate() {
                 let o = self.body_offset(i);
                 for k in 0..6 {
                     d[o + k] = x[o + 6 + k];
                 }
                 for k in 0..3 {
-                    d[o + 6 + k] = acc_lin[k];
-                    d[o + 9 + k] = acc_rot[k];
+                    d[o + 6 + k] = q[0][k];
+                    d[o + 9 + k] = q[1][k];
                 }
             }
         }
@@ -533,17 +575,101 @@ impl Multibody {
             bodies: body_samples,
             wheelsets: ws_samples,
             elements: loads.iter().map(|l| (l.deflection, l.local_force)).collect(),
+            joint_error,
         })
+    }
+
+    /// Spherical joints (DYNAMICS.md §5): corrects the bodies' unconstrained accelerations q̈₀ by
+    /// the joint reactions, q̈ = q̈₀ + M⁻¹ Jᵀ μ with (J M⁻¹ Jᵀ) μ = γ − J q̈₀. Per joint, in the
+    /// first body's track axes (R = A_aᵀ A_b): the absolute accelerations of the joint point on both
+    /// bodies agree, R (k_b + r̈_b − [p_b]× Θ̈_b) − (k_a + r̈_a − [p_a]× Θ̈_a) = −2ω_c ė − ω_c² e,
+    /// with k = a_t + α_t × ρ + ω_t × (ω_t × ρ) + 2 ω_t × ρ̇ + Θ̇ × (Θ̇ × p) the part without
+    /// the body's accelerations (ρ the point in the body-track frame) and e, ė the violation
+    /// (Baumgarte). Returns |e| per joint.
+    fn apply_joints(
+        &self,
+        poses: &[Pose],
+        motions: &[FrameMotion],
+        qdd: &mut [[Vector3<f64>; 2]],
+    ) -> Result<Vec<f64>, String> {
+        let nj = self.joints.len();
+        if nj == 0 {
+            return Ok(Vec::new());
+        }
+        let nb = self.bodies.len();
+        let skew = |p: &Vector3<f64>| p.cross_matrix();
+        let k_of = |i: usize, p: &Vector3<f64>| {
+            let (pose, m) = (&poses[i], &motions[i]);
+            let rho = pose.local_point(p);
+            let rho_dot = pose.centre_velocity + pose.theta_dot.cross(p);
+            let (w, al) = (v3(m.omega), v3(m.alpha));
+            v3(m.accel)
+                + al.cross(&rho)
+                + w.cross(&w.cross(&rho))
+                + 2.0 * w.cross(&rho_dot)
+                + pose.theta_dot.cross(&pose.theta_dot.cross(p))
+        };
+        let mut jac = DMatrix::<f64>::zeros(3 * nj, 6 * nb);
+        let mut gamma = DVector::<f64>::zeros(3 * nj);
+        let mut errors = Vec::with_capacity(nj);
+        let wc = JOINT_STABILISATION_RAD_S;
+        for (r, jt) in self.joints.iter().enumerate() {
+            let (pa, pb) = (&poses[jt.a], &poses[jt.b]);
+            let at = pa.rotation.transpose();
+            let rot = at * pb.rotation;
+            let e = at * (pb.point(&jt.arm_b) - pa.point(&jt.arm_a));
+            let e_dot = at * (pb.point_velocity(&jt.arm_b) - pa.point_velocity(&jt.arm_a));
+            errors.push(e.norm());
+            let g = -2.0 * wc * e_dot - wc * wc * e - (rot * k_of(jt.b, &jt.arm_b) - k_of(jt.a, &jt.arm_a));
+            let blocks = [
+                (jt.a, -Matrix3::identity(), skew(&jt.arm_a)),
+                (jt.b, rot, -rot * skew(&jt.arm_b)),
+            ];
+            for (body, lin, ang) in blocks {
+                jac.view_mut((3 * r, 6 * body), (3, 3)).copy_from(&lin);
+                jac.view_mut((3 * r, 6 * body + 3), (3, 3)).copy_from(&ang);
+            }
+            gamma.rows_mut(3 * r, 3).copy_from(&g);
+        }
+        let mut minv = DVector::<f64>::zeros(6 * nb);
+        let mut q0 = DVector::<f64>::zeros(6 * nb);
+        for (i, b) in self.bodies.iter().enumerate() {
+            for k in 0..3 {
+                minv[6 * i + k] = 1.0 / b.mass_kg;
+                minv[6 * i + 3 + k] = 1.0 / b.inertia[k];
+                q0[6 * i + k] = qdd[i][0][k];
+                q0[6 * i + 3 + k] = qdd[i][1][k];
+            }
+        }
+        let jm = DMatrix::from_fn(3 * nj, 6 * nb, |r, c| jac[(r, c)] * minv[c]);
+        let schur = &jm * jac.transpose();
+        let mu = schur
+            .lu()
+            .solve(&(gamma - &jac * &q0))
+            .ok_or_else(|| "the spherical joints' equations are singular (redundant joints?)".to_string())?;
+        let dq = jm.transpose() * mu;
+        for (i, q) in qdd.iter_mut().enumerate() {
+            for k in 0..3 {
+                q[0][k] += dq[6 * i + k];
+                q[1][k] += dq[6 * i + 3 + k];
+            }
+        }
+        Ok(errors)
     }
 
     /// Static residual of the bodies (6 per body: force, moment in track axes) with body
     /// displacements `u`, wheelsets centred (z, φ from the contact model at y = 0), on level
     /// tangent track at rest.
+    ///
+    /// The joints act as stiff penalty springs plus `joint_static` (global force on each joint's
+    /// second body, the reactions found by the settling); returns the residual, the element loads
+    /// and the joints' penalty forces.
     fn static_residual(
         &self,
         u: &[f64],
         wheelset_poses: &[Pose],
-    ) -> Result<(DVector<f64>, Vec<ElementLoad>), String> {
+        joint_static: &[Vector3<f64>],
+    ) -> Result<StaticState, String> {
         let nb = self.bodies.len();
         let mut poses = Vec::with_capacity(nb + wheelset_poses.len());
         for (i, b) in self.bodies.iter().enumerate() {
@@ -592,6 +718,20 @@ impl Multibody {
         }
         let mut acc = vec![(Vector3::zeros(), Vector3::zeros()); poses.len()];
         self.accumulate(&poses, &loads, &mut acc);
+        // The joints, as stiff penalty springs (statics only).
+        let mut penalty = Vec::with_capacity(self.joints.len());
+        for (k, jt) in self.joints.iter().enumerate() {
+            let (pa, pb) = (&poses[jt.a], &poses[jt.b]);
+            let (ga, gb) = (pa.point(&jt.arm_a), pb.point(&jt.arm_b));
+            let f_pen = -JOINT_PENALTY_N_PER_M * (gb - ga);
+            penalty.push(f_pen);
+            let f = f_pen + joint_static.get(k).copied().unwrap_or_else(Vector3::zeros);
+            for (i, sign, g) in [(jt.b, 1.0, gb), (jt.a, -1.0, ga)] {
+                let arm = g - poses[i].origin - poses[i].centre;
+                acc[i].0 += sign * f;
+                acc[i].1 += arm.cross(&(sign * f));
+            }
+        }
         let mut r = DVector::zeros(6 * nb);
         for (i, b) in self.bodies.iter().enumerate() {
             let f = acc[i].0 + b.mass_kg * frames[i].gravity;
@@ -600,8 +740,7 @@ impl Multibody {
                 r[6 * i + 3 + k] = acc[i].1[k];
             }
         }
-        // The wheelsets' shares, for the report: what the elements put on them, plus their weight.
-        Ok((r, loads))
+        Ok((r, loads, penalty))
     }
 
     /// Settles the bodies under gravity and preloads the elements with their static forces (see
@@ -633,7 +772,7 @@ impl Multibody {
         let weight: f64 = self.bodies.iter().map(|b| b.mass_kg * G).sum::<f64>().max(1.0);
         let mut residual = 0.0;
         for _ in 0..20 {
-            let (r, _) = self.static_residual(&u, &ws_poses)?;
+            let (r, _, _) = self.static_residual(&u, &ws_poses, &[])?;
             residual = r.amax();
             if residual < 1e-9 * weight || n == 0 {
                 break;
@@ -643,7 +782,7 @@ impl Multibody {
             for k in 0..n {
                 let mut up = u.clone();
                 up[k] += h;
-                let (rp, _) = self.static_residual(&up, &ws_poses)?;
+                let (rp, _, _) = self.static_residual(&up, &ws_poses, &[])?;
                 jac.set_column(k, &((rp - &r) / h));
             }
             let names = || {
@@ -663,14 +802,28 @@ impl Multibody {
                 u[k] += du[k];
             }
         }
-        let (_, settled) = self.static_residual(&u, &ws_poses)?;
-        let (_, nominal) = self.static_residual(&vec![0.0; n], &ws_poses)?;
+        // The static forces by the linearisation at the nominal geometry (the settled state is
+        // centimetres away; its rotated lever arms must not enter the preloads): loads at ε u,
+        // extrapolated to u.
+        let eps = 1e-6;
+        let small: Vec<f64> = u.iter().map(|v| v * eps).collect();
+        let (_, settled, penalty) = self.static_residual(&small, &ws_poses, &[])?;
+        let (_, nominal, _) = self.static_residual(&vec![0.0; n], &ws_poses, &[])?;
         for ((e, ls), ln) in self.elements.iter_mut().zip(&settled).zip(&nominal) {
-            e.set_preload(ls, ln);
-            e.set_moment_preload(&ls.moment, &ln.moment);
+            let extrapolated = ElementLoad {
+                force: ln.force + (ls.force - ln.force) / eps,
+                moment: ln.moment + (ls.moment - ln.moment) / eps,
+                local_force: ln.local_force + (ls.local_force - ln.local_force) / eps,
+                ..*ln
+            };
+            e.set_preload(&extrapolated, ln);
+            e.set_moment_preload(&extrapolated.moment, &ln.moment);
         }
-        // Check: at the nominal configuration the preloaded elements balance gravity.
-        let (r, loads) = self.static_residual(&vec![0.0; n], &ws_poses)?;
+        // The joints' static reactions (at run time the joint constraints supply them).
+        let joint_static: Vec<Vector3<f64>> = penalty.iter().map(|f| f / eps).collect();
+        // Check: at the nominal configuration the preloaded elements and the joints' reactions
+        // balance gravity.
+        let (r, loads, _) = self.static_residual(&vec![0.0; n], &ws_poses, &joint_static)?;
         residual = residual.max(r.amax());
         let mut all_poses: Vec<Pose> = self
             .bodies

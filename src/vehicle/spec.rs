@@ -21,6 +21,10 @@
 //! at_m = [1.28, 1.0, 0.46]
 //! stiffness = [31.391e6, 3.884e6, 1.22e6, 0.0, 0.0, 0.0]
 //! damping = [15e3, 2e3, 4e3, 0.0, 0.0, 0.0]
+//! [[vehicle.joints]]                         # spherical joint between two rigid bodies
+//! name = "articulation"
+//! bodies = ["carbody_1", "carbody_2"]
+//! at_m = [6.0, 0.0, 1.8]
 //! ```
 
 use nalgebra::Vector3;
@@ -36,6 +40,18 @@ pub struct MultibodySpec {
     pub wheelsets: Vec<WheelsetBodySpec>,
     #[serde(default)]
     pub elements: Vec<ElementSpec>,
+    /// Spherical joints between rigid bodies (constraints with reactions).
+    #[serde(default)]
+    pub joints: Vec<JointSpec>,
+}
+
+/// `[[vehicle.joints]]`: a spherical joint at one point between two rigid bodies.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    pub name: String,
+    pub bodies: [String; 2],
+    pub at_m: [f64; 3],
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -169,6 +185,12 @@ impl MultibodySpec {
             .map(BodyRef::Body)
     }
 
+    /// The two rigid bodies of a validated joint (indices into the bodies).
+    pub fn joint_bodies(&self, j: &JointSpec) -> (usize, usize) {
+        let find = |n: &String| self.bodies.iter().position(|b| &b.name == n).expect("validated");
+        (find(&j.bodies[0]), find(&j.bodies[1]))
+    }
+
     /// Names of the system bodies in order (bodies, then wheelsets).
     pub fn body_names(&self) -> Vec<String> {
         self.bodies
@@ -235,6 +257,25 @@ impl MultibodySpec {
         for (i, n) in names.iter().enumerate() {
             if n == "track" || names[..i].contains(n) {
                 p.push(format!("vehicle: body name \"{n}\" is reserved or used twice"));
+            }
+        }
+        for j in &self.joints {
+            for b in &j.bodies {
+                if !self.bodies.iter().any(|x| &x.name == b) {
+                    p.push(format!(
+                        "vehicle.joints[{}]: \"{b}\" is not a rigid body of [[vehicle.bodies]] (joints join carbodies and frames)",
+                        j.name
+                    ));
+                }
+            }
+            if j.bodies[0] == j.bodies[1] {
+                p.push(format!(
+                    "vehicle.joints[{}]: both ends on \"{}\"",
+                    j.name, j.bodies[0]
+                ));
+            }
+            if j.at_m.iter().any(|v| !v.is_finite()) {
+                p.push(format!("vehicle.joints[{}].at_m: not finite", j.name));
             }
         }
         for e in &self.elements {
