@@ -252,6 +252,57 @@ pub fn evaluate(
             )?,
         );
     }
+    // 10×10: [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr θ̈_bridge Ω̇_r]. The matrix does not depend on the creep
+    // forces: factored once, the fixed-point passes only change the right-hand side.
+    //
+    // Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → about the axle a (Ω̇). With
+    // H = I_x φ̇ x + I_y Ω a + I_z ψ̇ z and ȧ = (−ψ̇, 0, φ̇): the x and z rows carry I_y Ω̇ a_x,
+    // I_y Ω̇ a_z; the spin row is the moment about the axle, a · M (not M_y: a normal force
+    // at a yawed wheel's contact has a large M_x whose axle component −ψ M_x cancels M_y).
+    // An IRW-wheelset has one spin row per wheel (its own contact's moment about the axle,
+    // rows 5 and 9); a solid axle ties Ω̇_r = Ω̇_l. Row 8 (θ̈ = 0) keeps a place for a bridge
+    // pitch degree of freedom, which neither model has: the suspension holds the bridge.
+    let mut a = SMatrix::<f64, 10, 10>::zeros();
+    for k in 0..3 {
+        a[(k, k)] = m;
+    }
+    a[(3, 3)] = ix;
+    a[(4, 4)] = iz;
+    a[(3, 5)] = i_spin * axle.x;
+    a[(4, 5)] = i_spin * axle.z;
+    a[(5, 5)] = i_spin;
+    for i in 0..2 {
+        let t = arm[i].cross(&normal[i]);
+        for k in 0..3 {
+            a[(k, 6 + i)] = -normal[i][k];
+        }
+        a[(3, 6 + i)] = -t.x;
+        a[(4, 6 + i)] = -t.z;
+    }
+    match inertia.irw {
+        None => {
+            for i in 0..2 {
+                a[(5, 6 + i)] = -axle.dot(&arm[i].cross(&normal[i]));
+            }
+            a[(8, 8)] = 1.0;
+            a[(9, 9)] = 1.0;
+            a[(9, 5)] = -1.0;
+        }
+        Some(_) => {
+            a[(3, 9)] = i_spin * axle.x;
+            a[(4, 9)] = i_spin * axle.z;
+            a[(9, 9)] = i_spin;
+            a[(5, 6)] = -axle.dot(&arm[0].cross(&normal[0]));
+            a[(9, 7)] = -axle.dot(&arm[1].cross(&normal[1]));
+            a[(8, 8)] = 1.0;
+        }
+    }
+    // Constraints.
+    a[(6, 2)] = 1.0;
+    a[(6, 1)] = -kin.z_y;
+    a[(7, 3)] = 1.0;
+    a[(7, 1)] = -kin.phi_y;
+    let lu = a.lu();
     let mut lambda = lambda_guess;
     let mut result = WheelsetDynamics::default();
     let mut prev_lambda = lambda;
@@ -283,66 +334,23 @@ pub fn evaluate(
             mo_wheel[i] = arm[i].cross(&fc) + fr.moment_to_global(creep[i].mz);
             mo += mo_wheel[i];
         }
-        // 10×10: [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr θ̈_bridge Ω̇_r].
-        let mut a = SMatrix::<f64, 10, 10>::zeros();
+        // Right-hand side of the (pass-independent) system factored above.
         let mut b = SVector::<f64, 10>::zeros();
         for k in 0..3 {
-            a[(k, k)] = m;
             b[k] = f[k];
         }
-        // Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → about the axle a (Ω̇). With
-        // H = I_x φ̇ x + I_y Ω a + I_z ψ̇ z and ȧ = (−ψ̇, 0, φ̇): the x and z rows carry I_y Ω̇ a_x,
-        // I_y Ω̇ a_z; the spin row is the moment about the axle, a · M (not M_y: a normal force
-        // at a yawed wheel's contact has a large M_x whose axle component −ψ M_x cancels M_y).
-        // An IRW-wheelset has one spin row per wheel (its own contact's moment about the axle,
-        // rows 5 and 9); a solid axle ties Ω̇_r = Ω̇_l. Row 8 (θ̈ = 0) keeps a place for a bridge
-        // pitch degree of freedom, which neither model has: the suspension holds the bridge.
-        a[(3, 3)] = ix;
-        a[(4, 4)] = iz;
         b[3] = mo.x + gyro_x;
         b[4] = mo.z + gyro_z;
-        a[(3, 5)] = i_spin * axle.x;
-        a[(4, 5)] = i_spin * axle.z;
-        a[(5, 5)] = i_spin;
-        for i in 0..2 {
-            let t = arm[i].cross(&normal[i]);
-            for k in 0..3 {
-                a[(k, 6 + i)] = -normal[i][k];
-            }
-            a[(3, 6 + i)] = -t.x;
-            a[(4, 6 + i)] = -t.z;
-        }
         match inertia.irw {
-            None => {
-                b[5] = axle.dot(&mo);
-                for i in 0..2 {
-                    a[(5, 6 + i)] = -axle.dot(&arm[i].cross(&normal[i]));
-                }
-                a[(8, 8)] = 1.0;
-                a[(9, 9)] = 1.0;
-                a[(9, 5)] = -1.0;
-            }
+            None => b[5] = axle.dot(&mo),
             Some(_) => {
-                a[(3, 9)] = i_spin * axle.x;
-                a[(4, 9)] = i_spin * axle.z;
-                a[(9, 9)] = i_spin;
                 b[5] = axle.dot(&mo_wheel[0]);
                 b[9] = axle.dot(&mo_wheel[1]);
-                a[(5, 6)] = -axle.dot(&arm[0].cross(&normal[0]));
-                a[(9, 7)] = -axle.dot(&arm[1].cross(&normal[1]));
-                // The bridge's pitch is held by its suspension (as a solid axle's axle boxes): the
-                // loads' moment about the axle is reacted there and reaches neither wheel.
-                a[(8, 8)] = 1.0;
             }
         }
-        // Constraints.
-        a[(6, 2)] = 1.0;
-        a[(6, 1)] = -kin.z_y;
         b[6] = kin.c_z;
-        a[(7, 3)] = 1.0;
-        a[(7, 1)] = -kin.phi_y;
         b[7] = kin.c_phi;
-        let sol = a.lu().solve(&b).ok_or(WheelsetError::Singular)?;
+        let sol = lu.solve(&b).ok_or(WheelsetError::Singular)?;
         let new_lambda = [sol[6], sol[7]];
         result = WheelsetDynamics {
             accel: [sol[0], sol[1], sol[2], sol[3], sol[4], sol[5]],
