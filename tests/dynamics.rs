@@ -6,7 +6,7 @@
 use std::path::Path;
 
 mod common;
-use common::{kecsim, rerun_verify, tmpdir};
+use common::{kecsim, rerun_verify, scene, tmpdir};
 
 use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};
 use kecsim::contact::geometry::ContactGeometry;
@@ -18,17 +18,7 @@ use kecsim::dynamics::run::{build_contact, run, RunOutput, Sample};
 use kecsim::dynamics::single_wheelset::{SingleWheelset, SpeedProfile, Tie};
 use kecsim::dynamics::spec::SimulationSpec;
 use kecsim::dynamics::wheelset::WheelsetInertia;
-use kecsim::scenario::{Scenario, Scene};
-
-fn scene(file: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/scenes")
-        .join(file);
-    Scenario::read(&path)
-        .unwrap()
-        .compile(&path.display().to_string(), path.parent().unwrap())
-        .unwrap()
-}
+use kecsim::scenario::Scene;
 
 fn simulate(scene: &Scene, edit: impl Fn(&mut SimulationSpec), contact: ContactKind) -> RunOutput {
     let (mut sim, veh) = scene.simulation.clone().unwrap();

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 mod common;
-use common::{kecsim, tmpdir};
+use common::{kecsim, scene, tmpdir};
 
 use kecsim::dynamics::contact_model::ContactKind;
 use kecsim::dynamics::integrator::OdeSystem;
@@ -19,14 +19,18 @@ use kecsim::scenario::{Scenario, Scene};
 
 const G: f64 = 9.81;
 
-fn scene(file: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/scenes")
-        .join(file);
-    Scenario::read(&path)
-        .unwrap()
-        .compile(&path.display().to_string(), path.parent().unwrap())
-        .unwrap()
+/// The system of a multibody scene at 19 m/s with `kind`, not yet settled.
+fn multibody(sc: &Scene, spec: &kecsim::vehicle::MultibodySpec, kind: ContactKind) -> Multibody {
+    Multibody::from_spec(
+        spec,
+        build_contact(sc, kind).unwrap(),
+        sc.contact_forces.clone(),
+        sc.pair.wheelset.nominal_radius_m,
+        SpeedProfile {
+            initial_m_s: 19.0,
+            ramp_m_s2: 0.0,
+        },
+    )
 }
 
 fn build(sc: &Scene, kind: ContactKind, with_track: bool) -> Multibody {
@@ -34,16 +38,8 @@ fn build(sc: &Scene, kind: ContactKind, with_track: bool) -> Multibody {
     let VehicleSpec::Multibody(spec) = veh else {
         panic!("not a multibody scene")
     };
-    let mut sys = Multibody::from_spec(
-        &spec,
-        build_contact(sc, kind).unwrap(),
-        sc.contact_forces.clone(),
-        sc.pair.wheelset.nominal_radius_m,
-        SpeedProfile {
-            initial_m_s: sim.speed_m_s,
-            ramp_m_s2: 0.0,
-        },
-    );
+    let mut sys = multibody(sc, &spec, kind);
+    sys.speed.initial_m_s = sim.speed_m_s;
     sys.settle().unwrap();
     if with_track {
         sys.track = sc.track.clone();
@@ -87,16 +83,7 @@ fn static_settling_and_equilibrium() {
     let VehicleSpec::Multibody(spec) = veh else {
         panic!()
     };
-    let mut sys = Multibody::from_spec(
-        &spec,
-        build_contact(&sc, ContactKind::Kec).unwrap(),
-        sc.contact_forces.clone(),
-        sc.pair.wheelset.nominal_radius_m,
-        SpeedProfile {
-            initial_m_s: 19.0,
-            ramp_m_s2: 0.0,
-        },
-    );
+    let mut sys = multibody(&sc, &spec, ContactKind::Kec);
     let st = sys.settle().unwrap();
     let sprung = (2615.0 + 16000.0) * G;
     for q in &st.axle_loads {
@@ -317,16 +304,7 @@ fn manchester_vehicle_settles_and_runs_on_irregular_track() {
     let VehicleSpec::Multibody(spec) = &veh else {
         panic!()
     };
-    let mut sys = Multibody::from_spec(
-        spec,
-        build_contact(&sc, ContactKind::Kec).unwrap(),
-        sc.contact_forces.clone(),
-        sc.pair.wheelset.nominal_radius_m,
-        SpeedProfile {
-            initial_m_s: 19.0,
-            ramp_m_s2: 0.0,
-        },
-    );
+    let mut sys = multibody(&sc, spec, ContactKind::Kec);
     let st = sys.settle().unwrap();
     let hand = (32000.0 / 4.0 + 2615.0 / 2.0 + 1813.0) * G;
     for q in &st.axle_loads {
@@ -462,16 +440,7 @@ fn spherical_joint_between_carbody_halves() {
         panic!()
     };
     assert_eq!(spec.joints.len(), 1);
-    let mut sys = Multibody::from_spec(
-        spec,
-        build_contact(&sc_halves, ContactKind::Kec).unwrap(),
-        sc_halves.contact_forces.clone(),
-        sc_halves.pair.wheelset.nominal_radius_m,
-        SpeedProfile {
-            initial_m_s: 19.0,
-            ramp_m_s2: 0.0,
-        },
-    );
+    let mut sys = multibody(&sc_halves, spec, ContactKind::Kec);
     let st = sys.settle().unwrap();
     let hand = (32000.0 / 4.0 + 2615.0 / 2.0 + 1813.0) * G;
     for q in &st.axle_loads {

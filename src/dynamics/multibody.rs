@@ -145,6 +145,15 @@ fn v3(a: [f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
 }
 
+/// What a carried mass feels of a frame's motion.
+fn frame_loads(m: &FrameMotion) -> FrameLoads {
+    FrameLoads {
+        accel: v3(m.accel),
+        alpha: v3(m.alpha),
+        gravity: v3(m.gravity),
+    }
+}
+
 impl Multibody {
     /// Builds the system from a validated `[vehicle]` table.
     pub fn from_spec(
@@ -349,14 +358,7 @@ impl Multibody {
                     BodyRef::Body(i) => Ok((poses[i], frames[i])),
                     BodyRef::Track => {
                         let (p, f) = self.track_pose(s_ref, arm_x, v, v_dot)?;
-                        Ok((
-                            p,
-                            FrameLoads {
-                                accel: v3(f.motion.accel),
-                                alpha: v3(f.motion.alpha),
-                                gravity: v3(f.motion.gravity),
-                            },
-                        ))
+                        Ok((p, frame_loads(&f.motion)))
                     }
                 }
             };
@@ -426,11 +428,7 @@ impl Multibody {
                 speed: v,
                 omega_t: v3(f.motion.omega),
             });
-            frames.push(FrameLoads {
-                accel: v3(f.motion.accel),
-                alpha: v3(f.motion.alpha),
-                gravity: v3(f.motion.gravity),
-            });
+            frames.push(frame_loads(&f.motion));
             motions.push(f.motion);
             body_samples.push(BodySample {
                 s,
@@ -478,11 +476,7 @@ impl Multibody {
                 speed: v,
                 omega_t: v3(f.motion.omega),
             });
-            frames.push(FrameLoads {
-                accel: v3(f.motion.accel),
-                alpha: v3(f.motion.alpha),
-                gravity: v3(f.motion.gravity),
-            });
+            frames.push(frame_loads(&f.motion));
             motions.push(f.motion);
             ws_states.push(st);
             kins.push(kin);

@@ -179,6 +179,34 @@ pub fn run(
     }
 }
 
+/// The stop condition: a wheelset beyond |y| = `limit` ends the run normally (with a note).
+fn check_stop(
+    t: f64,
+    limit: Option<f64>,
+    wheelsets: &[super::single_wheelset::WheelsetSample],
+) -> Result<(), String> {
+    let Some(limit) = limit else {
+        return Ok(());
+    };
+    match wheelsets.iter().find(|w| w.state.y.abs() > limit) {
+        Some(w) => Err(format!(
+            "{STOP}|y| = {:.3} mm exceeded {:.3} mm at t = {t:.3} s, V = {:.2} m/s",
+            w.state.y.abs() * 1e3,
+            limit * 1e3,
+            w.speed
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Reports progress every 1 % of the duration.
+fn tick(t: f64, duration: f64, last: &mut f64, progress: &mut dyn FnMut(f64)) {
+    if t - *last >= 0.01 * duration {
+        progress(t / duration);
+        *last = t;
+    }
+}
+
 /// Splits an integration result into (error, stop note).
 fn outcome(result: Result<(), IntegrationError>) -> (Option<String>, Option<String>) {
     match result {
@@ -257,20 +285,8 @@ fn run_multibody(
             for (k, b) in s.bodies.iter().enumerate() {
                 bodies[k].1.push((t, *b));
             }
-            if let Some(limit) = stop {
-                if let Some(w) = s.wheelsets.iter().find(|w| w.state.y.abs() > limit) {
-                    return Err(format!(
-                        "{STOP}|y| = {:.3} mm exceeded {:.3} mm at t = {t:.3} s, V = {:.2} m/s",
-                        w.state.y.abs() * 1e3,
-                        limit * 1e3,
-                        w.speed
-                    ));
-                }
-            }
-            if t - last_progress >= 0.01 * duration {
-                progress(t / duration);
-                last_progress = t;
-            }
+            check_stop(t, stop, &s.wheelsets)?;
+            tick(t, duration, &mut last_progress, progress);
             Ok(())
         },
         &mut stats,
@@ -364,20 +380,8 @@ fn run_single(
         &mut |t, x| {
             let s = observer_sys.sample(t, x)?;
             samples.push(to_sample(t, &s, r0));
-            if let Some(limit) = stop {
-                if s.state.y.abs() > limit {
-                    return Err(format!(
-                        "{STOP}|y| = {:.3} mm exceeded {:.3} mm at t = {t:.3} s, V = {:.2} m/s",
-                        s.state.y.abs() * 1e3,
-                        limit * 1e3,
-                        s.speed
-                    ));
-                }
-            }
-            if t - last_progress >= 0.01 * duration {
-                progress(t / duration);
-                last_progress = t;
-            }
+            check_stop(t, stop, std::slice::from_ref(&s))?;
+            tick(t, duration, &mut last_progress, progress);
             Ok(())
         },
         &mut stats,

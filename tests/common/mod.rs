@@ -39,3 +39,14 @@ pub fn rerun_verify(path: &Path) {
         }
     }
 }
+
+/// A scene file of `assets/scenes/`, compiled.
+pub fn scene(file: &str) -> kecsim::scenario::Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(file);
+    kecsim::scenario::Scenario::read(&path)
+        .unwrap()
+        .compile(&path.display().to_string(), path.parent().unwrap())
+        .unwrap()
+}
