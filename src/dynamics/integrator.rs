@@ -46,6 +46,7 @@ pub trait OdeSystem {
 pub enum Method {
     Dopri5,
     Ros3,
+    Ros34pw2,
 }
 
 impl Method {
@@ -53,7 +54,7 @@ impl Method {
     fn error_order(self) -> f64 {
         match self {
             Method::Dopri5 => 5.0,
-            Method::Ros3 => 3.0,
+            Method::Ros3 | Method::Ros34pw2 => 3.0,
         }
     }
 }
@@ -71,6 +72,9 @@ pub struct Settings {
     pub max_steps: usize,
     /// Take fixed steps of this size without error control (convergence studies only).
     pub fixed_step: Option<f64>,
+    /// ROS34PW2 only: accepted steps a Jacobian is kept for before it is evaluated again
+    /// (1 = every step; a rejected step with an older Jacobian always renews it).
+    pub jacobian_max_age: usize,
 }
 
 impl Settings {
@@ -84,6 +88,7 @@ impl Settings {
             h_max: f64::INFINITY,
             max_steps: 10_000_000,
             fixed_step: None,
+            jacobian_max_age: 25,
         }
     }
 }
@@ -183,6 +188,44 @@ mod ros3_tableau {
 }
 use ros3_tableau::*;
 
+// ROS34PW2 (Rang & Angermann 2005, *New Rosenbrock W-methods of order 3 for partial
+// differential algebraic equations of index 1*, BIT 45:761–787), Hairer–Wanner form:
+// (I − γ h W) k_i = h f(t + α_i h, x + Σ_j a_ij k_j) + h W Σ_j γ_ij k_j + γ_i h² f_t.
+// A W-method: order 3 with *any* matrix W in place of ∂f/∂x (the tests check it with W = 0),
+// so one Jacobian serves many steps. L-stable and stiffly accurate (b = the last row of a + γ);
+// b̂ is an embedded order-2 solution. The digits satisfy the order conditions to 1e-16 (test).
+#[allow(clippy::excessive_precision)]
+mod ros34pw2_tableau {
+    pub(super) const W_GAMMA: f64 = 4.358_665_215_084_590_0e-1;
+    /// a_ij (strictly lower).
+    pub(super) const W_A: [[f64; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [8.717_330_430_169_180_1e-1, 0.0, 0.0],
+        [8.445_706_001_536_942_3e-1, -1.129_906_423_648_418_5e-1, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    /// γ_ij (strictly lower; the diagonal is γ).
+    pub(super) const W_G: [[f64; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [-8.717_330_430_169_180_1e-1, 0.0, 0.0],
+        [-9.033_805_701_304_408_2e-1, 5.418_067_238_809_532_6e-2, 0.0],
+        [2.421_238_070_609_534_6e-1, -1.223_250_583_904_514_7, 5.452_602_553_351_021_4e-1],
+    ];
+    pub(super) const W_B: [f64; 4] = [
+        2.421_238_070_609_534_6e-1,
+        -1.223_250_583_904_514_7,
+        1.545_260_255_335_102_3,
+        4.358_665_215_084_590_0e-1,
+    ];
+    pub(super) const W_BHAT: [f64; 4] = [
+        3.781_090_314_581_936_9e-1,
+        -9.604_229_221_242_317_8e-2,
+        0.5,
+        2.179_332_607_542_295_0e-1,
+    ];
+}
+use ros34pw2_tableau::*;
+
 /// Receives the state at each output time; an `Err` stops the integration.
 pub type Observer<'a> = dyn FnMut(f64, &[f64]) -> Result<(), String> + 'a;
 
@@ -260,6 +303,8 @@ pub fn integrate_into(
     let mut x1 = vec![0.0; n];
     let mut f1 = vec![0.0; n];
     let mut err_prev: f64 = 1e-4;
+    // Rejections in a row at the current point.
+    let mut rejections = 0usize;
     let q = settings.method.error_order();
     while t < t_end {
         if stats.accepted + stats.rejected >= settings.max_steps {
@@ -291,6 +336,9 @@ pub fn integrate_into(
             // No control: accept.
         } else if err > 1.0 {
             stats.rejected += 1;
+            rejections += 1;
+            if std::env::var("KDBG").is_ok() { eprintln!("REJ t={t:.4} h={h:.3e} err={err:.2e} age={:?}", stepper.jac_age); }
+            stepper.rejected(err, rejections);
             let fac = if err.is_finite() {
                 (0.9 * err.powf(-1.0 / q)).clamp(0.1, 0.9)
             } else {
@@ -321,6 +369,7 @@ pub fn integrate_into(
             next_out = t0 + out_index as f64 * dt_out;
         }
         stats.accepted += 1;
+        stepper.accepted(settings.jacobian_max_age);
         stats.smallest_step = stats.smallest_step.min(h);
         stats.largest_step = stats.largest_step.max(h);
         t = if last { t_end } else { t1 };
@@ -330,10 +379,15 @@ pub fn integrate_into(
             // PI controller (Gustafsson; Hairer's DOPRI5 uses β = 0.04).
             let beta = 0.04;
             let e = err.max(1e-10);
-            let fac = (0.9 * e.powf(-1.0 / q + 0.75 * beta) * err_prev.powf(beta)).clamp(0.2, 10.0);
+            let mut fac = (0.9 * e.powf(-1.0 / q + 0.75 * beta) * err_prev.powf(beta)).clamp(0.2, 10.0);
+            if rejections > 0 {
+                // Right after a rejection, do not grow the step (Hairer–Wanner I, §II.4).
+                fac = fac.min(1.0);
+            }
             err_prev = e;
             h = (h * fac).min(settings.h_max);
         }
+        rejections = 0;
     }
     // The end point, if the output grid did not land on it.
     if (next_out - dt_out - t_end).abs() > 1e-9 * dt_out {
@@ -377,6 +431,10 @@ struct Stepper {
     k: Vec<Vec<f64>>,
     tmp: Vec<f64>,
     jac: DMatrix<f64>,
+    /// ∂f/∂t at the Jacobian's point (forward difference).
+    ft: Vec<f64>,
+    /// Accepted steps since the Jacobian was evaluated (None: none valid).
+    jac_age: Option<usize>,
 }
 
 impl Stepper {
@@ -386,7 +444,68 @@ impl Stepper {
             k: vec![vec![0.0; n]; 7],
             tmp: vec![0.0; n],
             jac: DMatrix::zeros(n, n),
+            ft: vec![0.0; n],
+            jac_age: None,
         }
+    }
+
+    /// A step was rejected (error norm `err`, the `rejections`-th in a row at this point). The
+    /// W-method's order does not depend on the Jacobian, so a mild rejection is the step size's
+    /// fault; a Jacobian from an earlier point is renewed only after a rejection by a wide margin
+    /// (err > 10) or a second rejection in a row.
+    fn rejected(&mut self, err: f64, rejections: usize) {
+        if self.jac_age.is_some_and(|a| a > 0) && (err > 10.0 || rejections >= 2) {
+            self.jac_age = None;
+        }
+    }
+
+    /// A step was accepted: the Jacobian ages, and is renewed after `max_age` steps.
+    fn accepted(&mut self, max_age: usize) {
+        if let Some(a) = self.jac_age {
+            self.jac_age = (a + 1 < max_age.max(1)).then_some(a + 1);
+        }
+    }
+
+    /// J = ∂f/∂x (the system's, else forward differences: n evaluations) and f_t = ∂f/∂t (a
+    /// forward difference: one evaluation) at (t, x), f0 = f(t, x).
+    #[allow(clippy::too_many_arguments)]
+    fn jacobian(
+        &mut self,
+        sys: &mut dyn OdeSystem,
+        t: f64,
+        x: &[f64],
+        f0: &[f64],
+        h: f64,
+        s: &Settings,
+        stats: &mut Stats,
+    ) -> Result<(), StepFailure> {
+        let n = x.len();
+        match sys.jacobian(t, x, &mut self.jac) {
+            Some(r) => r.map_err(StepFailure::Model)?,
+            None => {
+                for j in 0..n {
+                    let dx = 1.5e-8 * x[j].abs().max(s.atol / s.rtol).max(1e-12);
+                    self.tmp.copy_from_slice(x);
+                    self.tmp[j] += dx;
+                    let col = &mut self.k[6];
+                    sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
+                    stats.rhs_evaluations += 1;
+                    for i in 0..n {
+                        self.jac[(i, j)] = (col[i] - f0[i]) / dx;
+                    }
+                }
+            }
+        }
+        // ∂f/∂t by a forward difference (the γ_i h f_t terms; zero for autonomous systems).
+        let dt = 1.5e-8 * t.abs().max(h).max(1e-6);
+        sys.rhs(t + dt, x, &mut self.ft).map_err(StepFailure::Model)?;
+        stats.rhs_evaluations += 1;
+        for i in 0..n {
+            self.ft[i] = (self.ft[i] - f0[i]) / dt;
+        }
+        stats.jacobians += 1;
+        self.jac_age = Some(0);
+        Ok(())
     }
 
     /// One step of size h from (t, x) with f0 = f(t, x): x1, f1 = f(t + h, x1) and the error norm.
@@ -406,6 +525,7 @@ impl Stepper {
         match self.method {
             Method::Dopri5 => self.dopri5(sys, t, x, f0, h, s, x1, f1, stats),
             Method::Ros3 => self.ros3(sys, t, x, f0, h, s, x1, f1, stats),
+            Method::Ros34pw2 => self.ros34pw2(sys, t, x, f0, h, s, x1, f1, stats),
         }
     }
 
@@ -480,24 +600,8 @@ impl Stepper {
         stats: &mut Stats,
     ) -> Result<f64, StepFailure> {
         let n = x.len();
-        // Jacobian: the system's, or forward differences.
-        match sys.jacobian(t, x, &mut self.jac) {
-            Some(r) => r.map_err(StepFailure::Model)?,
-            None => {
-                for j in 0..n {
-                    let dx = 1.5e-8 * x[j].abs().max(s.atol / s.rtol).max(1e-12);
-                    self.tmp.copy_from_slice(x);
-                    self.tmp[j] += dx;
-                    let col = &mut self.k[6];
-                    sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
-                    stats.rhs_evaluations += 1;
-                    for i in 0..n {
-                        self.jac[(i, j)] = (col[i] - f0[i]) / dx;
-                    }
-                }
-            }
-        }
-        stats.jacobians += 1;
+        // A classical Rosenbrock method: the exact Jacobian at every step.
+        self.jacobian(sys, t, x, f0, h, s, stats)?;
         let mut g = -self.jac.clone();
         let d = 1.0 / (h * R_GAMMA);
         for i in 0..n {
@@ -512,14 +616,7 @@ impl Stepper {
             rhs.copy_from_slice(sol.as_slice());
             Ok(())
         };
-        // ∂f/∂t by a forward difference (the γ_i h f_t terms; zero for autonomous systems).
-        let dt = 1.5e-8 * t.abs().max(h).max(1e-6);
-        let mut ft = vec![0.0; n];
-        sys.rhs(t + dt, x, &mut ft).map_err(StepFailure::Model)?;
-        stats.rhs_evaluations += 1;
-        for i in 0..n {
-            ft[i] = (ft[i] - f0[i]) / dt;
-        }
+        let ft = &self.ft;
         // Stage 1.
         let mut k1: Vec<f64> = (0..n).map(|i| f0[i] + h * R_GAMMAS[0] * ft[i]).collect();
         solve(&lu, &mut k1)?;
@@ -551,6 +648,71 @@ impl Stepper {
         Ok((sum / n.max(1) as f64).sqrt())
     }
 
+    /// One ROS34PW2 step with the stored Jacobian (evaluated here only when none is valid).
+    #[allow(clippy::too_many_arguments)]
+    fn ros34pw2(
+        &mut self,
+        sys: &mut dyn OdeSystem,
+        t: f64,
+        x: &[f64],
+        f0: &[f64],
+        h: f64,
+        s: &Settings,
+        x1: &mut [f64],
+        f1: &mut [f64],
+        stats: &mut Stats,
+    ) -> Result<f64, StepFailure> {
+        let n = x.len();
+        if self.jac_age.is_none() {
+            self.jacobian(sys, t, x, f0, h, s, stats)?;
+        }
+        // (I − γ h W) k = r  ⇔  (1/(γ h) I − W) k = r / (γ h).
+        let gh = W_GAMMA * h;
+        let mut g = -self.jac.clone();
+        for i in 0..n {
+            g[(i, i)] += 1.0 / gh;
+        }
+        let lu = g.lu();
+        let mut fs = vec![0.0; n];
+        let mut v = vec![0.0; n];
+        let mut rhs = nalgebra::DVector::zeros(n);
+        for i in 0..4 {
+            // Stage point and f there.
+            let alpha: f64 = W_A[i].iter().sum();
+            if i == 0 {
+                fs.copy_from_slice(f0);
+            } else {
+                for m in 0..n {
+                    self.tmp[m] = x[m] + (0..i).map(|j| W_A[i][j] * self.k[j][m]).sum::<f64>();
+                }
+                sys.rhs(t + alpha * h, &self.tmp, &mut fs)
+                    .map_err(StepFailure::Model)?;
+                stats.rhs_evaluations += 1;
+            }
+            // r = h f + h W Σ_j γ_ij k_j + γ_i h² f_t, γ_i = γ + Σ_j γ_ij.
+            for m in 0..n {
+                v[m] = (0..i).map(|j| W_G[i][j] * self.k[j][m]).sum::<f64>();
+            }
+            let gamma_i = W_GAMMA + W_G[i].iter().sum::<f64>();
+            for m in 0..n {
+                let wv: f64 = (0..n).map(|c| self.jac[(m, c)] * v[c]).sum();
+                rhs[m] = (h * (fs[m] + wv) + gamma_i * h * h * self.ft[m]) / gh;
+            }
+            let k = lu.solve(&rhs).ok_or(StepFailure::Singular)?;
+            self.k[i].copy_from_slice(k.as_slice());
+        }
+        let mut sum = 0.0;
+        for m in 0..n {
+            x1[m] = x[m] + (0..4).map(|j| W_B[j] * self.k[j][m]).sum::<f64>();
+            let e: f64 = (0..4).map(|j| (W_B[j] - W_BHAT[j]) * self.k[j][m]).sum();
+            let sc = s.atol + s.rtol * x[m].abs().max(x1[m].abs());
+            sum += (e / sc).powi(2);
+        }
+        sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
+        stats.rhs_evaluations += 1;
+        Ok((sum / n.max(1) as f64).sqrt())
+    }
+
     /// The state at t + s h (0 ≤ s ≤ 1) within the last step.
     fn dense(&self, x: &[f64], x1: &[f64], f0: &[f64], f1: &[f64], h: f64, s: f64) -> Vec<f64> {
         let s1 = 1.0 - s;
@@ -571,7 +733,7 @@ impl Stepper {
                     x[i] + s * (r2 + s1 * (r3 + s * (r4 + s1 * r5)))
                 })
                 .collect(),
-            Method::Ros3 => (0..x.len())
+            Method::Ros3 | Method::Ros34pw2 => (0..x.len())
                 .map(|i| {
                     // Cubic Hermite.
                     let (h00, h10, h01, h11) = (

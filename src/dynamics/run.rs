@@ -9,7 +9,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::contact_model::{ContactKind, WheelsetContact};
-use super::integrator::{integrate_into, IntegrationError, Settings, Stats};
+use super::integrator::{integrate_into, IntegrationError, Stats};
 use super::multibody::{BodySample, Multibody, Settling};
 use super::single_wheelset::{SingleWheelset, SpeedProfile, Tie};
 use super::spec::{SimulationSpec, VehicleSpec};
@@ -153,7 +153,13 @@ pub fn build_contact(scene: &Scene, kind: ContactKind) -> Result<WheelsetContact
                     table: Box::new(table),
                 }
             } else {
-                let model = KecModel::from_table(&table, pair.wheelset.l_w()).map_err(|e| e.to_string())?;
+                let approach = scene
+                    .simulation
+                    .as_ref()
+                    .map_or(super::spec::DEFAULT_TWO_POINT_APPROACH_M, |s| s.0.kec_two_point_approach_m);
+                let model = KecModel::from_table(&table, pair.wheelset.l_w())
+                    .map_err(|e| e.to_string())?
+                    .with_two_point_transition(approach);
                 WheelsetContact::Kec {
                     model: Box::new(model),
                     pair: Box::new(pair),
@@ -257,7 +263,7 @@ fn run_multibody(
         sys.s0 = s0;
     }
     let x0 = sys.initial_state(sim.initial.lateral_m, sim.initial.yaw_rad);
-    let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
+    let settings = sim.integrator.settings();
     let dt_out = 1.0 / sim.record_rate_hz;
     let names: Vec<String> = sys.wheelsets.iter().map(|w| w.name.clone()).collect();
     let body_names: Vec<String> = sys.bodies.iter().map(|b| b.name.clone()).collect();
@@ -359,7 +365,7 @@ fn run_single(
         sys.s0 = s0;
     }
     let x0 = sys.initial_state(sim.initial.lateral_m, sim.initial.yaw_rad);
-    let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
+    let settings = sim.integrator.settings();
     let dt_out = 1.0 / sim.record_rate_hz;
     let mut samples: Vec<Sample> = Vec::new();
     let duration = sim.duration_s;

@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use super::contact_model::ContactKind;
-use super::integrator::Method;
+use super::integrator::{Method, Settings};
 
 /// `[simulation]`: what to run and how.
 #[derive(Debug, Clone, Deserialize)]
@@ -34,6 +34,18 @@ pub struct SimulationSpec {
     /// track's start).
     #[serde(default)]
     pub start_m: Option<f64>,
+    /// KEC only: the elastic approach δ over which a real contact jump becomes a two-point
+    /// transition (the equivalent profiles' kinks are rounded over δ / |Δ tan γ|), m;
+    /// 0 keeps the paper's rigid kinks. See [`crate::contact::kec::KecModel::with_two_point_transition`].
+    #[serde(default = "default_two_point_approach")]
+    pub kec_two_point_approach_m: f64,
+}
+
+/// Default elastic approach of the two-point transition, m.
+pub const DEFAULT_TWO_POINT_APPROACH_M: f64 = 5e-5;
+
+fn default_two_point_approach() -> f64 {
+    DEFAULT_TWO_POINT_APPROACH_M
 }
 
 fn default_rate() -> f64 {
@@ -50,6 +62,18 @@ pub struct IntegratorSpec {
     pub rtol: f64,
     #[serde(default = "default_atol")]
     pub atol: f64,
+    /// ros34pw2: accepted steps one Jacobian serves before it is evaluated again.
+    #[serde(default = "default_jacobian_max_age")]
+    pub jacobian_max_age: usize,
+}
+
+impl IntegratorSpec {
+    /// The integrator settings this table describes.
+    pub fn settings(&self) -> Settings {
+        let mut s = Settings::new(self.method, self.rtol, self.atol);
+        s.jacobian_max_age = self.jacobian_max_age;
+        s
+    }
 }
 
 fn default_method() -> Method {
@@ -61,6 +85,9 @@ fn default_rtol() -> f64 {
 fn default_atol() -> f64 {
     1e-8
 }
+fn default_jacobian_max_age() -> usize {
+    25
+}
 
 impl Default for IntegratorSpec {
     fn default() -> Self {
@@ -68,6 +95,7 @@ impl Default for IntegratorSpec {
             method: default_method(),
             rtol: default_rtol(),
             atol: default_atol(),
+            jacobian_max_age: default_jacobian_max_age(),
         }
     }
 }
@@ -141,6 +169,13 @@ impl SimulationSpec {
         check("record_rate_hz", self.record_rate_hz, 0.1, 1e5);
         check("integrator.rtol", self.integrator.rtol, 1e-14, 1e-1);
         check("integrator.atol", self.integrator.atol, 1e-16, 1e-1);
+        check(
+            "integrator.jacobian_max_age",
+            self.integrator.jacobian_max_age as f64,
+            1.0,
+            1e6,
+        );
+        check("kec_two_point_approach_m", self.kec_two_point_approach_m, 0.0, 1e-3);
         check("initial.lateral_m", self.initial.lateral_m, -0.02, 0.02);
         check("initial.yaw_rad", self.initial.yaw_rad, -0.05, 0.05);
         if let Some(v) = self.start_m {

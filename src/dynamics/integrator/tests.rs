@@ -60,10 +60,10 @@ fn osc_error(out: &[(f64, Vec<f64>)], w: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Fixed steps: halving h divides the error by 2^p (p = 5 DOPRI5, 3 ROS3).
+/// Fixed steps: halving h divides the error by 2^p (p = 5 DOPRI5, 3 ROS3 and ROS34PW2).
 #[test]
 fn convergence_order() {
-    for (method, p) in [(Method::Dopri5, 5.0), (Method::Ros3, 3.0)] {
+    for (method, p) in [(Method::Dopri5, 5.0), (Method::Ros3, 3.0), (Method::Ros34pw2, 3.0)] {
         let mut errs = Vec::new();
         for h in [0.1, 0.05, 0.025] {
             let mut s = Settings::new(method, 1e-6, 1e-6);
@@ -87,25 +87,74 @@ fn convergence_order() {
     }
 }
 
-/// Non-autonomous problem: ROS3 keeps its order only with the f_t terms.
+/// Non-autonomous problem: the Rosenbrock methods keep their order only with the f_t terms.
 #[test]
-fn ros3_order_non_autonomous() {
-    let mut errs = Vec::new();
-    for h in [0.2, 0.1, 0.05] {
-        let mut s = Settings::new(Method::Ros3, 1e-6, 1e-6);
-        s.fixed_step = Some(h);
-        let (out, _) = run(&mut Prothero { lambda: 1.0 }, &[1.0], 2.0, 0.2, &s);
-        errs.push((out.last().unwrap().1[0] - 2.0f64.cos()).abs());
+fn rosenbrock_order_non_autonomous() {
+    for method in [Method::Ros3, Method::Ros34pw2] {
+        let mut errs = Vec::new();
+        for h in [0.2, 0.1, 0.05] {
+            let mut s = Settings::new(method, 1e-6, 1e-6);
+            s.fixed_step = Some(h);
+            let (out, _) = run(&mut Prothero { lambda: 1.0 }, &[1.0], 2.0, 0.2, &s);
+            errs.push((out.last().unwrap().1[0] - 2.0f64.cos()).abs());
+        }
+        let order = (errs[1] / errs[2]).log2();
+        assert!((order - 3.0).abs() < 0.4, "{method:?}: order {order} {errs:?}");
     }
-    let order = (errs[1] / errs[2]).log2();
-    assert!((order - 3.0).abs() < 0.4, "order {order} {errs:?}");
+}
+
+/// The oscillator with a deliberately wrong "Jacobian" (W = scale × the true one).
+struct WrongJacobian {
+    w: f64,
+    scale: f64,
+}
+
+impl OdeSystem for WrongJacobian {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+        d[0] = x[1];
+        d[1] = -self.w * self.w * x[0];
+        Ok(())
+    }
+    fn jacobian(&mut self, _t: f64, _x: &[f64], jac: &mut DMatrix<f64>) -> Option<Result<(), String>> {
+        jac.fill(0.0);
+        jac[(0, 1)] = self.scale;
+        jac[(1, 0)] = -self.w * self.w * self.scale;
+        Some(Ok(()))
+    }
+}
+
+/// ROS34PW2 is a W-method: order 3 with any matrix in place of the Jacobian (W = 0, W = 0.3 J),
+/// which is what lets it keep one Jacobian for many steps. ROS3, a classical Rosenbrock method,
+/// drops to order ≤ 2 with the same wrong matrices (the test can tell the difference).
+#[test]
+fn w_method_keeps_its_order_with_a_wrong_jacobian() {
+    let order_with = |method: Method, scale: f64| {
+        let mut errs = Vec::new();
+        for h in [0.04, 0.02, 0.01] {
+            let mut s = Settings::new(method, 1e-6, 1e-6);
+            s.fixed_step = Some(h);
+            let (out, _) = run(&mut WrongJacobian { w: 2.0, scale }, &[1.0, 0.0], 2.0, 0.1, &s);
+            let x = &out.last().unwrap().1;
+            errs.push((x[0] - 4.0f64.cos()).abs().max((x[1] + 2.0 * 4.0f64.sin()).abs()));
+        }
+        ((errs[1] / errs[2]).log2(), errs)
+    };
+    for scale in [0.0, 0.3] {
+        let (p, errs) = order_with(Method::Ros34pw2, scale);
+        assert!((p - 3.0).abs() < 0.3, "ROS34PW2, W = {scale} J: order {p} {errs:?}");
+        let (p, errs) = order_with(Method::Ros3, scale);
+        assert!(p < 2.3, "ROS3, W = {scale} J: order {p} {errs:?}");
+    }
 }
 
 /// Adaptive: the global error follows the tolerance (roughly proportionally) and the output,
 /// at a fixed rate between steps (dense output), is as accurate as the steps.
 #[test]
 fn tolerance_proportionality_and_dense_output() {
-    for method in [Method::Dopri5, Method::Ros3] {
+    for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2] {
         let mut prev: Option<f64> = None;
         for tol in [1e-5, 1e-7, 1e-9] {
             let s = Settings::new(method, tol, tol);
@@ -193,7 +242,7 @@ fn failures_are_diagnosed() {
             Ok(())
         }
     }
-    for method in [Method::Dopri5, Method::Ros3] {
+    for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2] {
         let s = Settings::new(method, 1e-8, 1e-8);
         let e = integrate(&mut BlowUp, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(())).unwrap_err();
         match e {
@@ -221,5 +270,51 @@ fn failures_are_diagnosed() {
             matches!(e, IntegrationError::StepCollapse { .. }),
             "{method:?}: {e}"
         );
+    }
+}
+
+/// Stiff and nonlinear (Van der Pol, μ = 1000, over a relaxation cycle): ROS34PW2 keeps each
+/// Jacobian for many steps and still meets the tolerance (reference: the same problem at a
+/// 1000× tighter tolerance); with the Jacobian renewed every step it takes the same path.
+#[test]
+fn ros34pw2_reuses_jacobians_on_a_stiff_problem() {
+    struct VanDerPol {
+        mu: f64,
+    }
+    impl OdeSystem for VanDerPol {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            d[0] = x[1];
+            d[1] = self.mu * ((1.0 - x[0] * x[0]) * x[1] - x[0]);
+            Ok(())
+        }
+    }
+    let run_vdp = |tol: f64, age: usize| {
+        let mut s = Settings::new(Method::Ros34pw2, tol, tol);
+        s.jacobian_max_age = age;
+        run(&mut VanDerPol { mu: 1000.0 }, &[2.0, 0.0], 1.0, 0.1, &s)
+    };
+    let (reference, _) = run_vdp(1e-9, 1);
+    for age in [1, 25] {
+        let (out, stats) = run_vdp(1e-6, age);
+        let err = out
+            .iter()
+            .zip(&reference)
+            .map(|((_, a), (_, b))| (a[0] - b[0]).abs())
+            .fold(0.0, f64::max);
+        assert!(err < 1e-3, "age {age}: error {err}");
+        if age == 1 {
+            // One per step; a rejected step retries with the Jacobian of the same point.
+            assert_eq!(stats.jacobians, stats.accepted, "{stats:?}");
+        } else {
+            assert!(
+                stats.jacobians * 3 < stats.accepted,
+                "{} Jacobians for {} steps",
+                stats.jacobians,
+                stats.accepted
+            );
+        }
     }
 }
