@@ -163,42 +163,43 @@ fn energy_is_conserved_without_creep() {
 fn contact_models_agree() {
     let sc = scene("wheelset_klingel.toml");
     let short = |s: &mut SimulationSpec| s.duration_s = 4.0;
+    let rigid = |s: &mut SimulationSpec| {
+        s.duration_s = 4.0;
+        s.kec_two_point_approach_m = 0.0;
+    };
+    // The paper's KEC (rigid kinks) moves as the rigid models do; the default KEC, with its
+    // two-point transitions at the contact jumps, differs from them by what the transitions change.
+    let kec_rigid = simulate(&sc, rigid, ContactKind::Kec);
     let kec = simulate(&sc, short, ContactKind::Kec);
+    let max_diff = |a: &RunOutput, b: &RunOutput| {
+        assert_eq!(a.samples.len(), b.samples.len());
+        let mut d = (0.0_f64, 0.0_f64, 0.0_f64);
+        for (p, q) in a.samples.iter().zip(&b.samples) {
+            d.0 = d.0.max((p.y - q.y).abs());
+            d.1 = d.1.max((p.yaw - q.yaw).abs());
+            d.2 = d.2.max((p.normal[0] - q.normal[0]).abs());
+        }
+        d
+    };
     for kind in [ContactKind::Lookup, ContactKind::Online] {
         let other = simulate(&sc, short, kind);
-        assert_eq!(other.samples.len(), kec.samples.len());
-        let dy = kec
-            .samples
-            .iter()
-            .zip(&other.samples)
-            .map(|(a, b)| (a.y - b.y).abs())
-            .fold(0.0, f64::max);
-        let dpsi = kec
-            .samples
-            .iter()
-            .zip(&other.samples)
-            .map(|(a, b)| (a.yaw - b.yaw).abs())
-            .fold(0.0, f64::max);
-        let dn = kec
-            .samples
-            .iter()
-            .zip(&other.samples)
-            .map(|(a, b)| (a.normal[0] - b.normal[0]).abs())
-            .fold(0.0, f64::max);
-        println!(
-            "KEC vs {}: max |Δy| {:.4} mm, max |Δψ| {:.4} mrad, max |ΔN_left| {:.1} N; real-time factors {:.1} (KEC) and {:.1}",
-            kind.name(),
-            dy * 1e3,
-            dpsi * 1e3,
-            dn,
-            kec.summary.realtime_factor,
-            other.summary.realtime_factor
-        );
-        assert!(
-            dy < 0.05e-3 && dpsi < 0.05e-3,
-            "{}: Δy {dy}, Δψ {dpsi}",
-            kind.name()
-        );
+        for (label, k, bound) in [("KEC, rigid kinks", &kec_rigid, 0.05e-3), ("KEC", &kec, 0.2e-3)] {
+            let (dy, dpsi, dn) = max_diff(k, &other);
+            println!(
+                "{label} vs {}: max |Δy| {:.4} mm, max |Δψ| {:.4} mrad, max |ΔN_left| {:.1} N; real-time factors {:.1} (KEC) and {:.1}",
+                kind.name(),
+                dy * 1e3,
+                dpsi * 1e3,
+                dn,
+                k.summary.realtime_factor,
+                other.summary.realtime_factor
+            );
+            assert!(
+                dy < bound && dpsi < bound,
+                "{label} vs {}: Δy {dy}, Δψ {dpsi}",
+                kind.name()
+            );
+        }
     }
 }
 
@@ -207,7 +208,7 @@ fn contact_models_agree() {
 #[test]
 fn integrator_convergence_on_the_scene() {
     let sc = scene("wheelset_klingel.toml");
-    for method in [Method::Ros3, Method::Dopri5] {
+    for method in [Method::Ros3, Method::Ros34pw2, Method::Dopri5] {
         let runs: Vec<RunOutput> = [1e-5, 1e-6, 1e-7]
             .iter()
             .map(|&tol| {

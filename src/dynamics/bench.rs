@@ -1,6 +1,7 @@
 //! `kecsim bench dynamics`: the real-time factor of every scene with every contact model, measured
 //! in one run, with each model's difference from KEC on the same scene (lateral displacement and
-//! yaw of every wheelset over the run) — the speed figure next to its error.
+//! yaw of every wheelset over the run) — the speed figure next to its error — and the KEC run's
+//! integration error against a reference run of the same scene with DOPRI5 at rtol 1e-9.
 //!
 //! The scenes are the repository's scene files, embedded; each runs over a window that shows what
 //! it is for (durations below), so that the whole measurement takes a few minutes.
@@ -8,6 +9,7 @@
 use std::fmt::Write as _;
 
 use super::contact_model::ContactKind;
+use super::integrator::Method;
 use super::run::{run, RunOutput};
 use crate::scenario::Scenario;
 
@@ -45,7 +47,7 @@ pub fn differences(a: &RunOutput, b: &RunOutput) -> (f64, f64) {
 /// Runs every scene with every contact model and returns the table (Markdown).
 pub fn dynamics(models: &[ContactKind]) -> Result<String, String> {
     let mut out = String::from(
-        "| scene | contact model | simulated s | wall s | real-time factor | steps (rejected) | max Δy vs KEC [mm] | max Δψ vs KEC [mrad] |\n|---|---|---|---|---|---|---|---|\n",
+        "| scene | contact model | integrator (rtol) | simulated s | wall s | real-time factor | steps (rejected) | max Δy vs KEC [mm] | max Δψ vs KEC [mrad] |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     for (name, text, window) in SCENES {
         let scenario = Scenario::parse(text, name).map_err(|e| e.to_string())?;
@@ -66,6 +68,19 @@ pub fn dynamics(models: &[ContactKind]) -> Result<String, String> {
                     let (dy, dpsi) = differences(k, &o);
                     (format!("{:.4}", dy * 1e3), format!("{:.4}", dpsi * 1e3))
                 }
+                (_, ContactKind::Kec) => {
+                    // The integration error: against DOPRI5 at rtol 1e-9 on the same scene.
+                    let mut tight = sim.clone();
+                    tight.integrator.method = Method::Dopri5;
+                    tight.integrator.rtol = 1e-9;
+                    tight.integrator.atol = 1e-11;
+                    let r = run(&scene, &tight, &vehicle, kind, sim.speed_m_s, &mut |_| {})?;
+                    let (dy, dpsi) = differences(&r, &o);
+                    (
+                        format!("integration error {:.1e}", dy * 1e3),
+                        format!("integration error {:.1e}", dpsi * 1e3),
+                    )
+                }
                 _ => ("—".to_string(), "—".to_string()),
             };
             let note = match (&s.error, &s.stopped) {
@@ -74,8 +89,10 @@ pub fn dynamics(models: &[ContactKind]) -> Result<String, String> {
             };
             let _ = writeln!(
                 out,
-                "| {name} | {} | {:.2} | {:.3} | {:.2}{note} | {} ({}) | {} | {} |",
+                "| {name} | {} | {:?} ({:.0e}) | {:.2} | {:.3} | {:.2}{note} | {} ({}) | {} | {} |",
                 kind.name(),
+                sim.integrator.method,
+                sim.integrator.rtol,
                 s.simulated_s,
                 s.wall_s,
                 s.realtime_factor,
@@ -90,7 +107,7 @@ pub fn dynamics(models: &[ContactKind]) -> Result<String, String> {
         }
     }
     out.push_str(
-        "\nreal-time factor = simulated / wall time of the integration (the contact-table and KEC preprocessing excluded, reported by `kecsim run`); differences against the KEC run of the same scene, all wheelsets, all samples\n",
+        "\nreal-time factor = simulated / wall time of the integration (the contact-table and KEC preprocessing excluded, reported by `kecsim run`); differences against the KEC run of the same scene, all wheelsets, all samples; the KEC row's integration error is its difference from the same scene integrated by DOPRI5 at rtol 1e-9, atol 1e-11\n",
     );
     Ok(out)
 }

@@ -209,7 +209,11 @@ mod ros34pw2_tableau {
         [0.0, 0.0, 0.0],
         [-8.717_330_430_169_180_1e-1, 0.0, 0.0],
         [-9.033_805_701_304_408_2e-1, 5.418_067_238_809_532_6e-2, 0.0],
-        [2.421_238_070_609_534_6e-1, -1.223_250_583_904_514_7, 5.452_602_553_351_021_4e-1],
+        [
+            2.421_238_070_609_534_6e-1,
+            -1.223_250_583_904_514_7,
+            5.452_602_553_351_021_4e-1,
+        ],
     ];
     pub(super) const W_B: [f64; 4] = [
         2.421_238_070_609_534_6e-1,
@@ -337,7 +341,6 @@ pub fn integrate_into(
         } else if err > 1.0 {
             stats.rejected += 1;
             rejections += 1;
-            if std::env::var("KDBG").is_ok() { eprintln!("REJ t={t:.4} h={h:.3e} err={err:.2e} age={:?}", stepper.jac_age); }
             stepper.rejected(err, rejections);
             let fac = if err.is_finite() {
                 (0.9 * err.powf(-1.0 / q)).clamp(0.1, 0.9)
@@ -500,8 +503,8 @@ impl Stepper {
         let dt = 1.5e-8 * t.abs().max(h).max(1e-6);
         sys.rhs(t + dt, x, &mut self.ft).map_err(StepFailure::Model)?;
         stats.rhs_evaluations += 1;
-        for i in 0..n {
-            self.ft[i] = (self.ft[i] - f0[i]) / dt;
+        for (ft, f) in self.ft.iter_mut().zip(f0) {
+            *ft = (*ft - f) / dt;
         }
         stats.jacobians += 1;
         self.jac_age = Some(0);
@@ -682,16 +685,16 @@ impl Stepper {
             if i == 0 {
                 fs.copy_from_slice(f0);
             } else {
-                for m in 0..n {
-                    self.tmp[m] = x[m] + (0..i).map(|j| W_A[i][j] * self.k[j][m]).sum::<f64>();
+                for (m, (tm, xm)) in self.tmp.iter_mut().zip(x).enumerate() {
+                    *tm = xm + (0..i).map(|j| W_A[i][j] * self.k[j][m]).sum::<f64>();
                 }
                 sys.rhs(t + alpha * h, &self.tmp, &mut fs)
                     .map_err(StepFailure::Model)?;
                 stats.rhs_evaluations += 1;
             }
             // r = h f + h W Σ_j γ_ij k_j + γ_i h² f_t, γ_i = γ + Σ_j γ_ij.
-            for m in 0..n {
-                v[m] = (0..i).map(|j| W_G[i][j] * self.k[j][m]).sum::<f64>();
+            for (m, vm) in v.iter_mut().enumerate() {
+                *vm = (0..i).map(|j| W_G[i][j] * self.k[j][m]).sum::<f64>();
             }
             let gamma_i = W_GAMMA + W_G[i].iter().sum::<f64>();
             for m in 0..n {

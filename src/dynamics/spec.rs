@@ -77,7 +77,7 @@ impl IntegratorSpec {
 }
 
 fn default_method() -> Method {
-    Method::Ros3
+    Method::Ros34pw2
 }
 fn default_rtol() -> f64 {
     1e-6
@@ -175,7 +175,12 @@ impl SimulationSpec {
             1.0,
             1e6,
         );
-        check("kec_two_point_approach_m", self.kec_two_point_approach_m, 0.0, 1e-3);
+        check(
+            "kec_two_point_approach_m",
+            self.kec_two_point_approach_m,
+            0.0,
+            1e-3,
+        );
         check("initial.lateral_m", self.initial.lateral_m, -0.02, 0.02);
         check("initial.yaw_rad", self.initial.yaw_rad, -0.05, 0.05);
         if let Some(v) = self.start_m {

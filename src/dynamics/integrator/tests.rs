@@ -63,7 +63,11 @@ fn osc_error(out: &[(f64, Vec<f64>)], w: f64) -> f64 {
 /// Fixed steps: halving h divides the error by 2^p (p = 5 DOPRI5, 3 ROS3 and ROS34PW2).
 #[test]
 fn convergence_order() {
-    for (method, p) in [(Method::Dopri5, 5.0), (Method::Ros3, 3.0), (Method::Ros34pw2, 3.0)] {
+    for (method, p) in [
+        (Method::Dopri5, 5.0),
+        (Method::Ros3, 3.0),
+        (Method::Ros34pw2, 3.0),
+    ] {
         let mut errs = Vec::new();
         for h in [0.1, 0.05, 0.025] {
             let mut s = Settings::new(method, 1e-6, 1e-6);
@@ -144,7 +148,10 @@ fn w_method_keeps_its_order_with_a_wrong_jacobian() {
     };
     for scale in [0.0, 0.3] {
         let (p, errs) = order_with(Method::Ros34pw2, scale);
-        assert!((p - 3.0).abs() < 0.3, "ROS34PW2, W = {scale} J: order {p} {errs:?}");
+        assert!(
+            (p - 3.0).abs() < 0.3,
+            "ROS34PW2, W = {scale} J: order {p} {errs:?}"
+        );
         let (p, errs) = order_with(Method::Ros3, scale);
         assert!(p < 2.3, "ROS3, W = {scale} J: order {p} {errs:?}");
     }
