@@ -344,8 +344,7 @@ fn manchester_vehicle_settles_and_runs_on_irregular_track() {
 }
 
 /// The same bogie on IRW-wheelsets (independently rotating wheels on non-rotating bridges) over
-/// the curve entry (2.5 s, before its trailing wheelset reaches the inner rail's two-point contact,
-/// see the README): each wheel spins at its own rate and rolls without longitudinal creep
+/// the curve entry (2.5 s): each wheel spins at its own rate and rolls without longitudinal creep
 /// (Ω r = V per wheel), where the solid axles' wheels carry kN of longitudinal creep force.
 #[test]
 fn irw_bogie_rolls_without_longitudinal_creep() {
