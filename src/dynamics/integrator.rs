@@ -12,6 +12,16 @@
 //!   stability. Output between steps: cubic Hermite with the derivatives at both ends (3rd order,
 //!   matching the method).
 //!
+//! - [`Method::Ros34pw2`]: the Rosenbrock **W-method** ROS34PW2 of Rang & Angermann (2005): 4
+//!   stages, order 3 with an embedded order-2 estimate, L-stable and stiffly accurate. A W-method
+//!   keeps its order with *any* matrix W in place of ∂f/∂x, so one finite-difference Jacobian (and
+//!   f_t) serves up to [`Settings::jacobian_max_age`] accepted steps: 4 right-hand sides per step
+//!   plus n + 1 per Jacobian, against 6 for DOPRI5 held at its stability limit by the creep forces.
+//!   The Jacobian is renewed after a rejection by a wide margin (err > 10) or a second rejection in
+//!   a row; a mild rejection is the step size's fault. Output: cubic Hermite.
+//!
+//! After a rejected step the next accepted one does not grow the step (Hairer–Wanner I, §II.4).
+//!
 //! Rosenbrock step (Hairer–Wanner II, §IV.7; f_t by a forward difference):
 //!
 //! ```text

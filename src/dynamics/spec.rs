@@ -1,5 +1,5 @@
 //! Scenario tables of the dynamics (`[simulation]`, `[vehicle]`), as written. Validated into a
-//! [`super::run::Simulation`] by [`SimulationSpec::problems`] and the scene builder.
+//! run (`super::run::run`) by [`SimulationSpec::problems`] and the scene builder.
 
 use serde::Deserialize;
 
