@@ -708,7 +708,8 @@ fn run_simulation(
         );
     }
     {
-        let rec = inspect::open_recording("kecsim", &sink, inspect::run::blueprint)?;
+        let n = out.wheelsets.len();
+        let rec = inspect::open_recording("kecsim", &sink, || inspect::run::blueprint_for(n))?;
         inspect::run::record(&rec, scene, &out.wheelsets, s)?;
     }
     println!(

@@ -252,6 +252,26 @@ fn multibody_run_interface_and_bad_tables() {
         assert!(text.starts_with("t_s,s_m,"));
         assert_eq!(text.lines().count(), 1 + 51);
     }
+    // The recording: every wheelset's series, and the vehicle's side by side (one per wheelset).
+    let rrd = dir.join("r.rrd");
+    common::rerun_verify(&rrd);
+    let chunks = kecsim::inspect::readback::recording_chunks(&rrd).unwrap();
+    let paths: std::collections::BTreeSet<String> =
+        chunks.iter().map(|c| c.entity_path().to_string()).collect();
+    for e in [
+        "/run/wheelset_1/y_mm",
+        "/run/wheelset_2/normal_kn",
+        "/run/vehicle/y_mm",
+        "/run/vehicle/max_abs_y_over_q",
+    ] {
+        assert!(paths.contains(e), "missing {e}: {paths:?}");
+    }
+    let vehicle_rows: usize = chunks
+        .iter()
+        .filter(|c| c.entity_path().to_string() == "/run/vehicle/y_mm" && !c.is_static())
+        .map(|c| c.num_rows())
+        .sum();
+    assert_eq!(vehicle_rows, 51, "one row per output time");
     for (name, text, expect) in [
         (
             "unknown.toml",

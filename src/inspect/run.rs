@@ -15,6 +15,13 @@
 //! | `run/NAME/s_wheel_mm`, `s_rail_mm` | Scalars (left, right) | contact position on the real wheel and rail |
 //! | `run/NAME/s_knife_mm` | Scalars (left, right) | KEC only: contact on the equivalent profiles |
 //!
+//! With more than one wheelset, every wheelset side by side (one series per wheelset, on `time`):
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
+//! | `run/vehicle/{y_mm, yaw_mrad}` | Scalars (one per wheelset) | kinematics of the whole vehicle |
+//! | `run/vehicle/min_normal_kn`, `max_abs_y_over_q` | Scalars (one per wheelset) | the smaller wheel load, the larger \|Y/Q\| |
+//!
 //! and the first wheelset's cross-section and position:
 //!
 //! | entity | archetype | what |
@@ -24,7 +31,8 @@
 //! | `run/summary` | TextDocument | the run summary |
 
 use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+    Blueprint, ContainerLike, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView,
+    Vertical,
 };
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument, TimeColumn};
 
@@ -38,54 +46,121 @@ pub const TIME: &str = "time";
 /// The distance timeline (mm).
 pub const DISTANCE: &str = "distance_mm";
 
+/// The layout of a single-wheelset run.
 pub fn blueprint() -> Blueprint {
+    blueprint_for(1)
+}
+
+/// The layout for `wheelsets` wheelsets: the first wheelset in detail, and with more than one a
+/// row with every wheelset side by side.
+pub fn blueprint_for(wheelsets: usize) -> Blueprint {
     let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
     let w = "/run/wheelset_1";
-    Blueprint::new(
-        Vertical::new([
+    let mut rows: Vec<ContainerLike> = vec![Horizontal::new([
+        Spatial2DView::new("Right wheel and rail (−Y)")
+            .with_origin("/run/section/right")
+            .into(),
+        Spatial2DView::new("Left wheel and rail (+Y)")
+            .with_origin("/run/section/left")
+            .into(),
+        Spatial2DView::new("Track plan [m]")
+            .with_origin("/run/track")
+            .into(),
+    ])
+    .into()];
+    let mut shares = vec![3.0];
+    if wheelsets > 1 {
+        rows.push(
             Horizontal::new([
-                Spatial2DView::new("Right wheel and rail (−Y)")
-                    .with_origin("/run/section/right")
-                    .into(),
-                Spatial2DView::new("Left wheel and rail (+Y)")
-                    .with_origin("/run/section/left")
-                    .into(),
-                Spatial2DView::new("Track plan [m]")
-                    .with_origin("/run/track")
-                    .into(),
+                plot("every wheelset: y [mm]", "/run/vehicle/y_mm"),
+                plot("every wheelset: yaw [mrad]", "/run/vehicle/yaw_mrad"),
+                plot(
+                    "every wheelset: smaller wheel load [kN]",
+                    "/run/vehicle/min_normal_kn",
+                ),
+                plot("every wheelset: larger |Y/Q|", "/run/vehicle/max_abs_y_over_q"),
             ])
             .into(),
-            Horizontal::new([
-                plot("y [mm]", &format!("{w}/y_mm")),
-                plot("yaw [mrad]", &format!("{w}/yaw_mrad")),
-                plot("z − r0 [mm]", &format!("{w}/z_mm")),
-                plot("roll [mrad]", &format!("{w}/roll_mrad")),
-            ])
-            .into(),
-            Horizontal::new([
-                plot("normal force [kN]", &format!("{w}/normal_kn")),
-                plot("creep Fx [kN]", &format!("{w}/creep_fx_kn")),
-                plot("creep Fy [kN]", &format!("{w}/creep_fy_kn")),
-                plot("Y/Q", &format!("{w}/y_over_q")),
-            ])
-            .into(),
-            Horizontal::new([
-                plot("contact on wheel s^w [mm]", &format!("{w}/s_wheel_mm")),
-                plot("contact on rail s^r [mm]", &format!("{w}/s_rail_mm")),
-                plot("KEC contact s^k [mm]", &format!("{w}/s_knife_mm")),
-                TextDocumentView::new("Summary")
-                    .with_origin("/run/summary")
-                    .into(),
-            ])
-            .into(),
+        );
+        shares.push(2.0);
+    }
+    rows.push(
+        Horizontal::new([
+            plot("y [mm]", &format!("{w}/y_mm")),
+            plot("yaw [mrad]", &format!("{w}/yaw_mrad")),
+            plot("z − r0 [mm]", &format!("{w}/z_mm")),
+            plot("roll [mrad]", &format!("{w}/roll_mrad")),
         ])
-        .with_row_shares([3.0, 2.0, 2.0, 2.0]),
-    )
-    .with_time_panel(
+        .into(),
+    );
+    rows.push(
+        Horizontal::new([
+            plot("normal force [kN]", &format!("{w}/normal_kn")),
+            plot("creep Fx [kN]", &format!("{w}/creep_fx_kn")),
+            plot("creep Fy [kN]", &format!("{w}/creep_fy_kn")),
+            plot("Y/Q", &format!("{w}/y_over_q")),
+        ])
+        .into(),
+    );
+    rows.push(
+        Horizontal::new([
+            plot("contact on wheel s^w [mm]", &format!("{w}/s_wheel_mm")),
+            plot("contact on rail s^r [mm]", &format!("{w}/s_rail_mm")),
+            plot("KEC contact s^k [mm]", &format!("{w}/s_knife_mm")),
+            TextDocumentView::new("Summary")
+                .with_origin("/run/summary")
+                .into(),
+        ])
+        .into(),
+    );
+    shares.extend([2.0, 2.0, 2.0]);
+    Blueprint::new(Vertical::new(rows).with_row_shares(shares)).with_time_panel(
         TimePanel::new()
             .with_timeline(TIME)
             .with_play_state(rerun::blueprint::components::PlayState::Following),
     )
+}
+
+/// Every wheelset side by side under `run/vehicle/…` (one series per wheelset, on `time`).
+fn record_vehicle(rec: &RecordingStream, wheelsets: &[(String, Vec<Sample>)]) -> Result<(), InspectError> {
+    let n = wheelsets.iter().map(|w| w.1.len()).min().unwrap_or(0);
+    let names: Vec<&str> = wheelsets.iter().map(|w| w.0.as_str()).collect();
+    let palette = [
+        Color::from_rgb(230, 80, 60),
+        Color::from_rgb(60, 140, 230),
+        Color::from_rgb(60, 180, 120),
+        Color::from_rgb(200, 150, 40),
+        Color::from_rgb(150, 90, 200),
+        Color::from_rgb(40, 180, 190),
+        Color::from_rgb(220, 100, 170),
+        Color::from_rgb(120, 120, 120),
+    ];
+    let colors: Vec<Color> = (0..names.len()).map(|k| palette[k % palette.len()]).collect();
+    let first = &wheelsets[0].1;
+    let series = |entity: &str, f: &dyn Fn(&Sample) -> f64| {
+        send_scalar_rows(
+            rec,
+            vec![TimeColumn::new_duration_secs(
+                TIME,
+                first[..n].iter().map(|s| s.t),
+            )],
+            n,
+            &format!("run/vehicle/{entity}"),
+            (0..n)
+                .flat_map(|i| wheelsets.iter().map(move |w| f(&w.1[i])))
+                .collect(),
+            &names,
+            colors.clone(),
+        )
+    };
+    series("y_mm", &|s| s.y * 1e3)?;
+    series("yaw_mrad", &|s| s.yaw * 1e3)?;
+    series("min_normal_kn", &|s| s.normal[0].min(s.normal[1]) * 1e-3)?;
+    series("max_abs_y_over_q", &|s| {
+        (s.y_force[0] / s.q_force[0])
+            .abs()
+            .max((s.y_force[1] / s.q_force[1]).abs())
+    })
 }
 
 fn lr_colors() -> Vec<Color> {
@@ -151,6 +226,9 @@ pub fn record(
 ) -> Result<(), InspectError> {
     for (name, samples) in wheelsets {
         record_wheelset(rec, name, samples)?;
+    }
+    if wheelsets.len() > 1 {
+        record_vehicle(rec, wheelsets)?;
     }
     let Some((_, samples)) = wheelsets.first() else {
         return Ok(());
