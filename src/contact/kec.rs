@@ -140,6 +140,20 @@ pub struct Kink {
     pub real_jump: bool,
 }
 
+/// One node of an equivalent profile with everything stored along it.
+struct Node {
+    s: f64,
+    f: f64,
+    df: f64,
+    sw: f64,
+    dsw: f64,
+    sr: f64,
+    dsr: f64,
+    y: f64,
+    real: [f64; N_REAL],
+    real_slopes: [f64; N_REAL],
+}
+
 fn cubic_hermite(s0: f64, s1: f64, v0: f64, v1: f64, d0: f64, d1: f64, s: f64) -> (f64, f64, f64) {
     let h = s1 - s0;
     let t = (s - s0) / h;
@@ -156,17 +170,6 @@ impl EquivalentProfile {
             Side::Left => (2, 3, 0),
             Side::Right => (4, 5, 1),
         };
-        struct Node {
-            s: f64,
-            f: f64,
-            df: f64,
-            sw: f64,
-            dsw: f64,
-            sr: f64,
-            dsr: f64,
-            y: f64,
-            real: [f64; N_REAL],
-        }
         let mut nodes = Vec::with_capacity(table.rows.len());
         for r in &table.rows {
             let (y, zt, phi) = (r.y, r.z() - r0, r.phi());
@@ -202,25 +205,29 @@ impl EquivalentProfile {
                     r.curvature[2 * ki],
                     r.curvature[2 * ki + 1],
                 ],
+                real_slopes: [0.0; N_REAL],
             });
         }
         // s^k decreases with y: reverse to increasing s^k.
         nodes.reverse();
-        let mut real_slopes = vec![[0.0; N_REAL]; nodes.len()];
         let mut start = 0;
         for end in 1..=nodes.len() {
             if end == nodes.len() || nodes[end].s <= nodes[end - 1].s {
                 let ss: Vec<f64> = nodes[start..end].iter().map(|n| n.s).collect();
                 for c in 0..N_REAL {
                     let vs: Vec<f64> = nodes[start..end].iter().map(|n| n.real[c]).collect();
-                    for (slot, d) in real_slopes[start..end].iter_mut().zip(pchip_slopes(&ss, &vs)) {
-                        slot[c] = d;
+                    for (node, d) in nodes[start..end].iter_mut().zip(pchip_slopes(&ss, &vs)) {
+                        node.real_slopes[c] = d;
                     }
                 }
                 start = end;
             }
         }
-        Ok(EquivalentProfile {
+        Ok(Self::from_nodes(side, &nodes))
+    }
+
+    fn from_nodes(side: Side, nodes: &[Node]) -> Self {
+        EquivalentProfile {
             side,
             s: nodes.iter().map(|n| n.s).collect(),
             f: nodes.iter().map(|n| n.f).collect(),
@@ -231,8 +238,24 @@ impl EquivalentProfile {
             ds_rail: nodes.iter().map(|n| n.dsr).collect(),
             y: nodes.iter().map(|n| n.y).collect(),
             real: nodes.iter().map(|n| n.real).collect(),
-            real_slopes,
-        })
+            real_slopes: nodes.iter().map(|n| n.real_slopes).collect(),
+        }
+    }
+
+    /// Node k as stored.
+    fn node(&self, k: usize) -> Node {
+        Node {
+            s: self.s[k],
+            f: self.f[k],
+            df: self.df[k],
+            sw: self.s_wheel[k],
+            dsw: self.ds_wheel[k],
+            sr: self.s_rail[k],
+            dsr: self.ds_rail[k],
+            y: self.y[k],
+            real: self.real[k],
+            real_slopes: self.real_slopes[k],
+        }
     }
 
     /// Range of s^k, m.
@@ -327,18 +350,6 @@ impl EquivalentProfile {
             return;
         }
         let orig = self.clone();
-        struct Node {
-            s: f64,
-            f: f64,
-            df: f64,
-            sw: f64,
-            dsw: f64,
-            sr: f64,
-            dsr: f64,
-            y: f64,
-            real: [f64; N_REAL],
-            real_slopes: [f64; N_REAL],
-        }
         let at = |s: f64| {
             let k = orig.segment(s);
             let (a, b) = (orig.s[k], orig.s[k + 1]);
@@ -380,34 +391,14 @@ impl EquivalentProfile {
         };
         let mut nodes: Vec<Node> = (0..orig.s.len())
             .filter(|&k| !inside(orig.s[k]))
-            .map(|k| Node {
-                s: orig.s[k],
-                f: orig.f[k],
-                df: orig.df[k],
-                sw: orig.s_wheel[k],
-                dsw: orig.ds_wheel[k],
-                sr: orig.s_rail[k],
-                dsr: orig.ds_rail[k],
-                y: orig.y[k],
-                real: orig.real[k],
-                real_slopes: orig.real_slopes[k],
-            })
+            .map(|k| orig.node(k))
             .collect();
         for &(c, a) in fillets {
             nodes.push(at(c - a));
             nodes.push(at(c + a));
         }
         nodes.sort_by(|p, q| p.s.total_cmp(&q.s));
-        self.s = nodes.iter().map(|n| n.s).collect();
-        self.f = nodes.iter().map(|n| n.f).collect();
-        self.df = nodes.iter().map(|n| n.df).collect();
-        self.s_wheel = nodes.iter().map(|n| n.sw).collect();
-        self.ds_wheel = nodes.iter().map(|n| n.dsw).collect();
-        self.s_rail = nodes.iter().map(|n| n.sr).collect();
-        self.ds_rail = nodes.iter().map(|n| n.dsr).collect();
-        self.y = nodes.iter().map(|n| n.y).collect();
-        self.real = nodes.iter().map(|n| n.real).collect();
-        self.real_slopes = nodes.iter().map(|n| n.real_slopes).collect();
+        *self = Self::from_nodes(self.side, &nodes);
     }
 
     fn kinks(&self) -> Vec<Kink> {
