@@ -351,8 +351,8 @@ fn ros34pw2_tableau_satisfies_the_order_conditions() {
         }
     }
     // Stiffly accurate: b is the last row of a + γ (with γ on the diagonal).
-    for j in 0..3 {
-        assert!((W_B[j] - beta(3, j)).abs() < 1e-15);
+    for (j, b) in W_B.iter().take(3).enumerate() {
+        assert!((b - beta(3, j)).abs() < 1e-15);
     }
     assert!((W_B[3] - g).abs() < 1e-15);
 }
