@@ -11,9 +11,9 @@ use kecsim::contact::forces::{
     ContactFrame, ContactPatch, CreepModel, Creepage, HertzContact, KalkerTable, Material, RelativeCurvature,
 };
 use kecsim::contact::geometry::ContactGeometry;
-use kecsim::contact::RailOffsets;
 use kecsim::profile::placement::WheelRailPair;
 use kecsim::profile::{Side, StandardProfile};
+use kecsim::track::RailOffsets;
 use nalgebra::{Rotation3, Vector3};
 
 fn main() -> anyhow::Result<()> {

@@ -5,8 +5,9 @@
 //! cargo run --release --example place_profiles -- s1002 54e1 1:20
 //! ```
 
-use kecsim::profile::placement::{TrackGauge, WheelRailPair, WheelsetGeometry};
+use kecsim::profile::placement::{WheelRailPair, WheelsetGeometry};
 use kecsim::profile::{Profile, ProfileKind, Side};
+use kecsim::track::TrackGauge;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();

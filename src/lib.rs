@@ -13,11 +13,15 @@
 //! * [`bench`]: measured speed with its error, printed by `kecsim bench`.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
 
+/// The schema version of the scenario and track files this build reads (`schema_version`).
+pub const SCHEMA_VERSION: u32 = 1;
+
 pub mod bench;
 pub mod contact;
 pub mod dynamics;
 pub mod inspect;
 pub mod profile;
 pub mod scenario;
+pub mod spline;
 pub mod track;
 pub mod vehicle;

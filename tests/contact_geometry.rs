@@ -12,9 +12,9 @@ use std::path::Path;
 use kecsim::contact::geometry::ContactGeometry;
 use kecsim::contact::lookup::{LookupTable1, TableSettings};
 use kecsim::contact::report::conicity;
-use kecsim::contact::RailOffsets;
-use kecsim::profile::placement::{Inclination, TrackGauge, WheelRailPair, WheelsetGeometry};
+use kecsim::profile::placement::{Inclination, WheelRailPair, WheelsetGeometry};
 use kecsim::profile::{Profile, ProfileKind, Side, StandardProfile};
+use kecsim::track::{RailOffsets, TrackGauge};
 
 /// The brute-force model: only `Profile::eval` and the placement numbers are shared.
 struct BruteForce {
@@ -218,7 +218,7 @@ fn online_matches_brute_force_s1002_54e1_1_20() {
 
 #[test]
 fn en15302_case_e1_within_tolerance() {
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference");
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let wheel = Profile::resolve(
         shared.join("profiles/RUIC519A.dat").to_str().unwrap(),
         ProfileKind::Wheel,

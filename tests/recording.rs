@@ -139,7 +139,7 @@ fn run_with_no_arguments_writes_kecsim_rrd() {
 #[test]
 fn profiles_load_by_path_in_every_format() {
     let dir = tmpdir("formats");
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/profiles");
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/profiles");
     let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
     for (wheel, rail, incl) in [
         (

@@ -1,15 +1,16 @@
 //! Generated standard profiles against independent public profile files
-//! (`../shared/reference/profiles/`, see its README for sources), and the committed `profiles/`
+//! (`tests/data/profiles/`, see `tests/data/README.md` for sources and licences), and the committed `profiles/`
 //! CSV files against the generator. Deviations are printed: run with `-- --nocapture`.
 
 use std::path::{Path, PathBuf};
 
-use kecsim::profile::placement::{Inclination, RailPlacement, TrackGauge};
+use kecsim::profile::placement::{Inclination, RailPlacement};
 use kecsim::profile::{Profile, ProfileKind, Side, StandardProfile};
+use kecsim::track::TrackGauge;
 
 fn reference(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/reference/profiles")
+        .join("tests/data/profiles")
         .join(name)
 }
 
@@ -142,7 +143,7 @@ fn contact_testbank_uic60_loads_with_vertical_sides_trimmed() {
 #[test]
 fn en15302_wheel_a_equals_s1002_on_the_flange() {
     // EN 15302 reference wheel A follows S1002 on the flange; its tread differs by up to 0.5 mm
-    // (shared/reference/README.md) and, measured here, its field side runs parallel to S1002's
+    // (tests/data/README.md) and, measured here, its field side runs parallel to S1002's
     // 1:15 chamfer 0.144 mm higher. Compared: the flange from its back (where the file's 0.135 mm
     // spacing cannot resolve the near-vertical end) to the root of the 70° flank.
     let file = Profile::resolve(reference("RUIC519A.dat").to_str().unwrap(), ProfileKind::Wheel).unwrap();

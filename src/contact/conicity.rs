@@ -196,9 +196,9 @@ mod tests {
 
     #[test]
     fn en15302_e1_from_reference_delta_r() {
-        // shared/reference/en15302: the standard's Δr function of case E1 (y = −6.8..6.8 mm by
+        // tests/data/en15302: the standard's Δr function of case E1 (y = −6.8..6.8 mm by
         // 0.1 mm) and its reference tan γe; tolerance ± min(0.05, 0.5 tan γe).
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/en15302");
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/en15302");
         let dr: Vec<f64> = std::fs::read_to_string(dir.join("dr_ce_E1.dat"))
             .unwrap()
             .split_whitespace()

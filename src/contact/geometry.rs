@@ -33,9 +33,10 @@
 
 use nalgebra::{Matrix6, Vector6};
 
-use super::RailOffsets;
+use super::point::ContactPoint;
 use crate::profile::placement::WheelRailPair;
 use crate::profile::Side;
+use crate::track::RailOffsets;
 
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -109,29 +110,6 @@ pub struct SecondaryPoint {
     pub gap: f64,
 }
 
-/// One side's contact point.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ContactPoint {
-    /// Wheel surface parameter s^w (paper convention: increases towards +Y), m.
-    pub s_wheel: f64,
-    /// Rail surface parameter s^r (paper convention), m.
-    pub s_rail: f64,
-    /// Position in the wheelset-track frame (Y, Z), m.
-    pub position: (f64, f64),
-    /// Unit rail normal (Y, Z) at the point, pointing into the wheel.
-    pub normal: (f64, f64),
-    /// Contact angle: the normal's angle from vertical, positive towards the track centre, rad.
-    pub contact_angle: f64,
-    /// Rolling radius h^w(s^w), m.
-    pub rolling_radius: f64,
-    /// Lateral curvature of the wheel profile at the point, positive where convex, 1/m.
-    pub wheel_curvature: f64,
-    /// Lateral curvature of the rail head at the point, positive where convex, 1/m.
-    pub rail_curvature: f64,
-    /// Other local minima of the gap within the two-point tolerance.
-    pub secondary: Vec<SecondaryPoint>,
-}
-
 /// The contact configuration of a wheelset at one lateral displacement.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactSolution {
@@ -145,6 +123,9 @@ pub struct ContactSolution {
     pub phi: f64,
     pub left: ContactPoint,
     pub right: ContactPoint,
+    /// Other local minima of the gap within the two-point tolerance, left and right (empty
+    /// without the global check).
+    pub secondary: [Vec<SecondaryPoint>; 2],
     /// dx/dy for x = [z, φ, s^lw, s^lr, s^rw, s^rr].
     pub dx_dy: [f64; 6],
     /// dx/dgv: sensitivity to a gauge variation (rails moved apart by gv/2 each).
@@ -664,11 +645,11 @@ impl ContactGeometry {
     ) -> Result<ContactSolution, ContactError> {
         let (z, phi) = (x[0], x[1]);
         let mut points = Vec::with_capacity(2);
+        let mut secondaries: [Vec<SecondaryPoint>; 2] = [Vec::new(), Vec::new()];
         for side in Side::BOTH {
             let c0 = 2 + 2 * idx(side);
             let (sw, sr) = (x[c0], x[c0 + 1]);
             self.check_on_profile(y, side, sw, sr)?;
-            let mut secondary = Vec::new();
             if global_check {
                 let env = self.envelope(side, off);
                 let scan = self
@@ -682,9 +663,9 @@ impl ContactGeometry {
                         depth_mm: -deepest * 1e3,
                     });
                 }
-                secondary = self.secondary_points(&scan, sw);
+                secondaries[idx(side)] = self.secondary_points(&scan, sw);
             }
-            points.push(self.contact_point(side, off, y, z, phi, sw, sr, secondary));
+            points.push(self.contact_point(side, off, y, z, phi, sw, sr));
         }
         // Sensitivities (implicit function theorem, dx/dp = −J⁻¹ ∂F/∂p): ∂F/∂y = 1 in both
         // lateral position rows; a gauge variation gv moves the rails by ±gv/2, ∂F/∂gv = ∓1/2.
@@ -709,6 +690,7 @@ impl ContactGeometry {
             phi,
             left,
             right,
+            secondary: secondaries,
             dx_dy: [dx[0], dx[1], dx[2], dx[3], dx[4], dx[5]],
             dx_dgv: [dg[0], dg[1], dg[2], dg[3], dg[4], dg[5]],
             iterations,
@@ -766,7 +748,6 @@ impl ContactGeometry {
         phi: f64,
         sw: f64,
         sr: f64,
-        secondary: Vec<SecondaryPoint>,
     ) -> ContactPoint {
         let sig = side.sign();
         let (hw, _, _) = self.wheel(side, sw);
@@ -789,7 +770,6 @@ impl ContactGeometry {
             wheel_curvature: wp.curvature(),
             // The rail's material lies below its head: convex where h_r'' < 0.
             rail_curvature: -rp.curvature(),
-            secondary,
         }
     }
 }

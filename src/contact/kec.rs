@@ -563,6 +563,43 @@ impl KecModel {
         self
     }
 
+    /// Writes the equivalent profiles as CSV, one row per table row (a jump is two rows with the
+    /// same y): `y_mm, s_lk_mm, f_lk_mm, s_rk_mm, f_rk_mm, s_wheel_left_mm, s_rail_left_mm,
+    /// s_wheel_right_mm, s_rail_right_mm`.
+    pub fn write_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
+        let model = self;
+        let mut w = csv::Writer::from_path(path)?;
+        w.write_record([
+            "y_mm",
+            "s_lk_mm",
+            "f_lk_mm",
+            "s_rk_mm",
+            "f_rk_mm",
+            "s_wheel_left_mm",
+            "s_rail_left_mm",
+            "s_wheel_right_mm",
+            "s_rail_right_mm",
+        ])?;
+        // Per node: [y, s^k, f^k, s^w, s^r]; both profiles hold the table's rows in reverse order
+        // (s^k decreases with y).
+        let collect = |side| -> Vec<[f64; 5]> {
+            let p = model.profile(side);
+            p.node_y()
+                .iter()
+                .zip(p.nodes())
+                .zip(p.node_real())
+                .map(|((&y, (s, f)), (sw, sr))| [y, s, f, sw, sr])
+                .collect()
+        };
+        let (l, r) = (collect(Side::Left), collect(Side::Right));
+        for (a, b) in l.iter().rev().zip(r.iter().rev()) {
+            let cells =
+                [a[0], a[1], a[2], b[1], b[2], a[3], a[4], b[3], b[4]].map(|v| format!("{:.9}", v * 1e3));
+            w.write_record(&cells)?;
+        }
+        w.flush()
+    }
+
     /// The equivalent profile of a side.
     pub fn profile(&self, side: Side) -> &EquivalentProfile {
         match side {
@@ -760,7 +797,7 @@ impl KecModel {
 }
 
 /// Rail irregularities [y_lir, z_lir, y_rir, z_rir] of rail offsets.
-pub fn rails(off: &super::RailOffsets) -> [f64; 4] {
+pub fn rails(off: &crate::track::RailOffsets) -> [f64; 4] {
     [off.y_left, off.z_left, off.y_right, off.z_right]
 }
 
@@ -780,9 +817,9 @@ mod tests {
     use super::*;
     use crate::contact::geometry::ContactGeometry;
     use crate::contact::lookup::TableSettings;
-    use crate::contact::RailOffsets;
     use crate::profile::placement::WheelRailPair;
     use crate::profile::StandardProfile;
+    use crate::track::RailOffsets;
 
     fn setup() -> (ContactGeometry, LookupTable1, KecModel) {
         let pair =

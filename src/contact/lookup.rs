@@ -20,7 +20,7 @@
 use std::path::Path;
 
 use super::geometry::{ContactError, ContactGeometry, ContactSolution};
-use super::RailOffsets;
+use crate::track::RailOffsets;
 
 /// One tabulated contact configuration (SI). Also the result of a look-up.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -53,8 +53,7 @@ const N_OTHER: usize = 12;
 
 impl TableRow {
     fn from_solution(s: &ContactSolution, gv: f64) -> Self {
-        let gap =
-            |p: &super::geometry::ContactPoint| p.secondary.iter().map(|q| q.gap).fold(f64::NAN, f64::min);
+        let gap = |p: &[super::geometry::SecondaryPoint]| p.iter().map(|q| q.gap).fold(f64::NAN, f64::min);
         TableRow {
             y: s.y,
             gv,
@@ -75,7 +74,7 @@ impl TableRow {
                 s.right.position.0,
                 s.right.position.1,
             ],
-            two_point_gap: [gap(&s.left), gap(&s.right)],
+            two_point_gap: [gap(&s.secondary[0]), gap(&s.secondary[1])],
         }
     }
 

@@ -5,8 +5,9 @@ use std::time::Instant;
 
 use super::conicity::{ConicityError, RollingRadiusDifference};
 use super::geometry::ContactGeometry;
+use super::kec::KecModel;
 use super::lookup::{LookupTable1, TableError, TableSettings};
-use super::RailOffsets;
+use crate::track::RailOffsets;
 
 /// Largest deviation of table look-ups from the online solution, at points between the nodes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -68,7 +69,7 @@ pub fn interpolation_error(
 pub fn interpolation_error_kec(
     geom: &ContactGeometry,
     table: &LookupTable1,
-    model: &super::kec::KecModel,
+    model: &KecModel,
     fractions: &[f64],
 ) -> Result<(f64, f64), String> {
     let (mut ez, mut ep) = (0.0f64, 0.0f64);
@@ -223,7 +224,7 @@ pub struct KecErrorRow {
 /// contact points sideways by r0 φ): every case stays short of flange climb.
 pub fn kec_irregularity_errors(
     geom: &ContactGeometry,
-    model: &super::kec::KecModel,
+    model: &KecModel,
     table1: &LookupTable1,
     table2: &super::lookup::LookupTable2,
     cases: &[(f64, f64)],
@@ -288,4 +289,54 @@ pub fn kec_error_markdown(rows: &[KecErrorRow]) -> String {
         );
     }
     s
+}
+
+/// Summary of a KEC model: kinks and reproduction accuracy.
+pub fn kec_summary(
+    title: &str,
+    geom: &ContactGeometry,
+    table: &LookupTable1,
+    model: &KecModel,
+) -> Result<String, String> {
+    let (lo, hi) = table.range();
+    let mut s = format!("# {title}\n\n");
+    s += &format!(
+        "Equivalent profiles from the 1-entry table over y = {:.3} .. {:.3} mm ({} rows): left s^k = {:.3} .. {:.3} mm, right s^k = {:.3} .. {:.3} mm\n\n",
+        lo * 1e3,
+        hi * 1e3,
+        table.rows.len(),
+        model.left.domain().0 * 1e3,
+        model.left.domain().1 * 1e3,
+        model.right.domain().0 * 1e3,
+        model.right.domain().1 * 1e3
+    );
+    s += "Kinks (the real contact jumps; the equivalent profile stays continuous). At a kink the knife edge touches a corner: the KEC normal, and so the split of the normal force between the two real contact points, is undetermined there (paper §9) — the constraint reaction is one force, applied at the real point of whichever side of the kink the solution lies on.\n\n";
+    s += "| side | y [mm] | s^k [mm] | slope before → after | real s^w [mm] before → after | contact angle [°] before → after |\n|---|---|---|---|---|---|\n";
+    for k in model.kinks.iter().filter(|k| k.real_jump) {
+        s += &format!(
+            "| {} | {:+.4} | {:+.4} | {:+.4} → {:+.4} | {:+.3} → {:+.3} | {:.1} → {:.1} |\n",
+            k.side.name(),
+            k.y * 1e3,
+            k.s_k * 1e3,
+            k.slope_before,
+            k.slope_after,
+            k.s_wheel_before * 1e3,
+            k.s_wheel_after * 1e3,
+            k.angle_before.to_degrees(),
+            k.angle_after.to_degrees()
+        );
+    }
+    let others = model.kinks.iter().filter(|k| !k.real_jump).count();
+    s += &format!("\n({others} more kinks where the other side's contact jumps: the roll has a kink, this side's real contact moves on continuously.)\n");
+    let (ez, ep) = super::kec::reproduction_error(model, &table.rows).map_err(|e| e.to_string())?;
+    let interp = interpolation_error_kec(geom, table, model, &[1.0 / 3.0, 2.0 / 3.0])?;
+    s += &format!(
+        "\nIdeal track: KEC reproduces the table at its {} y values to z {:.1e} mm, roll {:.1e} mrad; between them (at 1/3 and 2/3 of every interval) it differs from the online solution by z {:.2e} mm, roll {:.2e} mrad.\n",
+        table.rows.len(),
+        ez * 1e3,
+        ep * 1e3,
+        interp.0 * 1e3,
+        interp.1 * 1e3
+    );
+    Ok(s)
 }

@@ -39,15 +39,34 @@ use thiserror::Error;
 
 /// A first-order system x' = f(t, x).
 pub trait OdeSystem {
+    /// What a failing evaluation reports (e.g. a wheel that lifts, a contact Newton that fails).
+    type Error: std::fmt::Display + std::fmt::Debug;
     /// Number of states.
     fn dim(&self) -> usize;
-    /// f(t, x) into `dxdt`. An `Err` stops the integration with that diagnosis (e.g. a wheel that
-    /// lifts, a contact Newton that fails).
-    fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), String>;
+    /// f(t, x) into `dxdt`. An `Err` at a trial stage rejects the step; if the step size collapses
+    /// on it, the integration stops with that diagnosis.
+    fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), Self::Error>;
     /// The Jacobian ∂f/∂x, if the system can supply it (else finite differences are used).
-    fn jacobian(&mut self, _t: f64, _x: &[f64], _jac: &mut DMatrix<f64>) -> Option<Result<(), String>> {
+    fn jacobian(&mut self, _t: f64, _x: &[f64], _jac: &mut DMatrix<f64>) -> Option<Result<(), Self::Error>> {
         None
     }
+}
+
+/// What the output observer tells the integrator: go on, or stop here (a stop condition met; the
+/// integration then ends normally with [`Completion::Stopped`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Flow {
+    Continue,
+    Stop,
+}
+
+/// How an integration that did not fail ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Completion {
+    /// It reached t_end.
+    Finished,
+    /// The observer stopped it at the output time `t`.
+    Stopped { t: f64 },
 }
 
 /// The integration method.
@@ -103,13 +122,17 @@ impl Settings {
     }
 }
 
-/// Why an integration stopped early.
+/// Why an integration failed; `E` is the system's error.
 #[derive(Debug, Error, Clone, PartialEq)]
-pub enum IntegrationError {
+pub enum IntegrationError<E> {
     #[error("step size collapse at t = {t:.6} s: h = {h:.3e} s < h_min (last error norm {err:.3e})")]
     StepCollapse { t: f64, h: f64, err: f64 },
-    #[error("the model failed at t = {t:.6} s: {message}")]
-    Model { t: f64, message: String },
+    /// The right-hand side failed at every step size down to h_min (or at the start).
+    #[error("the model failed at t = {t:.6} s: {error}")]
+    Model { t: f64, error: E },
+    /// The output observer failed.
+    #[error("output at t = {t:.6} s: {error}")]
+    Output { t: f64, error: E },
     #[error("non-finite state or derivative at t = {t:.6} s (every step size down to h_min tried)")]
     NonFinite { t: f64 },
     #[error("more than {0} steps")]
@@ -240,37 +263,38 @@ mod ros34pw2_tableau {
 }
 use ros34pw2_tableau::*;
 
-/// Receives the state at each output time; an `Err` stops the integration.
-pub type Observer<'a> = dyn FnMut(f64, &[f64]) -> Result<(), String> + 'a;
+/// Receives the state at each output time; [`Flow::Stop`] ends the integration normally, an `Err`
+/// ends it with [`IntegrationError::Output`].
+pub type Observer<'a, E> = dyn FnMut(f64, &[f64]) -> Result<Flow, E> + 'a;
 
 /// Integrates from (t0, x0) to t_end, calling `output(t, x)` at t0 and every `dt_out` after it
 /// (and at t_end), whatever the step size. Returns the work done.
-pub fn integrate(
-    sys: &mut dyn OdeSystem,
+pub fn integrate<S: OdeSystem + ?Sized>(
+    sys: &mut S,
     t0: f64,
     x0: &[f64],
     t_end: f64,
     dt_out: f64,
     settings: &Settings,
-    output: &mut Observer<'_>,
-) -> Result<Stats, IntegrationError> {
+    output: &mut Observer<'_, S::Error>,
+) -> Result<Stats, IntegrationError<S::Error>> {
     let mut stats = Stats::default();
     integrate_into(sys, t0, x0, t_end, dt_out, settings, output, &mut stats)?;
     Ok(stats)
 }
 
-/// [`integrate`], keeping the work done in `stats` also when it fails.
+/// [`integrate`], keeping the work done in `stats` also when it fails or is stopped.
 #[allow(clippy::too_many_arguments)]
-pub fn integrate_into(
-    sys: &mut dyn OdeSystem,
+pub fn integrate_into<S: OdeSystem + ?Sized>(
+    sys: &mut S,
     t0: f64,
     x0: &[f64],
     t_end: f64,
     dt_out: f64,
     settings: &Settings,
-    output: &mut Observer<'_>,
+    output: &mut Observer<'_, S::Error>,
     stats: &mut Stats,
-) -> Result<(), IntegrationError> {
+) -> Result<Completion, IntegrationError<S::Error>> {
     let n = sys.dim();
     if x0.len() != n {
         return Err(IntegrationError::Settings(format!(
@@ -288,13 +312,8 @@ pub fn integrate_into(
         smallest_step: f64::INFINITY,
         ..Stats::default()
     };
-    let model = |t: f64| move |message: String| IntegrationError::Model { t, message };
-    let out_err = |t: f64| {
-        move |message: String| IntegrationError::Model {
-            t,
-            message: format!("output: {message}"),
-        }
-    };
+    let model = |t: f64| move |error: S::Error| IntegrationError::Model { t, error };
+    let out_err = |t: f64| move |error: S::Error| IntegrationError::Output { t, error };
     let mut x = x0.to_vec();
     let mut t = t0;
     let mut f0 = vec![0.0; n];
@@ -303,7 +322,9 @@ pub fn integrate_into(
     if !all_finite(&x) || !all_finite(&f0) {
         return Err(IntegrationError::NonFinite { t });
     }
-    output(t, &x).map_err(out_err(t))?;
+    if output(t, &x).map_err(out_err(t))? == Flow::Stop {
+        return Ok(Completion::Stopped { t });
+    }
     let mut next_out = t0 + dt_out;
     let mut out_index = 1u64;
 
@@ -335,12 +356,12 @@ pub fn integrate_into(
             // A model failure at a trial stage (a wheel lifting, the contact model off its table)
             // may be the step's fault, not the motion's: reject and retry shorter; if the step
             // collapses on it, it is the motion's, and the model's diagnosis is reported.
-            Err(StepFailure::Model(m)) => {
+            Err(StepFailure::Model(_)) => {
                 if h * 0.25 < settings.h_min.max(1e-12 * t.abs().max(1.0)) {
-                    return Err(IntegrationError::Model {
-                        t,
-                        message: m.clone(),
-                    });
+                    let Err(StepFailure::Model(error)) = attempt else {
+                        unreachable!("matched above")
+                    };
+                    return Err(IntegrationError::Model { t, error });
                 }
                 f64::INFINITY
             }
@@ -377,7 +398,9 @@ pub fn integrate_into(
         while next_out <= t1 + 1e-12 * t1.abs().max(1.0) && next_out <= t_end + 1e-12 * t_end.abs().max(1.0) {
             let s = ((next_out - t) / h).clamp(0.0, 1.0);
             let xo = stepper.dense(&x, &x1, &f0, &f1, h, s);
-            output(next_out, &xo).map_err(out_err(next_out))?;
+            if output(next_out, &xo).map_err(out_err(next_out))? == Flow::Stop {
+                return Ok(Completion::Stopped { t: next_out });
+            }
             out_index += 1;
             next_out = t0 + out_index as f64 * dt_out;
         }
@@ -403,13 +426,15 @@ pub fn integrate_into(
         rejections = 0;
     }
     // The end point, if the output grid did not land on it.
-    if (next_out - dt_out - t_end).abs() > 1e-9 * dt_out {
-        output(t_end, &x).map_err(out_err(t_end))?;
+    if (next_out - dt_out - t_end).abs() > 1e-9 * dt_out
+        && output(t_end, &x).map_err(out_err(t_end))? == Flow::Stop
+    {
+        return Ok(Completion::Stopped { t: t_end });
     }
     if stats.accepted == 0 {
         stats.smallest_step = 0.0;
     }
-    Ok(())
+    Ok(Completion::Finished)
 }
 
 fn all_finite(v: &[f64]) -> bool {
@@ -434,8 +459,8 @@ fn initial_step(x: &[f64], f: &[f64], s: &Settings) -> f64 {
     h.min(s.h_max).max(s.h_min * 10.0)
 }
 
-enum StepFailure {
-    Model(String),
+enum StepFailure<E> {
+    Model(E),
     Singular,
 }
 
@@ -482,16 +507,16 @@ impl Stepper {
     /// J = ∂f/∂x (the system's, else forward differences: n evaluations) and f_t = ∂f/∂t (a
     /// forward difference: one evaluation) at (t, x), f0 = f(t, x).
     #[allow(clippy::too_many_arguments)]
-    fn jacobian(
+    fn jacobian<S: OdeSystem + ?Sized>(
         &mut self,
-        sys: &mut dyn OdeSystem,
+        sys: &mut S,
         t: f64,
         x: &[f64],
         f0: &[f64],
         h: f64,
         s: &Settings,
         stats: &mut Stats,
-    ) -> Result<(), StepFailure> {
+    ) -> Result<(), StepFailure<S::Error>> {
         let n = x.len();
         match sys.jacobian(t, x, &mut self.jac) {
             Some(r) => r.map_err(StepFailure::Model)?,
@@ -523,9 +548,9 @@ impl Stepper {
 
     /// One step of size h from (t, x) with f0 = f(t, x): x1, f1 = f(t + h, x1) and the error norm.
     #[allow(clippy::too_many_arguments)]
-    fn step(
+    fn step<S: OdeSystem + ?Sized>(
         &mut self,
-        sys: &mut dyn OdeSystem,
+        sys: &mut S,
         t: f64,
         x: &[f64],
         f0: &[f64],
@@ -534,7 +559,7 @@ impl Stepper {
         x1: &mut [f64],
         f1: &mut [f64],
         stats: &mut Stats,
-    ) -> Result<f64, StepFailure> {
+    ) -> Result<f64, StepFailure<S::Error>> {
         match self.method {
             Method::Dopri5 => self.dopri5(sys, t, x, f0, h, s, x1, f1, stats),
             Method::Ros3 => self.ros3(sys, t, x, f0, h, s, x1, f1, stats),
@@ -543,9 +568,9 @@ impl Stepper {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn dopri5(
+    fn dopri5<S: OdeSystem + ?Sized>(
         &mut self,
-        sys: &mut dyn OdeSystem,
+        sys: &mut S,
         t: f64,
         x: &[f64],
         f0: &[f64],
@@ -554,7 +579,7 @@ impl Stepper {
         x1: &mut [f64],
         f1: &mut [f64],
         stats: &mut Stats,
-    ) -> Result<f64, StepFailure> {
+    ) -> Result<f64, StepFailure<S::Error>> {
         let n = x.len();
         let rows: [(f64, &[f64]); 5] = [
             (C2, &[A21]),
@@ -600,9 +625,9 @@ impl Stepper {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn ros3(
+    fn ros3<S: OdeSystem + ?Sized>(
         &mut self,
-        sys: &mut dyn OdeSystem,
+        sys: &mut S,
         t: f64,
         x: &[f64],
         f0: &[f64],
@@ -611,7 +636,7 @@ impl Stepper {
         x1: &mut [f64],
         f1: &mut [f64],
         stats: &mut Stats,
-    ) -> Result<f64, StepFailure> {
+    ) -> Result<f64, StepFailure<S::Error>> {
         let n = x.len();
         // A classical Rosenbrock method: the exact Jacobian at every step.
         self.jacobian(sys, t, x, f0, h, s, stats)?;
@@ -623,7 +648,7 @@ impl Stepper {
         let lu = g.lu();
         let solve = |lu: &nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
                      rhs: &mut Vec<f64>|
-         -> Result<(), StepFailure> {
+         -> Result<(), StepFailure<S::Error>> {
             let b = nalgebra::DVector::from_column_slice(rhs);
             let sol = lu.solve(&b).ok_or(StepFailure::Singular)?;
             rhs.copy_from_slice(sol.as_slice());
@@ -663,9 +688,9 @@ impl Stepper {
 
     /// One ROS34PW2 step with the stored Jacobian (evaluated here only when none is valid).
     #[allow(clippy::too_many_arguments)]
-    fn ros34pw2(
+    fn ros34pw2<S: OdeSystem + ?Sized>(
         &mut self,
-        sys: &mut dyn OdeSystem,
+        sys: &mut S,
         t: f64,
         x: &[f64],
         f0: &[f64],
@@ -674,7 +699,7 @@ impl Stepper {
         x1: &mut [f64],
         f1: &mut [f64],
         stats: &mut Stats,
-    ) -> Result<f64, StepFailure> {
+    ) -> Result<f64, StepFailure<S::Error>> {
         let n = x.len();
         if self.jac_age.is_none() {
             self.jacobian(sys, t, x, f0, h, s, stats)?;

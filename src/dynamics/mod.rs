@@ -1,12 +1,25 @@
-//! Dynamics (paper §2.4–2.5, §5, §7): the contact model as the equations of motion see it, the
-//! wheelset equations with their normal-force reactions, the single-wheelset and multibody
-//! systems, the time integrators, and running a scene.
+//! Dynamics (paper §2.4–2.5, §5, §7): the vehicle systems behind one interface, the wheelset
+//! equations with their normal-force reactions, the time integrators, and one run loop.
+//!
+//! * [`system`]: the [`VehicleModel`] interface (model apart from run state), samples, errors;
+//! * [`single_wheelset`], [`multibody`]: the two vehicle systems;
+//! * [`wheelset`]: Newton–Euler of one wheelset with its contact constraints (Eq. 53);
+//! * [`reference`]: the reference motion along the track and the frames it gives;
+//! * [`integrator`]: DOPRI5, ROS3, ROS34PW2 with dense output and diagnosed failures;
+//! * [`run`]: the run loop, stop conditions, summary; [`output`]: samples, observers, CSV.
+//!
+//! The contact models are [`crate::contact::ContactModel`]s; the dynamics never knows which one.
 
-pub mod bench;
-pub mod contact_model;
 pub mod integrator;
 pub mod multibody;
+pub mod output;
+pub mod reference;
 pub mod run;
 pub mod single_wheelset;
-pub mod spec;
+pub mod system;
 pub mod wheelset;
+
+pub use output::{RunObserver, RunSummary, Sample};
+pub use reference::{Reference, SpeedProfile};
+pub use run::{run, RunEnd, RunLabels, RunOutput, RunSettings, Stop, StopConditions};
+pub use system::{DynamicsError, InitialDisturbance, Settling, VehicleModel, VehicleSample};

@@ -14,7 +14,7 @@
 //! with a_t, ω_t, α_t the track frame's motion at V (Eq. 3–4) and g_t gravity in track components
 //! (Eq. 2); the mass matrix is diagonal, so each body's accelerations are explicit.
 //!
-//! **Wheelsets**: [`super::wheelset::evaluate`] (the 8×8 Newton–Euler + normal-force solve of
+//! **Wheelsets**: [`super::wheelset::evaluate`] (the 10×10 Newton–Euler + normal-force solve of
 //! Eq. 53, creep forces at the real contact points), each with its own track frame, rail
 //! irregularities and contact model kinematics; they couple to the bodies through the elements'
 //! forces only, so each is solved on its own (DYNAMICS.md §3).
@@ -33,16 +33,17 @@ use std::sync::Arc;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
-use super::contact_model::{ContactWarmStart, RailMotion, WheelsetContact};
-use super::integrator::OdeSystem;
-use super::single_wheelset::{SpeedProfile, WheelsetSample};
+use super::reference::{FrameAt, Reference, G};
+use super::system::{
+    BodySample, DynamicsError, InitialDisturbance, Settling, VehicleData, VehicleModel, VehicleSample,
+    WheelsetSample,
+};
 use super::wheelset::{evaluate, FrameMotion, IrwInertia, Load, WheelsetInertia, WheelsetState};
 use crate::contact::forces::ContactForceSettings;
-use crate::track::Track;
+use crate::contact::{ContactModel, WarmStart};
+use crate::track::RailMotion;
 use crate::vehicle::elements::{BodyRef, Element, ElementLoad, FrameLoads, Pose};
 use crate::vehicle::spec::MultibodySpec;
-
-const G: f64 = 9.81;
 
 /// A rigid body of the vehicle.
 #[derive(Debug, Clone, PartialEq)]
@@ -65,26 +66,6 @@ pub struct WheelsetBody {
     pub inertia: WheelsetInertia,
 }
 
-/// A body's state and where it is, for output.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BodySample {
-    pub s: f64,
-    /// (x, y, z, φ, θ, ψ).
-    pub q: [f64; 6],
-    pub q_dot: [f64; 6],
-}
-
-/// Everything one evaluation knows, for output.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MultibodySample {
-    pub bodies: Vec<BodySample>,
-    pub wheelsets: Vec<WheelsetSample>,
-    /// Per element: deflection and force in its first body's axes.
-    pub elements: Vec<(Vector3<f64>, Vector3<f64>)>,
-    /// Per spherical joint: the position violation |G_b − G_a|, m.
-    pub joint_error: Vec<f64>,
-}
-
 /// A spherical joint between two rigid bodies at one point (arms from their centres).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Joint {
@@ -103,42 +84,19 @@ pub const JOINT_STABILISATION_RAD_S: f64 = 20.0;
 /// Penalty stiffness standing for the joints in the static settling, N/m.
 const JOINT_PENALTY_N_PER_M: f64 = 1e10;
 
-/// The static settling: what the preloads came from.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Settling {
-    /// Static displacement (x, y, z, φ, θ, ψ) of each body had the elements not been preloaded.
-    pub sag: Vec<[f64; 6]>,
-    /// Largest static residual after settling, N or N m.
-    pub residual: f64,
-    /// Static axle loads (both wheels, wheelset weight included), N.
-    pub axle_loads: Vec<f64>,
-}
-
-/// The multibody vehicle system.
+/// The multibody vehicle system (the model, with its elements preloaded by the static settling;
+/// its run state is a [`VehicleData`]).
 pub struct Multibody {
     pub bodies: Vec<RigidBody>,
     pub wheelsets: Vec<WheelsetBody>,
     pub elements: Vec<Element>,
     pub joints: Vec<Joint>,
-    pub contact: Arc<WheelsetContact>,
+    pub contact: Arc<dyn ContactModel>,
     pub forces: ContactForceSettings,
     pub r0: f64,
-    pub speed: SpeedProfile,
-    /// None: tangent, level, ideal track.
-    pub track: Option<Track>,
-    /// Arc length of the vehicle reference at t = 0, m.
-    pub s0: f64,
-    warm: Vec<ContactWarmStart>,
-    lambda: Vec<[f64; 2]>,
-    pub contact_evaluations: usize,
-}
-
-/// The track frame at one arc length, as a body sees it.
-struct FrameAt {
-    origin: Vector3<f64>,
-    rotation: Matrix3<f64>,
-    motion: FrameMotion,
-    rails: RailMotion,
+    pub reference: Reference,
+    /// The static settling behind the elements' preloads.
+    pub settling: Settling,
 }
 
 fn v3(a: [f64; 3]) -> Vector3<f64> {
@@ -155,14 +113,15 @@ fn frame_loads(m: &FrameMotion) -> FrameLoads {
 }
 
 impl Multibody {
-    /// Builds the system from a validated `[vehicle]` table.
-    pub fn from_spec(
+    /// Builds the system from a validated `[vehicle]` table and settles it (the elements' static
+    /// preloads; see the module doc).
+    pub fn new(
         spec: &MultibodySpec,
-        contact: WheelsetContact,
+        contact: Arc<dyn ContactModel>,
         forces: ContactForceSettings,
         r0: f64,
-        speed: SpeedProfile,
-    ) -> Multibody {
+        reference: Reference,
+    ) -> Result<Multibody, DynamicsError> {
         let bodies: Vec<RigidBody> = spec
             .bodies
             .iter()
@@ -189,8 +148,7 @@ impl Multibody {
                 },
             })
             .collect();
-        let n = wheelsets.len();
-        Multibody {
+        let mut sys = Multibody {
             bodies,
             wheelsets,
             elements: spec.elements(r0),
@@ -209,35 +167,18 @@ impl Multibody {
                     }
                 })
                 .collect(),
-            contact: Arc::new(contact),
+            contact,
             forces,
             r0,
-            speed,
-            track: None,
-            s0: 0.0,
-            warm: vec![ContactWarmStart::default(); n],
-            lambda: vec![[5e4, 5e4]; n],
-            contact_evaluations: 0,
-        }
-    }
-
-    /// A copy with its own warm starts (for evaluating outputs beside the integrator).
-    pub fn clone_for_output(&self) -> Multibody {
-        Multibody {
-            bodies: self.bodies.clone(),
-            wheelsets: self.wheelsets.clone(),
-            elements: self.elements.clone(),
-            joints: self.joints.clone(),
-            contact: self.contact.clone(),
-            forces: self.forces.clone(),
-            r0: self.r0,
-            speed: self.speed,
-            track: self.track.clone(),
-            s0: self.s0,
-            warm: vec![ContactWarmStart::default(); self.wheelsets.len()],
-            lambda: self.lambda.clone(),
-            contact_evaluations: 0,
-        }
+            reference,
+            settling: Settling {
+                sag: Vec::new(),
+                residual: 0.0,
+                axle_loads: Vec::new(),
+            },
+        };
+        sys.settling = sys.settle()?;
+        Ok(sys)
     }
 
     fn body_offset(&self, i: usize) -> usize {
@@ -261,9 +202,9 @@ impl Multibody {
     /// Initial state: every wheelset at lateral offset y₀ and yaw ψ₀, rolling without
     /// longitudinal creep, Ω = V₀ / r̄ with r̄ the mean rolling radius of its two contacts there
     /// (ideal rails); bodies at their nominal positions.
-    pub fn initial_state(&self, y0: f64, psi0: f64) -> Vec<f64> {
+    fn initial(&self, y0: f64, psi0: f64) -> Vec<f64> {
         let mut x = vec![0.0; self.dim()];
-        let mut warm = ContactWarmStart::default();
+        let mut warm = WarmStart::default();
         let r_mean = self
             .contact
             .kinematics(y0, 0.0, &RailMotion::default(), &mut warm)
@@ -273,7 +214,7 @@ impl Multibody {
             let o = self.wheelset_offset(j);
             x[o + 1] = y0;
             x[o + 2] = psi0;
-            x[o + 6] = self.speed.at(0.0) / r_mean;
+            x[o + 6] = self.reference.speed.at(0.0) / r_mean;
             if self.wheelset_size(j) == 8 {
                 x[o + 7] = x[o + 6];
             }
@@ -281,50 +222,14 @@ impl Multibody {
         x
     }
 
-    fn frame_at(&self, s: f64, v: f64, v_dot: f64) -> Result<FrameAt, String> {
-        match &self.track {
-            None => {
-                let mut motion = FrameMotion::tangent(v);
-                motion.accel[0] = v_dot;
-                Ok(FrameAt {
-                    origin: Vector3::new(s, 0.0, 0.0),
-                    rotation: Matrix3::identity(),
-                    motion,
-                    rails: RailMotion::default(),
-                })
-            }
-            Some(track) => {
-                let (tf, irr) = track.eval(s).map_err(|e| format!("track at s = {s:.3} m: {e}"))?;
-                let m = tf.motion(v, v_dot);
-                let motion = FrameMotion {
-                    speed: v,
-                    accel: m.acceleration.into(),
-                    omega: m.angular_velocity.into(),
-                    alpha: m.angular_acceleration.into(),
-                    gravity: tf.gravity(G).into(),
-                };
-                let o = irr.rail_offsets();
-                let (dt, dtt) = irr.time_derivatives(v, v_dot);
-                let to_rails = |c: [f64; 4]| {
-                    let r = crate::contact::RailOffsets::from_irregularities(c[0], c[1], c[2], c[3]);
-                    [r.y_left, r.z_left, r.y_right, r.z_right]
-                };
-                Ok(FrameAt {
-                    origin: tf.position,
-                    rotation: tf.rotation,
-                    motion,
-                    rails: RailMotion {
-                        q: [o.y_left, o.z_left, o.y_right, o.z_right],
-                        q_dot: to_rails(dt),
-                        q_ddot: to_rails(dtt),
-                    },
-                })
-            }
-        }
+    fn frame_at(&self, s: f64, v: f64, v_dot: f64) -> Result<FrameAt, DynamicsError> {
+        self.reference
+            .frame(s, v, v_dot)
+            .map_err(|source| DynamicsError::Track { s, source })
     }
 
     /// Pose of the track reference at its point with nominal x (arms include x: centre −x e_x).
-    fn track_pose(&self, s_ref: f64, x: f64, v: f64, v_dot: f64) -> Result<(Pose, FrameAt), String> {
+    fn track_pose(&self, s_ref: f64, x: f64, v: f64, v_dot: f64) -> Result<(Pose, FrameAt), DynamicsError> {
         let f = self.frame_at(s_ref + x, v, v_dot)?;
         Ok((
             Pose {
@@ -349,11 +254,11 @@ impl Multibody {
         s_ref: f64,
         v: f64,
         v_dot: f64,
-    ) -> Result<Vec<ElementLoad>, String> {
+    ) -> Result<Vec<ElementLoad>, DynamicsError> {
         let mut out = Vec::with_capacity(self.elements.len());
         for e in &self.elements {
             let (a, b) = e.ends();
-            let end = |r: BodyRef, arm_x: f64| -> Result<(Pose, FrameLoads), String> {
+            let end = |r: BodyRef, arm_x: f64| -> Result<(Pose, FrameLoads), DynamicsError> {
                 match r {
                     BodyRef::Body(i) => Ok((poses[i], frames[i])),
                     BodyRef::Track => {
@@ -397,15 +302,15 @@ impl Multibody {
     }
 
     /// Evaluates the system at (t, x): accelerations into `dxdt` (when given) and the sample.
-    pub fn evaluate_at(
-        &mut self,
+    pub fn evaluate(
+        &self,
+        data: &mut VehicleData,
         t: f64,
         x: &[f64],
         dxdt: Option<&mut [f64]>,
-    ) -> Result<MultibodySample, String> {
-        let v = self.speed.at(t);
-        let v_dot = if v > 0.0 { self.speed.ramp_m_s2 } else { 0.0 };
-        let s_ref = self.s0 + self.speed.distance(t);
+    ) -> Result<VehicleSample, DynamicsError> {
+        let (v, v_dot) = self.reference.speed_at(t);
+        let s_ref = self.reference.s_ref(t);
         let nb = self.bodies.len();
         let nw = self.wheelsets.len();
         let mut poses = Vec::with_capacity(nb + nw);
@@ -457,15 +362,13 @@ impl Multibody {
             let f = self.frame_at(s, v, v_dot)?;
             let kin = self
                 .contact
-                .kinematics(st.y, st.y_dot, &f.rails, &mut self.warm[j])
-                .map_err(|e| {
-                    format!(
-                        "{}: contact model at y = {:.4} mm: {e}",
-                        self.wheelsets[j].name,
-                        st.y * 1e3
-                    )
+                .kinematics(st.y, st.y_dot, &f.rails, &mut data.warm[j])
+                .map_err(|source| DynamicsError::Contact {
+                    wheelset: self.wheelsets[j].name.clone(),
+                    y_mm: st.y * 1e3,
+                    source,
                 })?;
-            self.contact_evaluations += 1;
+            data.contact_evaluations += 1;
             poses.push(Pose {
                 origin: f.origin,
                 rotation: f.rotation,
@@ -532,16 +435,14 @@ impl Multibody {
                 &motions[nb + j],
                 &load,
                 &self.forces,
-                self.lambda[j],
+                data.lambda[j],
             )
-            .map_err(|e| {
-                format!(
-                    "{} at y = {:.4} mm: {e}",
-                    self.wheelsets[j].name,
-                    ws_states[j].y * 1e3
-                )
+            .map_err(|source| DynamicsError::Wheelset {
+                wheelset: self.wheelsets[j].name.clone(),
+                y_mm: ws_states[j].y * 1e3,
+                source,
             })?;
-            self.lambda[j] = dynamics.normal;
+            data.lambda[j] = dynamics.normal;
             if let Some(d) = dxdt.as_deref_mut() {
                 let o = self.wheelset_offset(j);
                 let a = dynamics.accel;
@@ -565,7 +466,7 @@ impl Multibody {
                 rails: ws_rails[j],
             });
         }
-        Ok(MultibodySample {
+        Ok(VehicleSample {
             bodies: body_samples,
             wheelsets: ws_samples,
             elements: loads.iter().map(|l| (l.deflection, l.local_force)).collect(),
@@ -585,7 +486,7 @@ impl Multibody {
         poses: &[Pose],
         motions: &[FrameMotion],
         qdd: &mut [[Vector3<f64>; 2]],
-    ) -> Result<Vec<f64>, String> {
+    ) -> Result<Vec<f64>, DynamicsError> {
         let nj = self.joints.len();
         if nj == 0 {
             return Ok(Vec::new());
@@ -640,7 +541,7 @@ impl Multibody {
         let mu = schur
             .lu()
             .solve(&(gamma - &jac * &q0))
-            .ok_or_else(|| "the spherical joints' equations are singular (redundant joints?)".to_string())?;
+            .ok_or(DynamicsError::JointsSingular)?;
         let dq = jm.transpose() * mu;
         for (i, q) in qdd.iter_mut().enumerate() {
             for k in 0..3 {
@@ -663,7 +564,7 @@ impl Multibody {
         u: &[f64],
         wheelset_poses: &[Pose],
         joint_static: &[Vector3<f64>],
-    ) -> Result<StaticState, String> {
+    ) -> Result<StaticState, DynamicsError> {
         let nb = self.bodies.len();
         let mut poses = Vec::with_capacity(nb + wheelset_poses.len());
         for (i, b) in self.bodies.iter().enumerate() {
@@ -740,13 +641,13 @@ impl Multibody {
     /// Settles the bodies under gravity and preloads the elements with their static forces (see
     /// the module doc). Returns the static sag the preloads replace, the residual and the static
     /// wheel loads.
-    pub fn settle(&mut self) -> Result<Settling, String> {
+    fn settle(&mut self) -> Result<Settling, DynamicsError> {
         let nb = self.bodies.len();
-        let mut warm = ContactWarmStart::default();
+        let mut warm = WarmStart::default();
         let kin = self
             .contact
             .kinematics(0.0, 0.0, &RailMotion::default(), &mut warm)
-            .map_err(|e| format!("centred contact: {e}"))?;
+            .map_err(DynamicsError::CentredContact)?;
         let ws_poses: Vec<Pose> = self
             .wheelsets
             .iter()
@@ -786,12 +687,10 @@ impl Multibody {
                     .collect::<Vec<_>>()
                     .join(", ")
             };
-            let du = jac.lu().solve(&(-&r)).ok_or_else(|| {
-                format!(
-                    "the static equations are singular: some body among [{}] is not held in some direction by the elements",
-                    names()
-                )
-            })?;
+            let du = jac
+                .lu()
+                .solve(&(-&r))
+                .ok_or_else(|| DynamicsError::StaticsSingular { bodies: names() })?;
             for k in 0..n {
                 u[k] += du[k];
             }
@@ -842,7 +741,6 @@ impl Multibody {
             .enumerate()
             .map(|(j, w)| -acc[nb + j].0.z + w.inertia.mass_kg * G)
             .collect();
-        self.lambda = axle_loads.iter().map(|q| [0.5 * q, 0.5 * q]).collect();
         Ok(Settling {
             sag: (0..nb)
                 .map(|i| {
@@ -862,7 +760,7 @@ impl Multibody {
     }
 }
 
-impl OdeSystem for Multibody {
+impl VehicleModel for Multibody {
     fn dim(&self) -> usize {
         12 * self.bodies.len()
             + (0..self.wheelsets.len())
@@ -870,7 +768,50 @@ impl OdeSystem for Multibody {
                 .sum::<usize>()
     }
 
-    fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), String> {
-        self.evaluate_at(t, x, Some(dxdt)).map(|_| ())
+    fn wheelset_names(&self) -> Vec<String> {
+        self.wheelsets.iter().map(|w| w.name.clone()).collect()
+    }
+
+    fn body_names(&self) -> Vec<String> {
+        self.bodies.iter().map(|b| b.name.clone()).collect()
+    }
+
+    fn initial_state(&self, initial: &InitialDisturbance) -> Vec<f64> {
+        self.initial(initial.lateral_m, initial.yaw_rad)
+    }
+
+    /// Fresh warm starts; each wheel's normal force starts from half its static axle load.
+    fn new_data(&self) -> VehicleData {
+        VehicleData::new(
+            self.settling
+                .axle_loads
+                .iter()
+                .map(|q| [0.5 * q, 0.5 * q])
+                .collect(),
+        )
+    }
+
+    fn rhs(&self, data: &mut VehicleData, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError> {
+        self.evaluate(data, t, x, Some(dxdt)).map(|_| ())
+    }
+
+    fn sample(&self, data: &mut VehicleData, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError> {
+        self.evaluate(data, t, x, None)
+    }
+
+    fn contact(&self) -> &dyn ContactModel {
+        self.contact.as_ref()
+    }
+
+    fn reference(&self) -> &Reference {
+        &self.reference
+    }
+
+    fn nominal_radius(&self) -> f64 {
+        self.r0
+    }
+
+    fn settling(&self) -> Option<&Settling> {
+        Some(&self.settling)
     }
 }

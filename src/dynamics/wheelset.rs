@@ -31,10 +31,10 @@
 use nalgebra::{SMatrix, SVector, Vector3};
 use thiserror::Error;
 
-use super::contact_model::WheelsetKinematics;
 use crate::contact::forces::{
     ContactForceSettings, ContactFrame, ContactPatch, CreepForce, Creepage, HertzContact, RelativeCurvature,
 };
+use crate::contact::WheelsetKinematics;
 use crate::profile::Side;
 
 /// Mass and inertia of a wheelset.

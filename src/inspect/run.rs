@@ -1,5 +1,9 @@
-//! `kecsim run` of a simulation: wheelset kinematics, forces, contact positions over time, the
-//! cross-sections with the wheels moving, and the track plan with the vehicle's position.
+//! `kecsim run` of a simulation, **streamed as it runs**: wheelset kinematics, forces, contact
+//! positions over time, the cross-sections with the wheels moving, and the track plan with the
+//! vehicle's position. [`LiveRecorder`] is a run observer: it sends the samples to the sink in
+//! batches (every [`BATCH_WALL`] of wall time, as columns), so that a viewer connected with
+//! `--spawn`/`--connect` shows the run while it is computed; the statics (rails, track plan, series
+//! styles) go first, the summary last.
 //!
 //! Timelines: `time` (simulated time, a duration) and `distance_mm` (the wheelset's arc length, mm,
 //! a sequence).
@@ -30,14 +34,19 @@
 //! | `run/track/plan`, `run/track/position` | LineStrips2D static / Points2D | track plan (m, `[X, −Y]`) and the wheelset on it |
 //! | `run/summary` | TextDocument | the run summary |
 
+use std::time::{Duration, Instant};
+
 use rerun::blueprint::{
     Blueprint, ContainerLike, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView,
     Vertical,
 };
-use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument, TimeColumn};
+use rerun::{
+    Color, LineStrips2D, Points2D, Radius, RecordingStream, Scalars, SeriesLines, TextDocument, TimeColumn,
+};
 
-use super::{log_static, section_mm, send_scalar_rows, InspectError};
-use crate::dynamics::run::{RunSummary, Sample};
+use super::{log_static, open_recording, section_mm, InspectError, Sink};
+use crate::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
+use crate::dynamics::{RunSummary, Sample};
 use crate::profile::Side;
 use crate::scenario::Scene;
 
@@ -121,149 +130,288 @@ pub fn blueprint_for(wheelsets: usize) -> Blueprint {
     )
 }
 
-/// Every wheelset side by side under `run/vehicle/…` (one series per wheelset, on `time`).
-fn record_vehicle(rec: &RecordingStream, wheelsets: &[(String, Vec<Sample>)]) -> Result<(), InspectError> {
-    let n = wheelsets.iter().map(|w| w.1.len()).min().unwrap_or(0);
-    let names: Vec<&str> = wheelsets.iter().map(|w| w.0.as_str()).collect();
-    let palette = [
-        Color::from_rgb(230, 80, 60),
-        Color::from_rgb(60, 140, 230),
-        Color::from_rgb(60, 180, 120),
-        Color::from_rgb(200, 150, 40),
-        Color::from_rgb(150, 90, 200),
-        Color::from_rgb(40, 180, 190),
-        Color::from_rgb(220, 100, 170),
-        Color::from_rgb(120, 120, 120),
+/// Wall time between two batches of samples sent to the sink.
+pub const BATCH_WALL: Duration = Duration::from_millis(50);
+
+/// Simulated time between two cross-section snapshots (≤ 50 Hz), s.
+const SECTION_INTERVAL_S: f64 = 0.02;
+
+fn palette(k: usize) -> Color {
+    const P: [(u8, u8, u8); 8] = [
+        (230, 80, 60),
+        (60, 140, 230),
+        (60, 180, 120),
+        (200, 150, 40),
+        (150, 90, 200),
+        (40, 180, 190),
+        (220, 100, 170),
+        (120, 120, 120),
     ];
-    let colors: Vec<Color> = (0..names.len()).map(|k| palette[k % palette.len()]).collect();
-    let first = &wheelsets[0].1;
-    let series = |entity: &str, f: &dyn Fn(&Sample) -> f64| {
-        send_scalar_rows(
-            rec,
-            vec![TimeColumn::new_duration_secs(
-                TIME,
-                first[..n].iter().map(|s| s.t),
-            )],
-            n,
-            &format!("run/vehicle/{entity}"),
-            (0..n)
-                .flat_map(|i| wheelsets.iter().map(move |w| f(&w.1[i])))
-                .collect(),
-            &names,
-            colors.clone(),
-        )
-    };
-    series("y_mm", &|s| s.y * 1e3)?;
-    series("yaw_mrad", &|s| s.yaw * 1e3)?;
-    series("min_normal_kn", &|s| s.normal[0].min(s.normal[1]) * 1e-3)?;
-    series("max_abs_y_over_q", &|s| {
-        (s.y_force[0] / s.q_force[0])
-            .abs()
-            .max((s.y_force[1] / s.q_force[1]).abs())
-    })
+    let (r, g, b) = P[k % P.len()];
+    Color::from_rgb(r, g, b)
 }
 
 fn lr_colors() -> Vec<Color> {
     vec![Color::from_rgb(230, 120, 40), Color::from_rgb(60, 140, 230)]
 }
 
-/// The time series of one wheelset under `run/{name}/…`.
-fn record_wheelset(rec: &RecordingStream, name: &str, samples: &[Sample]) -> Result<(), InspectError> {
-    let n = samples.len();
-    let times = || TimeColumn::new_duration_secs(TIME, samples.iter().map(|s| s.t));
-    let dist = || TimeColumn::new_sequence(DISTANCE, samples.iter().map(|s| (s.s * 1e3).round() as i64));
-    let w = format!("run/{name}");
-    let one = |entity: &str, f: &dyn Fn(&Sample) -> f64, name: &str| {
-        send_scalar_rows(
-            rec,
-            vec![times(), dist()],
-            n,
-            &format!("{w}/{entity}"),
-            samples.iter().map(f).collect(),
-            &[name],
-            vec![Color::from_rgb(60, 180, 120)],
-        )
-    };
-    one("y_mm", &|s| s.y * 1e3, "y")?;
-    one("yaw_mrad", &|s| s.yaw * 1e3, "yaw")?;
-    one("z_mm", &|s| s.z * 1e3, "z − r0")?;
-    one("roll_mrad", &|s| s.roll * 1e3, "roll")?;
-    let two = |entity: &str, f: &dyn Fn(&Sample) -> [f64; 2]| {
-        send_scalar_rows(
-            rec,
-            vec![times(), dist()],
-            n,
-            &format!("{w}/{entity}"),
-            samples.iter().flat_map(f).collect(),
-            &["left", "right"],
-            lr_colors(),
-        )
-    };
-    two("normal_kn", &|s| [s.normal[0] * 1e-3, s.normal[1] * 1e-3])?;
-    two("creep_fx_kn", &|s| [s.creep_x[0] * 1e-3, s.creep_x[1] * 1e-3])?;
-    two("creep_fy_kn", &|s| [s.creep_y[0] * 1e-3, s.creep_y[1] * 1e-3])?;
-    two("y_over_q", &|s| {
-        [s.y_force[0] / s.q_force[0], s.y_force[1] / s.q_force[1]]
-    })?;
-    two("s_wheel_mm", &|s| [s.s_wheel[0] * 1e3, s.s_wheel[1] * 1e3])?;
-    two("s_rail_mm", &|s| [s.s_rail[0] * 1e3, s.s_rail[1] * 1e3])?;
-    if samples.iter().all(|s| s.s_knife.is_some()) {
-        two("s_knife_mm", &|s| {
-            s.s_knife.map_or([f64::NAN; 2], |k| [k[0] * 1e3, k[1] * 1e3])
-        })?;
-    }
+/// One wheelset's series: entity under `run/NAME/`, line names, value(s) of a sample.
+type Series = (&'static str, &'static [&'static str], fn(&Sample) -> Vec<f64>);
 
-    Ok(())
+/// The per-wheelset series (kinematics, forces, contact positions; `s_knife_mm` apart: KEC only).
+const WHEELSET_SERIES: [Series; 10] = [
+    ("y_mm", &["y"], |s| vec![s.y * 1e3]),
+    ("yaw_mrad", &["yaw"], |s| vec![s.yaw * 1e3]),
+    ("z_mm", &["z − r0"], |s| vec![s.z * 1e3]),
+    ("roll_mrad", &["roll"], |s| vec![s.roll * 1e3]),
+    ("normal_kn", &["left", "right"], |s| {
+        vec![s.normal[0] * 1e-3, s.normal[1] * 1e-3]
+    }),
+    ("creep_fx_kn", &["left", "right"], |s| {
+        vec![s.creep_x[0] * 1e-3, s.creep_x[1] * 1e-3]
+    }),
+    ("creep_fy_kn", &["left", "right"], |s| {
+        vec![s.creep_y[0] * 1e-3, s.creep_y[1] * 1e-3]
+    }),
+    ("y_over_q", &["left", "right"], |s| {
+        vec![s.y_force[0] / s.q_force[0], s.y_force[1] / s.q_force[1]]
+    }),
+    ("s_wheel_mm", &["left", "right"], |s| {
+        vec![s.s_wheel[0] * 1e3, s.s_wheel[1] * 1e3]
+    }),
+    ("s_rail_mm", &["left", "right"], |s| {
+        vec![s.s_rail[0] * 1e3, s.s_rail[1] * 1e3]
+    }),
+];
+
+const KNIFE_SERIES: Series = ("s_knife_mm", &["left", "right"], |s| {
+    s.s_knife
+        .map_or(vec![f64::NAN; 2], |k| vec![k[0] * 1e3, k[1] * 1e3])
+});
+
+/// The every-wheelset series under `run/vehicle/` (one line per wheelset).
+const VEHICLE_SERIES: [(&str, fn(&Sample) -> f64); 4] = [
+    ("y_mm", |s| s.y * 1e3),
+    ("yaw_mrad", |s| s.yaw * 1e3),
+    ("min_normal_kn", |s| s.normal[0].min(s.normal[1]) * 1e-3),
+    ("max_abs_y_over_q", |s| s.max_abs_y_over_q()),
+];
+
+fn log_err(entity: &str) -> impl Fn(rerun::RecordingStreamError) -> InspectError + '_ {
+    move |source| InspectError::Log {
+        entity: entity.to_string(),
+        source,
+    }
 }
 
-/// Records the samples of a run (every wheelset's time series; the cross-section and the track
-/// position of the first wheelset) and its summary.
-pub fn record(
-    rec: &RecordingStream,
-    scene: &Scene,
-    wheelsets: &[(String, Vec<Sample>)],
-    summary: &RunSummary,
-) -> Result<(), InspectError> {
-    for (name, samples) in wheelsets {
-        record_wheelset(rec, name, samples)?;
+/// The run recorder: a [`RunObserver`] that streams a run to a Rerun sink as it is computed.
+pub struct LiveRecorder {
+    rec: RecordingStream,
+    pair: crate::profile::placement::WheelRailPair,
+    track: Option<std::sync::Arc<crate::track::Track>>,
+    names: Vec<String>,
+    /// Samples not yet sent, per wheelset.
+    pending: Vec<Vec<Sample>>,
+    last_batch: Instant,
+    next_section_t: f64,
+    /// The wheel profile's points drawn in the cross-section (surface parameters).
+    wheel_knots: Vec<f64>,
+    knife_styled: Vec<bool>,
+    /// Samples sent per wheelset.
+    sent: usize,
+}
+
+impl LiveRecorder {
+    /// Opens the recording on `sink` with the run layout for `wheelsets`, and logs the statics
+    /// (rails, track plan, series styles): a sink that cannot be opened fails before the run.
+    pub fn open(sink: &Sink, scene: &Scene, wheelsets: &[String]) -> Result<LiveRecorder, InspectError> {
+        let n = wheelsets.len();
+        let rec = open_recording("kecsim", sink, || blueprint_for(n))?;
+        Self::on(rec, scene, wheelsets)
     }
-    if wheelsets.len() > 1 {
-        record_vehicle(rec, wheelsets)?;
-    }
-    let Some((_, samples)) = wheelsets.first() else {
-        return Ok(());
-    };
-    // Cross-sections: static rails (ideal placement), the wheel and the contact points at ≤ 50 Hz.
-    let pair = &scene.pair;
-    for side in Side::BOTH {
-        let pts: Vec<[f32; 2]> = pair
-            .rail_positions(side)
-            .into_iter()
-            .map(|(y, z)| section_mm(y, z))
-            .collect();
-        log_static(
+
+    /// A recorder on an open stream.
+    pub fn on(
+        rec: RecordingStream,
+        scene: &Scene,
+        wheelsets: &[String],
+    ) -> Result<LiveRecorder, InspectError> {
+        let pair = scene.pair.clone();
+        let (knots, _) = pair.wheel.knots();
+        let every_knot = (knots.len() / 300).max(1);
+        let wheel_knots: Vec<f64> = knots.iter().step_by(every_knot).copied().collect();
+        let r = LiveRecorder {
             rec,
-            &format!("run/section/{}/rail", side.name()),
-            &LineStrips2D::new([pts])
-                .with_colors([Color::from_rgb(150, 150, 160)])
-                .with_radii([Radius::new_ui_points(1.5)]),
-        )?;
+            pair,
+            track: scene.track.clone(),
+            names: wheelsets.to_vec(),
+            pending: vec![Vec::new(); wheelsets.len()],
+            last_batch: Instant::now(),
+            next_section_t: f64::NEG_INFINITY,
+            wheel_knots,
+            knife_styled: vec![false; wheelsets.len()],
+            sent: 0,
+        };
+        r.log_statics()?;
+        Ok(r)
     }
-    let (knots, _) = pair.wheel.knots();
-    let every_knot = (knots.len() / 300).max(1);
-    let mut next_t = f64::NEG_INFINITY;
-    for s in samples {
-        if s.t < next_t {
-            continue;
+
+    /// The recording stream.
+    pub fn stream(&self) -> &RecordingStream {
+        &self.rec
+    }
+
+    fn log_statics(&self) -> Result<(), InspectError> {
+        let green = vec![Color::from_rgb(60, 180, 120)];
+        for name in &self.names {
+            for (entity, lines, _) in WHEELSET_SERIES {
+                let colors = if lines.len() == 1 {
+                    green.clone()
+                } else {
+                    lr_colors()
+                };
+                log_static(
+                    &self.rec,
+                    &format!("run/{name}/{entity}"),
+                    &SeriesLines::new()
+                        .with_names(lines.iter().copied())
+                        .with_colors(colors),
+                )?;
+            }
         }
-        next_t = s.t + 0.02;
+        if self.names.len() > 1 {
+            let colors: Vec<Color> = (0..self.names.len()).map(palette).collect();
+            for (entity, _) in VEHICLE_SERIES {
+                log_static(
+                    &self.rec,
+                    &format!("run/vehicle/{entity}"),
+                    &SeriesLines::new()
+                        .with_names(self.names.iter().map(String::as_str))
+                        .with_colors(colors.clone()),
+                )?;
+            }
+        }
+        // Cross-sections: static rails (ideal placement).
+        for side in Side::BOTH {
+            let pts: Vec<[f32; 2]> = self
+                .pair
+                .rail_positions(side)
+                .into_iter()
+                .map(|(y, z)| section_mm(y, z))
+                .collect();
+            log_static(
+                &self.rec,
+                &format!("run/section/{}/rail", side.name()),
+                &LineStrips2D::new([pts])
+                    .with_colors([Color::from_rgb(150, 150, 160)])
+                    .with_radii([Radius::new_ui_points(1.5)]),
+            )?;
+        }
+        if let Some(track) = &self.track {
+            let (a, b) = track.centreline.range();
+            let k = ((b - a) / 2.0).ceil().max(1.0) as usize;
+            let plan: Vec<[f32; 2]> = (0..=k)
+                .filter_map(|i| track.centreline.frame(a + (b - a) * i as f64 / k as f64).ok())
+                .map(|f| [f.position.x as f32, -f.position.y as f32])
+                .collect();
+            log_static(
+                &self.rec,
+                "run/track/plan",
+                &LineStrips2D::new([plan])
+                    .with_colors([Color::from_rgb(150, 150, 160)])
+                    .with_radii([Radius::new_ui_points(1.5)]),
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Sends one series of one wheelset's pending samples as columns on `time` and `distance_mm`.
+    fn send_series(&self, name: &str, samples: &[Sample], series: &Series) -> Result<(), InspectError> {
+        let entity = format!("run/{name}/{}", series.0);
+        let values: Vec<f64> = samples.iter().flat_map(series.2).collect();
+        let columns = Scalars::new(values)
+            .columns(std::iter::repeat_n(series.1.len(), samples.len()))
+            .map_err(|e| log_err(&entity)(e.into()))?;
+        self.rec
+            .send_columns(
+                entity.as_str(),
+                [
+                    TimeColumn::new_duration_secs(TIME, samples.iter().map(|s| s.t)),
+                    TimeColumn::new_sequence(DISTANCE, samples.iter().map(|s| (s.s * 1e3).round() as i64)),
+                ],
+                columns,
+            )
+            .map_err(log_err(&entity))
+    }
+
+    /// Sends what is pending.
+    fn send_batch(&mut self) -> Result<(), InspectError> {
+        let n = self.pending.first().map_or(0, Vec::len);
+        if n == 0 {
+            return Ok(());
+        }
+        for (k, name) in self.names.iter().enumerate() {
+            let samples = &self.pending[k];
+            for series in &WHEELSET_SERIES {
+                self.send_series(name, samples, series)?;
+            }
+            if samples.iter().all(|s| s.s_knife.is_some()) {
+                if !self.knife_styled[k] {
+                    log_static(
+                        &self.rec,
+                        &format!("run/{name}/{}", KNIFE_SERIES.0),
+                        &SeriesLines::new()
+                            .with_names(KNIFE_SERIES.1.iter().copied())
+                            .with_colors(lr_colors()),
+                    )?;
+                    self.knife_styled[k] = true;
+                }
+                self.send_series(name, samples, &KNIFE_SERIES)?;
+            }
+        }
+        if self.names.len() > 1 {
+            let first = &self.pending[0];
+            for (entity, f) in VEHICLE_SERIES {
+                let entity = format!("run/vehicle/{entity}");
+                let values: Vec<f64> = (0..n)
+                    .flat_map(|i| self.pending.iter().map(move |w| f(&w[i])))
+                    .collect();
+                let columns = Scalars::new(values)
+                    .columns(std::iter::repeat_n(self.names.len(), n))
+                    .map_err(|e| log_err(&entity)(e.into()))?;
+                self.rec
+                    .send_columns(
+                        entity.as_str(),
+                        [TimeColumn::new_duration_secs(TIME, first.iter().map(|s| s.t))],
+                        columns,
+                    )
+                    .map_err(log_err(&entity))?;
+            }
+        }
+        self.sent += n;
+        for p in &mut self.pending {
+            p.clear();
+        }
+        self.last_batch = Instant::now();
+        Ok(())
+    }
+
+    /// The first wheelset's cross-section (wheels and contact points) and its position on the
+    /// track plan, at ≤ 50 Hz of simulated time.
+    fn log_section(&mut self, s: &Sample) -> Result<(), InspectError> {
+        if s.t < self.next_section_t {
+            return Ok(());
+        }
+        self.next_section_t = s.t + SECTION_INTERVAL_S;
+        let rec = &self.rec;
         rec.set_duration_secs(TIME, s.t);
         rec.set_time_sequence(DISTANCE, (s.s * 1e3).round() as i64);
+        let pair = &self.pair;
         let z = s.z + pair.wheelset.nominal_radius_m;
         for (i, side) in Side::BOTH.into_iter().enumerate() {
-            let wheel: Vec<[f32; 2]> = knots
+            let wheel: Vec<[f32; 2]> = self
+                .wheel_knots
                 .iter()
-                .step_by(every_knot)
                 .map(|&k| {
                     let (wy, wz) =
                         pair.wheelset
@@ -278,10 +426,7 @@ pub fn record(
                     .with_colors([Color::from_rgb(70, 140, 230)])
                     .with_radii([Radius::new_ui_points(1.5)]),
             )
-            .map_err(|source| InspectError::Log {
-                entity: e.clone(),
-                source,
-            })?;
+            .map_err(log_err(&e))?;
             let e = format!("run/section/{}/contact", side.name());
             let (py, pz) = s.position[i];
             rec.log(
@@ -291,12 +436,9 @@ pub fn record(
                     .with_radii([Radius::new_ui_points(5.0)])
                     .with_labels([format!("{:.1} kN", s.normal[i] * 1e-3)]),
             )
-            .map_err(|source| InspectError::Log {
-                entity: e.clone(),
-                source,
-            })?;
+            .map_err(log_err(&e))?;
         }
-        if let Some(track) = &scene.track {
+        if let Some(track) = &self.track {
             if let Ok(f) = track.centreline.frame(s.s) {
                 let p = f.position;
                 rec.log(
@@ -305,50 +447,76 @@ pub fn record(
                         .with_colors([Color::from_rgb(230, 50, 50)])
                         .with_radii([Radius::new_ui_points(6.0)]),
                 )
-                .map_err(|source| InspectError::Log {
-                    entity: "run/track/position".into(),
-                    source,
-                })?;
+                .map_err(log_err("run/track/position"))?;
             }
         }
+        Ok(())
     }
-    if let Some(track) = &scene.track {
-        let (a, b) = track.centreline.range();
-        let k = ((b - a) / 2.0).ceil().max(1.0) as usize;
-        let plan: Vec<[f32; 2]> = (0..=k)
-            .filter_map(|i| track.centreline.frame(a + (b - a) * i as f64 / k as f64).ok())
-            .map(|f| [f.position.x as f32, -f.position.y as f32])
-            .collect();
-        log_static(
-            rec,
-            "run/track/plan",
-            &LineStrips2D::new([plan])
-                .with_colors([Color::from_rgb(150, 150, 160)])
-                .with_radii([Radius::new_ui_points(1.5)]),
-        )?;
+
+    /// Sends the rest and the summary document.
+    fn log_summary(&mut self, summary: &RunSummary) -> Result<(), InspectError> {
+        self.send_batch()?;
+        let mut text = format!("# kecsim run: {}\n\n", summary.scene);
+        text += &format!(
+            "contact model **{}**, creep model **{}**, integrator **{}**\n\n",
+            summary.contact_model, summary.creep_model, summary.integrator
+        );
+        for line in summary.to_string().lines() {
+            text += &format!("{line}\n\n");
+        }
+        log_static(&self.rec, "run/summary", &TextDocument::from_markdown(text))
     }
-    let mut text = format!("# kecsim run: {}\n\n", summary.scene);
-    text += &format!(
-        "contact model **{}**, creep model **{}**, integrator **{}**\n\nsimulated {:.3} s in {:.3} s wall — real-time factor **{:.1}** (preprocessing {:.2} s); {} steps, {} rejected, {} right-hand sides\n\nmax |y| {:.3} mm, max |yaw| {:.3} mrad, normal forces {:.1} .. {:.1} kN, max |Y/Q| {:.3}\n",
-        summary.contact_model,
-        summary.creep_model,
-        summary.integrator,
-        summary.simulated_s,
-        summary.wall_s,
-        summary.realtime_factor,
-        summary.preprocessing_s,
-        summary.steps,
-        summary.rejected_steps,
-        summary.rhs_evaluations,
-        summary.max_abs_y_mm,
-        summary.max_abs_yaw_mrad,
-        summary.min_normal_n * 1e-3,
-        summary.max_normal_n * 1e-3,
-        summary.max_abs_y_over_q
-    );
-    if let Some(e) = &summary.error {
-        text += &format!("\n**Stopped early:** {e}\n");
+}
+
+impl RunObserver for LiveRecorder {
+    fn start(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
+        if run.wheelsets != self.names.as_slice() {
+            return Err(format!(
+                "the recording was opened for wheelsets {:?}, the run has {:?}",
+                self.names, run.wheelsets
+            )
+            .into());
+        }
+        self.last_batch = Instant::now();
+        Ok(())
     }
-    log_static(rec, "run/summary", &TextDocument::from_markdown(text))?;
-    Ok(())
+
+    fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
+        for (p, s) in self.pending.iter_mut().zip(sample.wheelsets) {
+            p.push(*s);
+        }
+        if let Some(first) = sample.wheelsets.first() {
+            self.log_section(first)?;
+        }
+        if self.last_batch.elapsed() >= BATCH_WALL {
+            self.send_batch()?;
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self, summary: &RunSummary) -> Result<(), ObserverError> {
+        Ok(self.log_summary(summary)?)
+    }
+}
+
+/// Records a finished run's samples (every wheelset's time series; the cross-section and the
+/// track position of the first wheelset) and its summary on an open stream, as [`LiveRecorder`]
+/// streams them during a run.
+pub fn record(
+    rec: &RecordingStream,
+    scene: &Scene,
+    wheelsets: &[(String, Vec<Sample>)],
+    summary: &RunSummary,
+) -> Result<(), InspectError> {
+    let names: Vec<String> = wheelsets.iter().map(|w| w.0.clone()).collect();
+    let mut r = LiveRecorder::on(rec.clone(), scene, &names)?;
+    let n = wheelsets.iter().map(|w| w.1.len()).min().unwrap_or(0);
+    for i in 0..n {
+        let row: Vec<Sample> = wheelsets.iter().map(|w| w.1[i]).collect();
+        for (p, s) in r.pending.iter_mut().zip(&row) {
+            p.push(*s);
+        }
+        r.log_section(&row[0])?;
+    }
+    r.log_summary(summary)
 }

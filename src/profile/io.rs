@@ -21,8 +21,8 @@ use std::fs;
 use std::io::Write;
 use std::path::Path;
 
-use super::spline::SplineError;
 use super::{Profile, ProfileError, ProfileKind};
+use crate::spline::SplineError;
 
 /// End segments steeper than this |dz/dy| (88.9°) are trimmed.
 pub const MAX_END_SLOPE: f64 = 50.0;

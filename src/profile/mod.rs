@@ -10,20 +10,19 @@
 //!   paper's wheel radius function of Eq. (21) is h^w(s^w) = r0 − z(s^w) (flanges point down,
 //!   as on a real wheel).
 //!
-//! The curve is a C² not-a-knot cubic spline (see [`spline`]) through the source points: the
+//! The curve is a C² not-a-knot cubic spline (see [`crate::spline`]) through the source points: the
 //! standard profiles are sampled from their analytic definitions ([`standard`]); files are read by
 //! [`io`]. Placement on the track cross-section (gauge, inclination, back-to-back, mirroring) is
 //! [`placement`].
 
 pub mod io;
 pub mod placement;
-pub mod spline;
 pub mod standard;
 
 use std::fmt;
 use std::path::Path;
 
-pub use spline::{CubicSpline, CurvePoint};
+pub use crate::spline::{CubicSpline, CurvePoint};
 pub use standard::StandardProfile;
 
 /// Wheel or rail.
@@ -125,7 +124,7 @@ impl Profile {
         source: &str,
         s: Vec<f64>,
         z: Vec<f64>,
-    ) -> Result<Self, spline::SplineError> {
+    ) -> Result<Self, crate::spline::SplineError> {
         Ok(Profile {
             name: name.to_string(),
             kind,

@@ -28,6 +28,7 @@
 //! ```
 
 use super::{Profile, ProfileKind, Side, StandardProfile};
+use crate::track::TrackGauge;
 use std::fmt;
 use std::str::FromStr;
 
@@ -82,24 +83,6 @@ impl FromStr for Inclination {
             return Err(bad());
         }
         Ok(Self::one_in(n))
-    }
-}
-
-/// Track gauge and where it is measured.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TrackGauge {
-    /// Distance between the gauge points, m (1.435 standard gauge).
-    pub gauge_m: f64,
-    /// Depth below the running surface within which the gauge point is sought, m (0.014).
-    pub measuring_depth_m: f64,
-}
-
-impl Default for TrackGauge {
-    fn default() -> Self {
-        TrackGauge {
-            gauge_m: 1.435,
-            measuring_depth_m: 0.014,
-        }
     }
 }
 

@@ -38,9 +38,9 @@ use toml::Spanned;
 use super::centreline::{Centreline, Start};
 use super::irregularity::{Generation, Irregularities};
 use super::psd::Psd;
+use super::rails::TrackGauge;
 use super::sections::{check_horizontal, check_vertical, HorizontalSection, VerticalSection};
 use super::{measured, Track, TrackError};
-use crate::profile::placement::TrackGauge;
 
 /// The paper's Tab. 6 track, embedded in the binary.
 pub const TAB6_TRACK: &str = include_str!("../../assets/track/tab6.toml");
@@ -173,6 +173,15 @@ pub struct TrackFile {
     pub schema_version: u32,
     pub name: String,
     pub track: TrackSpec,
+}
+
+/// The `[track]` table of a scenario file (the rest of the scenario is the scenario's business:
+/// `kecsim track` on a scenario file reads only its name and track).
+#[derive(Debug, Clone, Deserialize)]
+struct ScenarioTrack {
+    name: String,
+    #[serde(default)]
+    track: TrackSpec,
 }
 
 /// 1-based line of a byte offset.
@@ -504,21 +513,18 @@ fn parse_err(origin: &str, e: toml::de::Error) -> TrackError {
 pub fn track_from_text(text: &str, origin: &str, base: &Path) -> Result<Track, TrackError> {
     let table: toml::Table = toml::from_str(text).map_err(|e| parse_err(origin, e))?;
     if table.contains_key("profiles") {
-        let scenario = crate::scenario::Scenario::parse(text, origin).map_err(|e| TrackError::Parse {
-            path: origin.to_string(),
-            message: e.to_string(),
-        })?;
+        let scenario: ScenarioTrack = toml::from_str(text).map_err(|e| parse_err(origin, e))?;
         return scenario.track.build(&scenario.name, origin, text, base);
     }
     let file: TrackFile = toml::from_str(text).map_err(|e| parse_err(origin, e))?;
-    if file.schema_version != crate::scenario::SCHEMA_VERSION {
+    if file.schema_version != crate::SCHEMA_VERSION {
         return Err(TrackError::Invalid {
             path: origin.to_string(),
             problems: vec![format!(
                 "{origin}:{}: schema_version = {}: this kecsim reads schema_version = {}",
                 line_of(text, text.find("schema_version").unwrap_or(0)),
                 file.schema_version,
-                crate::scenario::SCHEMA_VERSION
+                crate::SCHEMA_VERSION
             )],
         });
     }

@@ -24,8 +24,8 @@
 //! seed gives the same track on every machine.
 
 use super::psd::{Channel, Psd};
+use super::rails::{RailMotion, RailOffsets};
 use super::TrackError;
-use crate::contact::RailOffsets;
 
 /// Value, first and second s-derivative of the four irregularities at one s, SI (m, m/m, 1/m),
 /// in the order al, vp, gv, cl.
@@ -88,6 +88,19 @@ impl IrregularityState {
             dtt[c] = self.d2[c] * v * v + self.d1[c] * v_dot;
         }
         (dt, dtt)
+    }
+
+    /// The rail displacements q_r = [y_lir, z_lir, y_rir, z_rir] and their time derivatives seen by
+    /// a wheelset moving at speed `v` with acceleration `v_dot` (Eq. 5–11 with
+    /// [`Self::time_derivatives`]).
+    pub fn rail_motion(&self, v: f64, v_dot: f64) -> RailMotion {
+        let (dt, dtt) = self.time_derivatives(v, v_dot);
+        let rails = |c: [f64; 4]| RailOffsets::from_irregularities(c[0], c[1], c[2], c[3]).to_array();
+        RailMotion {
+            q: self.rail_offsets().to_array(),
+            q_dot: rails(dt),
+            q_ddot: rails(dtt),
+        }
     }
 
     /// The rail-profile frames (METHOD.md §2, Eq. 6–7): origins [0, ±L_r, 0] plus the rail

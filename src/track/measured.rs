@@ -13,9 +13,9 @@
 use std::path::Path;
 
 use super::irregularity::{Irregularities, Origin};
+use super::rails::RailOffsets;
 use super::TrackError;
-use crate::contact::RailOffsets;
-use crate::profile::spline::CubicSpline;
+use crate::spline::CubicSpline;
 
 /// The columns of the combinations, in channel order.
 pub const COMBINATION_COLUMNS: [&str; 4] = ["al_mm", "vp_mm", "gv_mm", "cl_mm"];

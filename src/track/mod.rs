@@ -16,6 +16,7 @@ pub mod file;
 pub mod irregularity;
 pub mod measured;
 pub mod psd;
+pub mod rails;
 pub mod report;
 pub mod sections;
 pub mod spectrum;
@@ -23,8 +24,7 @@ pub mod spectrum;
 pub use centreline::{Centreline, FrameMotion, Start, TrackFrame};
 pub use irregularity::{Generation, Irregularities, IrregularityState};
 pub use psd::{Channel, Psd};
-
-use crate::profile::placement::TrackGauge;
+pub use rails::{RailMotion, RailOffsets, TrackGauge};
 
 /// Track errors. File problems name the file and, where there is one, the line.
 #[derive(Debug, thiserror::Error)]

@@ -6,9 +6,9 @@ use std::path::Path;
 
 use super::irregularity::Origin;
 use super::psd::Channel;
+use super::rails::RailOffsets;
 use super::sections::HorizontalKind;
 use super::{spectrum, Track, TrackError, TrackFrame};
-use crate::contact::RailOffsets;
 
 /// The CSV columns, in order (the Interface contract: `s_m`, `x_m`, `y_m`, `z_m`, `heading_rad`,
 /// `cant_rad`, `curvature_1pm`, `al_mm`, `vp_mm`, `gv_mm`, `cl_mm` must stay).

@@ -23,12 +23,11 @@
 //! bending), and a mass carried along the track by a body (the weight and the inertial force of a
 //! part that is not modelled, e.g. half a carbody on a bogie scene). Deflections are expressed in
 //! the track axes of the element's first body. Their static preloads are computed, not written:
-//! see [`crate::dynamics::multibody`]. **Spherical joints** (`[[vehicle.joints]]`) join two rigid
-//! bodies at a point; they are constraints with reactions, solved in
-//! [`crate::dynamics::multibody`].
+//! see the dynamics' multibody system. **Spherical joints** (`[[vehicle.joints]]`) join two rigid
+//! bodies at a point; they are constraints with reactions, solved with the equations of motion.
 
 pub mod elements;
 pub mod spec;
 
 pub use elements::{BodyRef, Element, ElementLoad, Pose};
-pub use spec::{MultibodySpec, VehicleProblem};
+pub use spec::{MultibodySpec, VehicleProblem, VehicleSpec};

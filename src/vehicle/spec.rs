@@ -1,5 +1,6 @@
-//! The `[vehicle] kind = "multibody"` table: bodies, wheelsets and force elements, as written in a
-//! scenario (nominal vehicle coordinates, SI units), validated into [`super::Element`]s.
+//! The `[vehicle]` table of a scenario, as written: `kind = "wheelset-on-frame"` (one wheelset
+//! tied to a frame moving along the track) or `kind = "multibody"` — bodies, wheelsets and force
+//! elements (nominal vehicle coordinates, SI units), validated into [`super::Element`]s:
 //!
 //! ```toml
 //! [vehicle]
@@ -31,6 +32,109 @@ use nalgebra::Vector3;
 use serde::Deserialize;
 
 use super::elements::{BodyRef, Element};
+
+/// `[vehicle]`: the model of the scene. Each kind models only what the scene needs.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum VehicleSpec {
+    /// One solid-axle wheelset tied by spring–dampers at its axle boxes to a frame moving at the
+    /// reference speed, which also carries the axle load.
+    WheelsetOnFrame(WheelsetOnFrameSpec),
+    /// Rigid bodies, solid-axle wheelsets and force elements ([`crate::vehicle::spec`]): a bogie,
+    /// a whole vehicle.
+    Multibody(MultibodySpec),
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetOnFrameSpec {
+    /// Vertical load of the frame on the wheelset (both boxes), N.
+    pub axle_load_n: f64,
+    pub wheelset: WheelsetMassSpec,
+    pub tie: TieSpec,
+}
+
+/// Wheelset mass and principal inertias (roll, spin, yaw).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetMassSpec {
+    pub mass_kg: f64,
+    pub inertia_kg_m2: [f64; 3],
+}
+
+/// Axle-box tie (per box).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TieSpec {
+    pub longitudinal_stiffness_n_per_m: f64,
+    pub lateral_stiffness_n_per_m: f64,
+    #[serde(default)]
+    pub longitudinal_damping_n_s_per_m: f64,
+    #[serde(default)]
+    pub lateral_damping_n_s_per_m: f64,
+    pub half_spacing_m: f64,
+}
+
+impl VehicleSpec {
+    /// The rearmost body's nominal position along the vehicle (≤ 0; the single wheelset: 0), m.
+    pub fn rear_offset_m(&self) -> f64 {
+        match self {
+            VehicleSpec::WheelsetOnFrame(_) => 0.0,
+            VehicleSpec::Multibody(m) => m
+                .bodies
+                .iter()
+                .map(|b| b.position_m[0])
+                .chain(m.wheelsets.iter().map(|w| w.x_m))
+                .fold(0.0_f64, f64::min),
+        }
+    }
+
+    /// Problems with the values (empty when valid), each naming its key.
+    pub fn problems(&self) -> Vec<String> {
+        let mut p = Vec::new();
+        match self {
+            VehicleSpec::Multibody(m) => p.extend(m.problems()),
+            VehicleSpec::WheelsetOnFrame(w) => {
+                let mut check = |name: &str, v: f64, lo: f64, hi: f64| {
+                    if !(v.is_finite() && v >= lo && v <= hi) {
+                        p.push(format!("vehicle.{name} = {v}: expected a value in [{lo}, {hi}]"));
+                    }
+                };
+                check("axle_load_n", w.axle_load_n, 0.0, 1e7);
+                check("wheelset.mass_kg", w.wheelset.mass_kg, 1.0, 1e5);
+                for (i, v) in w.wheelset.inertia_kg_m2.iter().enumerate() {
+                    check(&format!("wheelset.inertia_kg_m2[{i}]"), *v, 1e-3, 1e6);
+                }
+                check(
+                    "tie.longitudinal_stiffness_n_per_m",
+                    w.tie.longitudinal_stiffness_n_per_m,
+                    0.0,
+                    1e10,
+                );
+                check(
+                    "tie.lateral_stiffness_n_per_m",
+                    w.tie.lateral_stiffness_n_per_m,
+                    0.0,
+                    1e10,
+                );
+                check(
+                    "tie.longitudinal_damping_n_s_per_m",
+                    w.tie.longitudinal_damping_n_s_per_m,
+                    0.0,
+                    1e8,
+                );
+                check(
+                    "tie.lateral_damping_n_s_per_m",
+                    w.tie.lateral_damping_n_s_per_m,
+                    0.0,
+                    1e8,
+                );
+                check("tie.half_spacing_m", w.tie.half_spacing_m, 0.1, 3.0);
+            }
+        }
+        p
+    }
+}
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]

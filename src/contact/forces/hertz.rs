@@ -96,7 +96,7 @@ impl RelativeCurvature {
     /// At a real contact point of the contact geometry. Its contact angle is measured in the track
     /// frame; the wheel's radial direction is tilted by the wheelset roll φ (a few mrad), which
     /// changes cos γ by at most sin γ · |φ| (< 0.3 % at 70°, 3 mrad): neglected.
-    pub fn at_contact(point: &crate::contact::geometry::ContactPoint) -> Self {
+    pub fn at_contact(point: &crate::contact::ContactPoint) -> Self {
         RelativeCurvature::wheel_rail(
             point.rolling_radius,
             point.contact_angle,

@@ -259,9 +259,9 @@ fn hertz_to_patch_and_scene_toml() {
 #[test]
 fn hertz_at_real_contact_points() {
     use crate::contact::geometry::ContactGeometry;
-    use crate::contact::RailOffsets;
     use crate::profile::placement::WheelRailPair;
     use crate::profile::StandardProfile;
+    use crate::track::RailOffsets;
     let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").unwrap();
     let geom = ContactGeometry::with_defaults(pair);
     let m = Material::STEEL;

@@ -5,24 +5,30 @@
 //! `schema_version` says which format the file follows. Validation collects every problem it finds
 //! rather than stopping at the first.
 //!
-//! The schema grows with the product: today a scene is the placed wheel/rail pair of one wheelset
-//! (profiles, track gauge, wheelset dimensions); track, vehicle, contact model and integrator
-//! sections arrive with those capabilities.
+//! This module is the **one compile step** of a run: [`Scenario::compile`] validates the file (every
+//! problem at once) and assembles a [`Scene`] — the placed wheel/rail pair, the contact forces, the
+//! track, the validated `[simulation]` and `[vehicle]` — and [`Scene::build_run`] builds the
+//! run's objects from it ([`simulation`]: contact model, vehicle system, reference, settings). The
+//! command line only parses arguments and calls these.
+
+pub mod simulation;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde::Deserialize;
 
 use crate::contact::forces::{ContactForceSettings, CreepModel, Material};
-use crate::dynamics::spec::{SimulationSpec, VehicleSpec};
-use crate::profile::placement::{Inclination, TrackGauge, WheelRailPair, WheelsetGeometry};
+use crate::profile::placement::{Inclination, WheelRailPair, WheelsetGeometry};
 use crate::profile::{Profile, ProfileKind};
+use crate::track::TrackGauge;
+use crate::vehicle::VehicleSpec;
 
-/// The schema version this build reads.
-pub const SCHEMA_VERSION: u32 = 1;
+pub use crate::SCHEMA_VERSION;
+pub use simulation::{BuildError, BuiltRun, RunOptions, SimulationSpec};
 
 /// The default scenario, embedded in the binary.
-pub const DEFAULT_SCENARIO: &str = include_str!("../assets/default.toml");
+pub const DEFAULT_SCENARIO: &str = include_str!("../../assets/default.toml");
 
 /// A scenario file as written.
 #[derive(Debug, Clone, Deserialize)]
@@ -155,7 +161,7 @@ pub struct Scene {
     pub name: String,
     pub pair: WheelRailPair,
     pub contact_forces: ContactForceSettings,
-    pub track: Option<crate::track::Track>,
+    pub track: Option<Arc<crate::track::Track>>,
     /// The simulation and its vehicle, when the scenario has both.
     pub simulation: Option<(SimulationSpec, VehicleSpec)>,
 }
@@ -270,7 +276,7 @@ impl Scenario {
             None
         } else {
             match self.track.build(&self.name, origin, &self.source, base) {
-                Ok(t) => Some(t),
+                Ok(t) => Some(Arc::new(t)),
                 Err(crate::track::TrackError::Invalid { problems: p, .. }) => {
                     problems.extend(p);
                     None

@@ -1,4 +1,5 @@
-//! C² interpolating cubic spline z(s) with O(1) interval lookup.
+//! C² interpolating cubic spline z(s) with O(1) interval lookup: the curve of the wheel and rail
+//! profiles ([`crate::profile`]) and of measured irregularity files ([`crate::track::measured`]).
 //!
 //! The profile functions h(s) of the paper (§3, Eq. 20–21) must give value, slope and second
 //! derivative at millions of points per second. We interpolate the profile points with a

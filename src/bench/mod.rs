@@ -1,6 +1,8 @@
 //! Benchmarks printed by `kecsim bench`: each speed figure is measured in the same run as the
 //! error that goes with it, in release builds. Not timed assertions: numbers for people.
 
+pub mod dynamics;
+
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -169,8 +171,8 @@ fn p95(mut v: Vec<f64>) -> f64 {
 pub fn contact(n: usize) -> Result<(Vec<ContactBenchRow>, String), crate::contact::lookup::TableError> {
     use crate::contact::geometry::ContactGeometry;
     use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
-    use crate::contact::RailOffsets;
     use crate::profile::placement::WheelRailPair;
+    use crate::track::RailOffsets;
 
     let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40")
         .expect("standard pair places");
@@ -313,8 +315,8 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     use crate::contact::geometry::ContactGeometry;
     use crate::contact::kec::{rails, KecModel};
     use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
-    use crate::contact::RailOffsets;
     use crate::profile::placement::WheelRailPair;
+    use crate::track::RailOffsets;
 
     let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40")
         .expect("standard pair places");

@@ -1,0 +1,92 @@
+//! `kecsim contact`: the contact geometry sweep over y — lookup table, contact jumps, equivalent
+//! conicity (EN 15302) — and, on request, the 2-entry table.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+
+use kecsim::contact::geometry::ContactGeometry;
+use kecsim::contact::lookup::LookupTable2;
+use kecsim::contact::report::ContactReport;
+use kecsim::inspect;
+
+use super::{describe, positive_mm, PairArgs, SinkArgs, TableArgs};
+
+#[derive(Args)]
+pub(super) struct ContactArgs {
+    #[command(flatten)]
+    pair: PairArgs,
+    /// Write the 1-entry lookup table as CSV (one row per tabulated y).
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    #[command(flatten)]
+    table: TableArgs,
+    /// Also build the 2-entry table (y, gauge variation) and write it as CSV.
+    #[arg(long, value_name = "FILE")]
+    table2_csv: Option<PathBuf>,
+    /// Gauge variations of the 2-entry table: −MAX..MAX, mm.
+    #[arg(long, value_name = "MM", default_value_t = 10.0)]
+    gv_max: f64,
+    /// Gauge-variation step of the 2-entry table, mm.
+    #[arg(long, value_name = "MM", default_value_t = 1.0)]
+    gv_step: f64,
+    #[command(flatten)]
+    sink: SinkArgs,
+}
+
+pub(super) fn run(a: ContactArgs) -> Result<()> {
+    let ContactArgs {
+        pair,
+        csv,
+        table,
+        table2_csv,
+        gv_max,
+        gv_step,
+        sink,
+    } = a;
+    let pair = pair.pair()?;
+    let title = format!(
+        "kecsim contact: {} on {} at {}",
+        pair.wheel.name, pair.rail.name, pair.inclination
+    );
+    let geom = ContactGeometry::with_defaults(pair);
+    let settings = table.settings()?;
+    let report = ContactReport::new(&geom, &settings)?;
+    let summary = report.summary(&title);
+    let sink = sink.sink();
+    {
+        let rec = inspect::open_recording("kecsim", &sink, inspect::contact::blueprint)?;
+        inspect::contact::record(&rec, &geom, &report.table, &summary)?;
+    }
+    print!("{summary}");
+    if let Some(path) = csv {
+        report
+            .table
+            .write_csv(&path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = table2_csv {
+        let (gv_max, gv_step) = (
+            positive_mm("--gv-max", gv_max)?,
+            positive_mm("--gv-step", gv_step)?,
+        );
+        let n = (gv_max / gv_step).round() as i64;
+        let gvs: Vec<f64> = (-n..=n).map(|k| k as f64 * gv_step).collect();
+        let (lo, hi) = report.table.range();
+        let t = std::time::Instant::now();
+        let table2 = LookupTable2::build(&geom, lo.abs().min(hi), &gvs, &settings)?;
+        table2
+            .write_csv(&path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        println!(
+            "wrote {} ({} gauge variations, built in {:.1} s)",
+            path.display(),
+            gvs.len(),
+            t.elapsed().as_secs_f64()
+        );
+    }
+    println!("{}", describe(&sink));
+    Ok(())
+}

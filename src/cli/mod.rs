@@ -1,0 +1,199 @@
+//! The command line: the arguments of every command and the dispatch to one module per command,
+//! each of which only parses its options and calls the library.
+
+mod bench;
+mod contact;
+mod creep;
+mod generate;
+mod kec;
+mod profiles;
+mod progress;
+mod run;
+mod track;
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::{Args, Parser, Subcommand};
+
+use kecsim::contact::lookup::TableSettings;
+use kecsim::contact::ContactModelSpec;
+use kecsim::inspect::{self, Sink};
+use kecsim::profile::placement::{Inclination, WheelRailPair, WheelsetGeometry};
+use kecsim::profile::{Profile, ProfileKind};
+use kecsim::track::TrackGauge;
+
+#[derive(Parser)]
+#[command(
+    name = "kecsim",
+    version,
+    about = "Railway vehicle dynamics with the KEC contact method, inspected in Rerun"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario (the embedded default when none is given), streaming it to the recording.
+    Run(run::RunArgs),
+    /// Record the wheel and rail profiles of both sides placed on the track cross-section.
+    Profiles(profiles::ProfilesArgs),
+    /// Contact geometry sweep over y: lookup table, contact jumps, equivalent conicity (EN 15302).
+    Contact(contact::ContactArgs),
+    /// The KEC-method: knife-edge-equivalent profiles, their kinks, and their accuracy.
+    Kec(kec::KecArgs),
+    /// Creep-force curves (force vs creepage) of the creep-force models for one contact ellipse.
+    Creep(creep::CreepArgs),
+    /// The track: centreline from its sections, curvature, cant, twist, irregularities.
+    Track(track::TrackArgs),
+    /// Write the standard profiles (S1002, 60E1, 54E1) as CSV files, mm.
+    GenerateProfiles(generate::GenerateArgs),
+    /// Print measured speed and error of the building blocks (release builds).
+    Bench(bench::BenchArgs),
+}
+
+/// Runs the command.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Run(a) => run::run(a),
+        Command::Profiles(a) => profiles::run(a),
+        Command::Contact(a) => contact::run(a),
+        Command::Kec(a) => kec::run(a),
+        Command::Creep(a) => creep::run(a),
+        Command::Track(a) => track::run(a),
+        Command::GenerateProfiles(a) => generate::run(a),
+        Command::Bench(a) => bench::run(a),
+    }
+}
+
+/// The contact models' names, for `--contact`.
+fn contact_model_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(ContactModelSpec::NAMES)
+}
+
+/// A wheel/rail pair and its placement.
+#[derive(Args)]
+struct PairArgs {
+    /// Wheel profile: standard name (s1002) or file (.csv, .dat, .prw).
+    #[arg(long, default_value = "s1002")]
+    wheel: String,
+    /// Rail profile: standard name (60e1, 54e1) or file (.csv, .dat, .prr).
+    #[arg(long, default_value = "60e1")]
+    rail: String,
+    /// Rail inclination: 1:N or "upright" (use "upright" for files that are already inclined).
+    #[arg(long, default_value = "1:40")]
+    inclination: Inclination,
+    /// Track gauge, mm (measured 14 mm below the top of rail).
+    #[arg(long, default_value_t = 1435.0)]
+    gauge: f64,
+    /// Wheelset back-to-back distance, mm.
+    #[arg(long, default_value_t = 1360.0)]
+    back_to_back: f64,
+    /// Nominal wheel radius at the taping line, mm.
+    #[arg(long, default_value_t = 460.0)]
+    wheel_radius: f64,
+}
+
+impl PairArgs {
+    fn pair(&self) -> Result<WheelRailPair> {
+        let wheel = Profile::resolve(&self.wheel, ProfileKind::Wheel)?;
+        let rail = Profile::resolve(&self.rail, ProfileKind::Rail)?;
+        let gauge = TrackGauge {
+            gauge_m: self.gauge * 1e-3,
+            ..TrackGauge::default()
+        };
+        let wheelset = WheelsetGeometry {
+            back_to_back_m: self.back_to_back * 1e-3,
+            nominal_radius_m: self.wheel_radius * 1e-3,
+            ..WheelsetGeometry::default()
+        };
+        Ok(WheelRailPair::new(
+            wheel,
+            rail,
+            self.inclination,
+            gauge,
+            wheelset,
+        )?)
+    }
+}
+
+/// Range and grid of the 1-entry lookup table.
+#[derive(Args)]
+struct TableArgs {
+    /// Largest |y| tabulated, mm [default: flange contact on each side].
+    #[arg(long, value_name = "MM")]
+    y_max: Option<f64>,
+    /// Grid step in y, mm (intervals are refined where the geometry needs it).
+    #[arg(long, value_name = "MM", default_value_t = 0.1)]
+    step: f64,
+}
+
+impl TableArgs {
+    fn settings(&self) -> Result<TableSettings> {
+        Ok(TableSettings {
+            step_m: positive_mm("--step", self.step)?,
+            y_max_m: self.y_max.map(|v| positive_mm("--y-max", v)).transpose()?,
+            ..TableSettings::default()
+        })
+    }
+}
+
+/// Where the recording goes (default: `--save kecsim.rrd`).
+#[derive(Args)]
+struct SinkArgs {
+    /// Save the recording to this .rrd file [default: kecsim.rrd].
+    #[arg(long, value_name = "FILE", group = "sink")]
+    save: Option<PathBuf>,
+    /// Start a Rerun viewer (`rerun` on PATH) and stream to it.
+    #[arg(long, group = "sink")]
+    spawn: bool,
+    /// Stream to a running viewer [default URL: rerun+http://127.0.0.1:9876/proxy].
+    #[arg(long, value_name = "URL", group = "sink", num_args = 0..=1, default_missing_value = inspect::DEFAULT_CONNECT_URL)]
+    connect: Option<String>,
+}
+
+impl SinkArgs {
+    fn sink(&self) -> Sink {
+        if self.spawn {
+            Sink::Spawn
+        } else if let Some(url) = &self.connect {
+            Sink::Connect(url.clone())
+        } else {
+            Sink::Save(
+                self.save
+                    .clone()
+                    .unwrap_or_else(|| PathBuf::from(inspect::DEFAULT_RRD)),
+            )
+        }
+    }
+}
+
+/// Where the recording went, for the last line of a command's output.
+fn describe(sink: &Sink) -> String {
+    match sink {
+        Sink::Save(p) => format!("saved {}", p.display()),
+        Sink::Spawn => "streamed to the spawned viewer".into(),
+        Sink::Connect(u) => format!("streamed to {u}"),
+    }
+}
+
+/// The placed pair's summary, as plain text.
+fn print_pair(pair: &WheelRailPair) {
+    println!(
+        "{}",
+        inspect::profiles::summary_markdown(pair)
+            .replace("**", "")
+            .replace('`', "")
+    );
+}
+
+/// A positive length option in mm, converted to m.
+fn positive_mm(name: &str, v: f64) -> Result<f64> {
+    anyhow::ensure!(
+        v.is_finite() && v > 0.0,
+        "{name} {v}: expected a positive length in mm"
+    );
+    Ok(v * 1e-3)
+}

@@ -1,0 +1,95 @@
+//! Run observers of the command line: the progress bar (rate and ETA, silent when stderr is not a
+//! terminal) and the pacing of `--pace X` (play at X times real time).
+
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use kecsim::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
+use kecsim::dynamics::RunSummary;
+
+/// A progress bar over the simulated time, in ms, with the real-time factor and the ETA.
+pub struct Progress {
+    bar: ProgressBar,
+    start: Instant,
+}
+
+impl Progress {
+    /// Drawn on stderr when it is a terminal, hidden otherwise.
+    pub fn new() -> Progress {
+        let target = if std::io::stderr().is_terminal() {
+            ProgressDrawTarget::stderr_with_hz(10)
+        } else {
+            ProgressDrawTarget::hidden()
+        };
+        let bar = ProgressBar::with_draw_target(Some(0), target);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{wide_bar} {percent:>3}% · t = {msg} · {elapsed_precise} elapsed, ETA {eta}",
+            )
+            .expect("a valid template"),
+        );
+        Progress {
+            bar,
+            start: Instant::now(),
+        }
+    }
+}
+
+impl RunObserver for Progress {
+    fn start(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
+        self.bar.set_length((run.duration_s * 1e3).round() as u64);
+        self.start = Instant::now();
+        Ok(())
+    }
+
+    fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
+        self.bar.set_position((sample.t * 1e3).round() as u64);
+        if !self.bar.is_hidden() {
+            let wall = self.start.elapsed().as_secs_f64();
+            self.bar.set_message(format!(
+                "{:.2} s simulated, {:.1}× real time",
+                sample.t,
+                if wall > 0.0 { sample.t / wall } else { 0.0 }
+            ));
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self, _summary: &RunSummary) -> Result<(), ObserverError> {
+        self.bar.finish_and_clear();
+        Ok(())
+    }
+}
+
+/// Holds the run back so that simulated time passes at `factor` times wall time (never faster).
+pub struct Pace {
+    factor: f64,
+    start: Instant,
+}
+
+impl Pace {
+    pub fn new(factor: f64) -> Pace {
+        Pace {
+            factor,
+            start: Instant::now(),
+        }
+    }
+}
+
+impl RunObserver for Pace {
+    fn start(&mut self, _run: &RunStart<'_>) -> Result<(), ObserverError> {
+        self.start = Instant::now();
+        Ok(())
+    }
+
+    fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
+        let due = Duration::from_secs_f64((sample.t / self.factor).max(0.0));
+        let elapsed = self.start.elapsed();
+        if due > elapsed {
+            std::thread::sleep(due - elapsed);
+        }
+        Ok(())
+    }
+}

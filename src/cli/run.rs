@@ -1,0 +1,180 @@
+//! `kecsim run [SCENARIO.toml]`: compile the scenario, build the run, and run it with the
+//! observers the options ask for — the recording (streamed as the run goes), the CSV files, the
+//! progress bar, the pacing — then print the summary and write the JSON. Without a
+//! `[simulation]`, the scenario's contact preprocessing is recorded (as `kecsim kec`).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::Args;
+
+use kecsim::contact::geometry::ContactGeometry;
+use kecsim::contact::kec::KecModel;
+use kecsim::contact::lookup::{LookupTable1, TableSettings};
+use kecsim::contact::report::kec_summary;
+use kecsim::dynamics::output::CsvWriter;
+use kecsim::dynamics::{RunEnd, RunObserver};
+use kecsim::inspect::{self, run::LiveRecorder};
+use kecsim::scenario::{RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
+
+use super::progress::{Pace, Progress};
+use super::{contact_model_names, describe, print_pair, SinkArgs};
+
+#[derive(Args)]
+pub(super) struct RunArgs {
+    /// Scenario file (TOML); omit to run the embedded default.
+    scenario: Option<PathBuf>,
+    /// Contact model, overriding the scenario's: kec, lookup (1-entry), lookup2 (y, gv) or online.
+    #[arg(long, value_parser = contact_model_names())]
+    contact: Option<String>,
+    /// Initial forward speed, m/s, overriding the scenario's.
+    #[arg(long, value_name = "M_S")]
+    speed: Option<f64>,
+    /// Write one CSV per wheelset into this directory (as the run goes).
+    #[arg(long, value_name = "DIR")]
+    csv: Option<PathBuf>,
+    /// Write the run summary as JSON.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Play the run at this many times real time (for demonstrations with --spawn/--connect);
+    /// default: as fast as it computes.
+    #[arg(long, value_name = "X")]
+    pace: Option<f64>,
+    #[command(flatten)]
+    sink: SinkArgs,
+}
+
+pub(super) fn run(a: RunArgs) -> Result<()> {
+    let (parsed, origin, base) = match &a.scenario {
+        Some(path) => (
+            Scenario::read(path)?,
+            path.display().to_string(),
+            path.parent().unwrap_or(Path::new(".")).to_path_buf(),
+        ),
+        None => (
+            Scenario::parse(DEFAULT_SCENARIO, "<embedded default scenario>")?,
+            "<embedded default scenario>".to_string(),
+            PathBuf::from("."),
+        ),
+    };
+    let t = Instant::now();
+    let scene = parsed.compile(&origin, &base)?;
+    println!("scenario: {} ({origin})", scene.name);
+    print_pair(&scene.pair);
+    let cf = &scene.contact_forces;
+    println!(
+        "contact forces: {} creep model, μ = {}, E = {:.0} GPa, ν = {}",
+        cf.model.name(),
+        cf.friction,
+        cf.material.young_pa * 1e-9,
+        cf.material.poisson
+    );
+    if scene.simulation.is_some() {
+        return simulate(&scene, a);
+    }
+    anyhow::ensure!(
+        a.contact.is_none() && a.speed.is_none() && a.csv.is_none() && a.json.is_none() && a.pace.is_none(),
+        "this scenario has no [simulation]: --contact, --speed, --csv, --json and --pace need one"
+    );
+    // The wheelset's contact preprocessing: 1-entry table of the real profiles, then the
+    // KEC-equivalent profiles, recorded as `kecsim kec` does.
+    let l_w = scene.pair.wheelset.l_w();
+    let geom = ContactGeometry::with_defaults(scene.pair.clone());
+    let table = LookupTable1::build(&geom, &TableSettings::default())?;
+    let model = KecModel::from_table(&table, l_w)?;
+    let summary = kec_summary(&format!("kecsim run: {}", scene.name), &geom, &table, &model)
+        .map_err(anyhow::Error::msg)?;
+    let sink = a.sink.sink();
+    {
+        let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
+        inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
+    }
+    print!("{summary}");
+    println!(
+        "scene preprocessed (profiles placed, contact table, KEC profiles) in {:.2} s wall; {}",
+        t.elapsed().as_secs_f64(),
+        describe(&sink)
+    );
+    Ok(())
+}
+
+/// A scenario with a simulation: everything that can fail before the run is checked first (the
+/// options, the preprocessing, the CSV directory, the sink); the samples then go to the observers
+/// as they are computed, so that an early end keeps everything up to it.
+fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
+    if let Some(x) = a.pace {
+        anyhow::ensure!(
+            x.is_finite() && x > 0.0,
+            "--pace {x}: expected a positive factor of real time"
+        );
+    }
+    let built = scene.build_run(&RunOptions {
+        contact: a.contact.clone(),
+        speed_m_s: a.speed,
+    })?;
+    let s = &built.settings;
+    let speed = built.vehicle.reference().speed;
+    println!(
+        "simulating {:.3} s at {} m/s (ramp {} m/s²), contact model {}, {} creep, {:?} rtol {:.0e}",
+        s.duration_s,
+        speed.initial_m_s,
+        speed.ramp_m_s2,
+        built.labels.contact_model,
+        built.labels.creep_model,
+        s.integrator.method,
+        s.integrator.rtol
+    );
+    if let Some(st) = built.vehicle.settling() {
+        println!(
+            "static settling: axle loads {} kN (elements preloaded; residual {:.1e} N)",
+            st.axle_loads
+                .iter()
+                .map(|q| format!("{:.1}", q * 1e-3))
+                .collect::<Vec<_>>()
+                .join(", "),
+            st.residual
+        );
+    }
+    let names = built.vehicle.wheelset_names();
+    let mut csv = match &a.csv {
+        Some(dir) => Some(
+            CsvWriter::create(dir, &names)
+                .with_context(|| format!("cannot write CSV into {}", dir.display()))?,
+        ),
+        None => None,
+    };
+    let sink = a.sink.sink();
+    let mut recorder = LiveRecorder::open(&sink, scene, &names)?;
+    let mut progress = Progress::new();
+    let mut pace = a.pace.map(Pace::new);
+    let out = {
+        let mut observers: Vec<&mut dyn RunObserver> = vec![&mut recorder, &mut progress];
+        if let Some(c) = csv.as_mut() {
+            observers.push(c);
+        }
+        if let Some(p) = pace.as_mut() {
+            observers.push(p);
+        }
+        built.run(&mut observers)
+    };
+    // The stream's footer is written when the recorder (its last handle) is dropped.
+    drop(recorder);
+    let summary = &out.summary;
+    print!("{summary}");
+    if let Some(c) = &csv {
+        for path in c.paths() {
+            println!("wrote {}", path.display());
+        }
+    }
+    if let Some(path) = &a.json {
+        let text = serde_json::to_string_pretty(summary)?;
+        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    println!("{}", describe(&sink));
+    if let RunEnd::Failed(e) = &out.end {
+        anyhow::bail!("the run stopped at t = {:.4} s: {e}", summary.simulated_s);
+    }
+    Ok(())
+}

@@ -1,0 +1,95 @@
+//! `model = "lookup2"`: the 2-entry contact lookup table over (y, gauge variation) (paper §4.3),
+//! one 1-entry table per gauge variation over y up to flange contact of the centred gauge;
+//! velocity terms by the directional differences of [`crate::contact::model`].
+//!
+//! Settings: `gv_max_m` (the gauge variations −max … +max, default 0.010 m) and `gv_step_m`
+//! (default 0.001 m).
+
+use std::sync::Arc;
+
+use serde::Deserialize;
+
+use super::{check_range, ContactBuildError, ContactModelSettings};
+use crate::contact::geometry::ContactGeometry;
+use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
+use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
+use crate::profile::placement::WheelRailPair;
+use crate::track::RailOffsets;
+
+/// `[simulation.contact] model = "lookup2"`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Lookup2Settings {
+    /// Largest |gauge variation| tabulated, m.
+    #[serde(default = "default_gv_max")]
+    pub gv_max_m: f64,
+    /// Gauge-variation step, m.
+    #[serde(default = "default_gv_step")]
+    pub gv_step_m: f64,
+}
+
+fn default_gv_max() -> f64 {
+    0.010
+}
+fn default_gv_step() -> f64 {
+    0.001
+}
+
+impl Default for Lookup2Settings {
+    fn default() -> Self {
+        Lookup2Settings {
+            gv_max_m: default_gv_max(),
+            gv_step_m: default_gv_step(),
+        }
+    }
+}
+
+impl Lookup2Settings {
+    /// The tabulated gauge variations −n Δ … n Δ, n = round(max / Δ), m.
+    pub fn gauge_variations(&self) -> Vec<f64> {
+        let n = (self.gv_max_m / self.gv_step_m).round() as i64;
+        (-n..=n).map(|k| k as f64 * self.gv_step_m).collect()
+    }
+}
+
+impl ContactModelSettings for Lookup2Settings {
+    fn problems(&self) -> Vec<String> {
+        let mut p = Vec::new();
+        check_range(&mut p, "gv_max_m", self.gv_max_m, 1e-4, 0.03);
+        check_range(&mut p, "gv_step_m", self.gv_step_m, 1e-5, 0.01);
+        if p.is_empty() && self.gv_max_m / self.gv_step_m > 200.0 {
+            p.push(format!(
+                "simulation.contact: gv_max_m / gv_step_m = {:.0}: at most 200 columns each side",
+                self.gv_max_m / self.gv_step_m
+            ));
+        }
+        p
+    }
+
+    fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+        let geometry = ContactGeometry::with_defaults(pair.clone());
+        let settings = TableSettings::default();
+        // y up to flange contact of the centred gauge (as `kecsim bench kec`).
+        let t1 = LookupTable1::build(&geometry, &settings)?;
+        let (lo, hi) = t1.range();
+        let table = LookupTable2::build(&geometry, lo.abs().min(hi), &self.gauge_variations(), &settings)?;
+        Ok(Arc::new(Lookup2Contact { table }))
+    }
+}
+
+/// The 2-entry table as a contact model.
+#[derive(Debug, Clone)]
+pub struct Lookup2Contact {
+    pub table: LookupTable2,
+}
+
+impl ContactModel for Lookup2Contact {
+    fn configuration(
+        &self,
+        y: f64,
+        rails: &RailOffsets,
+        _warm: &mut WarmStart,
+    ) -> Result<Configuration, ContactModelError> {
+        Ok(super::lookup::configuration(&self.table.contact(y, rails)?))
+    }
+}

@@ -1,0 +1,172 @@
+//! The contact models of the dynamics, one file each, and the one list of them.
+//!
+//! A scenario chooses a model and its settings in `[simulation.contact]`:
+//!
+//! ```toml
+//! [simulation.contact]
+//! model = "kec"                   # kec | lookup | lookup2 | online
+//! two_point_approach_m = 5e-5     # that model's own keys (see each model's settings)
+//! ```
+//!
+//! **Adding a model**: write one file here with its settings (a serde struct with
+//! `deny_unknown_fields`, `Default`, and [`ContactModelSettings`]: `problems` and `build` from the
+//! wheel–rail pair) and its [`ContactModel`] implementation (`configuration`; `kinematics` and
+//! `history_dependent` if needed), then add one line to the list below. The scenario files, the
+//! command line (`--contact`), the runs and `kecsim bench dynamics` take it from there.
+
+pub mod kec;
+pub mod lookup;
+pub mod lookup2;
+pub mod online;
+
+use std::fmt::Debug;
+use std::sync::Arc;
+
+use serde::Deserialize;
+use thiserror::Error;
+
+use super::kec::KecError;
+use super::lookup::TableError;
+use super::model::ContactModel;
+use crate::profile::placement::WheelRailPair;
+
+/// Building a contact model failed (the preprocessing: tables, equivalent profiles).
+#[derive(Debug, Error)]
+pub enum ContactBuildError {
+    #[error("contact lookup table: {0}")]
+    Table(#[from] TableError),
+    #[error("KEC-equivalent profiles: {0}")]
+    Kec(#[from] KecError),
+    #[error("invalid contact-model settings:\n  - {}", .0.join("\n  - "))]
+    Invalid(Vec<String>),
+}
+
+/// A model's settings table: validation and the constructor from the wheel–rail pair.
+pub trait ContactModelSettings: Debug {
+    /// Problems with the values (empty when valid), each naming its key under
+    /// `simulation.contact`.
+    fn problems(&self) -> Vec<String>;
+    /// Builds the model for the placed wheel–rail pair (the preprocessing: tables, equivalent
+    /// profiles).
+    fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError>;
+}
+
+/// Declares the list of models: the `[simulation.contact]` table (`model = NAME` and that model's
+/// keys), the names, and the dispatch to each model's settings.
+macro_rules! contact_models {
+    ($($(#[$doc:meta])* $variant:ident = $name:literal => $settings:path),* $(,)?) => {
+        /// `[simulation.contact]`: the contact model (`model = ...`) and its settings.
+        #[derive(Debug, Clone, PartialEq, Deserialize)]
+        #[serde(tag = "model", deny_unknown_fields)]
+        pub enum ContactModelSpec {
+            $($(#[$doc])* #[serde(rename = $name)] $variant($settings),)*
+        }
+
+        impl ContactModelSpec {
+            /// The models' names, as scenario files and `--contact` spell them.
+            pub const NAMES: &'static [&'static str] = &[$($name),*];
+
+            /// This model's name.
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Self::$variant(_) => $name,)*
+                }
+            }
+
+            /// The model called `name` with its default settings.
+            pub fn default_for(name: &str) -> Option<Self> {
+                match name {
+                    $($name => Some(Self::$variant(Default::default())),)*
+                    _ => None,
+                }
+            }
+
+            /// The model's settings.
+            pub fn settings(&self) -> &dyn ContactModelSettings {
+                match self {
+                    $(Self::$variant(s) => s,)*
+                }
+            }
+        }
+    };
+}
+
+contact_models! {
+    /// The KEC constraints (Eq. 49–51) on the knife-edge-equivalent profiles, analytic derivatives.
+    Kec = "kec" => kec::KecSettings,
+    /// The 1-entry contact lookup table over y (Eq. 44–46; gauge variation not in it).
+    Lookup = "lookup" => lookup::LookupSettings,
+    /// The 2-entry contact lookup table over (y, gauge variation).
+    Lookup2 = "lookup2" => lookup2::Lookup2Settings,
+    /// The approximate contact constraints (Eq. 35–42) solved at every evaluation.
+    Online = "online" => online::OnlineSettings,
+}
+
+impl Default for ContactModelSpec {
+    fn default() -> Self {
+        ContactModelSpec::Kec(kec::KecSettings::default())
+    }
+}
+
+impl ContactModelSpec {
+    /// Problems with the settings (empty when valid).
+    pub fn problems(&self) -> Vec<String> {
+        self.settings().problems()
+    }
+
+    /// Builds the model for the wheel–rail pair.
+    pub fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+        let problems = self.problems();
+        if !problems.is_empty() {
+            return Err(ContactBuildError::Invalid(problems));
+        }
+        self.settings().build(pair)
+    }
+}
+
+/// A value check for the settings' `problems`: `simulation.contact.NAME = v: expected ...`.
+pub(crate) fn check_range(problems: &mut Vec<String>, name: &str, v: f64, lo: f64, hi: f64) {
+    if !(v.is_finite() && v >= lo && v <= hi) {
+        problems.push(format!(
+            "simulation.contact.{name} = {v}: expected a value in [{lo}, {hi}]"
+        ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_model_has_a_name_default_settings_and_a_table() {
+        for &name in ContactModelSpec::NAMES {
+            let spec = ContactModelSpec::default_for(name).unwrap();
+            assert_eq!(spec.name(), name);
+            assert!(spec.problems().is_empty(), "{name}: {:?}", spec.problems());
+            let parsed: ContactModelSpec = toml::from_str(&format!("model = \"{name}\"")).unwrap();
+            assert_eq!(parsed, spec);
+        }
+        assert!(ContactModelSpec::default_for("nonsense").is_none());
+    }
+
+    #[test]
+    fn settings_tables_reject_unknown_keys_and_bad_values() {
+        let s: ContactModelSpec = toml::from_str("model = \"kec\"\ntwo_point_approach_m = 0.0").unwrap();
+        assert_eq!(
+            s,
+            ContactModelSpec::Kec(kec::KecSettings {
+                two_point_approach_m: 0.0
+            })
+        );
+        let e = toml::from_str::<ContactModelSpec>("model = \"lookup\"\ntwo_point_approach_m = 0.0")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("two_point_approach_m"), "{e}");
+        let e = toml::from_str::<ContactModelSpec>("model = \"magic\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("magic") && e.contains("kec"), "{e}");
+        let bad: ContactModelSpec = toml::from_str("model = \"kec\"\ntwo_point_approach_m = -1.0").unwrap();
+        assert!(bad.problems()[0].contains("simulation.contact.two_point_approach_m = -1"));
+    }
+}

@@ -1,0 +1,331 @@
+//! What a run gives out, and to whom: the output row of one wheelset ([`Sample`]), the run summary
+//! ([`RunSummary`], `--json`), and the observers that receive the samples as they are produced
+//! ([`RunObserver`]: the CSV writer here, the Rerun recorder in [`crate::inspect::run`], the
+//! progress bar and the pacing of the command line). Observers only read: the physics never
+//! depends on them (argmin's `Observe`).
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::system::{BodySample, WheelsetSample};
+
+/// One output sample of one wheelset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    pub t: f64,
+    /// Arc length of the wheelset, m.
+    pub s: f64,
+    pub speed: f64,
+    pub y: f64,
+    pub yaw: f64,
+    /// Centre height minus r0, m.
+    pub z: f64,
+    pub roll: f64,
+    /// Normal forces left, right, N.
+    pub normal: [f64; 2],
+    /// Creep forces (contact frame) left, right: Fx, Fy, N.
+    pub creep_x: [f64; 2],
+    pub creep_y: [f64; 2],
+    /// Lateral (Y) and vertical (Q) wheel–rail force on each wheel, track frame, N.
+    pub y_force: [f64; 2],
+    pub q_force: [f64; 2],
+    /// Contact on the real wheel and rail (paper convention), m.
+    pub s_wheel: [f64; 2],
+    pub s_rail: [f64; 2],
+    /// Contact positions (Y, Z) in the wheelset-track frame, m.
+    pub position: [(f64, f64); 2],
+    /// KEC: knife-edge contact parameters, m.
+    pub s_knife: Option<[f64; 2]>,
+    pub rails: [f64; 4],
+}
+
+impl Sample {
+    /// The output sample of one wheelset evaluation (Y and Q per wheel in the track frame).
+    pub fn new(t: f64, s: &WheelsetSample, r0: f64) -> Sample {
+        let d = &s.dynamics;
+        let mut y_force = [0.0; 2];
+        let mut q_force = [0.0; 2];
+        for i in 0..2 {
+            // Normal force along the rail normal plus the creep force's lateral/vertical
+            // components (the contact frame's t₂ lies in the cross-section: (0, n_z, −n_y) up to
+            // the yaw).
+            let (ny, nz) = s.kin.contacts[i].normal;
+            y_force[i] = d.normal[i] * ny + d.creep[i].fy * nz;
+            q_force[i] = d.normal[i] * nz - d.creep[i].fy * ny;
+        }
+        Sample {
+            t,
+            s: s.s,
+            speed: s.speed,
+            y: s.state.y,
+            yaw: s.state.psi,
+            z: s.kin.z - r0,
+            roll: s.kin.phi,
+            normal: d.normal,
+            creep_x: [d.creep[0].fx, d.creep[1].fx],
+            creep_y: [d.creep[0].fy, d.creep[1].fy],
+            y_force,
+            q_force,
+            s_wheel: [s.kin.contacts[0].s_wheel, s.kin.contacts[1].s_wheel],
+            s_rail: [s.kin.contacts[0].s_rail, s.kin.contacts[1].s_rail],
+            position: [s.kin.contacts[0].position, s.kin.contacts[1].position],
+            s_knife: s.kin.s_knife,
+            rails: s.rails,
+        }
+    }
+
+    /// The larger |Y/Q| of the two wheels.
+    pub fn max_abs_y_over_q(&self) -> f64 {
+        (self.y_force[0] / self.q_force[0])
+            .abs()
+            .max((self.y_force[1] / self.q_force[1]).abs())
+    }
+}
+
+/// The run summary (`--json`; the keys are a documented interface).
+#[derive(Debug, Clone, Serialize)]
+pub struct RunSummary {
+    pub scene: String,
+    pub contact_model: String,
+    pub creep_model: String,
+    pub integrator: String,
+    pub simulated_s: f64,
+    pub wall_s: f64,
+    /// Simulated time over wall time.
+    pub realtime_factor: f64,
+    pub steps: usize,
+    pub rejected_steps: usize,
+    pub rhs_evaluations: usize,
+    pub preprocessing_s: f64,
+    pub max_abs_y_mm: f64,
+    pub max_abs_yaw_mrad: f64,
+    pub max_normal_n: f64,
+    pub min_normal_n: f64,
+    pub max_abs_y_over_q: f64,
+    /// Why the run stopped early, if it did.
+    pub error: Option<String>,
+    /// A stop condition that ended the run normally (`stop_lateral_m`).
+    pub stopped: Option<String>,
+    /// With a speed ramp: the speed at which the lateral oscillation stopped decaying and started
+    /// to grow (hunting onset), m/s — see [`super::run::hunting_onset`].
+    pub critical_speed_m_s: Option<f64>,
+    /// `completed`, `stopped` (a stop condition) or `failed` (`error` says why).
+    pub outcome: &'static str,
+    /// Output samples per wheelset.
+    pub samples: usize,
+}
+
+impl fmt::Display for RunSummary {
+    /// The plain-text summary `kecsim run` prints (and the recording's summary shows).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "simulated {:.3} s in {:.3} s wall: real-time factor {:.1} (preprocessing {:.2} s); {} steps ({} rejected), {} right-hand sides",
+            self.simulated_s,
+            self.wall_s,
+            self.realtime_factor,
+            self.preprocessing_s,
+            self.steps,
+            self.rejected_steps,
+            self.rhs_evaluations
+        )?;
+        if self.samples == 0 {
+            writeln!(f, "no output samples")?;
+        } else {
+            writeln!(
+                f,
+                "max |y| {:.3} mm, max |yaw| {:.3} mrad, normal forces {:.1} .. {:.1} kN, max |Y/Q| {:.3}",
+                self.max_abs_y_mm,
+                self.max_abs_yaw_mrad,
+                self.min_normal_n * 1e-3,
+                self.max_normal_n * 1e-3,
+                self.max_abs_y_over_q
+            )?;
+        }
+        if let Some(v) = self.critical_speed_m_s {
+            writeln!(
+                f,
+                "hunting onset on the speed ramp (critical speed): {v:.2} m/s ({:.0} km/h)",
+                v * 3.6
+            )?;
+        }
+        if let Some(note) = &self.stopped {
+            writeln!(f, "stopped: {note}")?;
+        }
+        if let Some(e) = &self.error {
+            writeln!(f, "the run stopped at t = {:.4} s: {e}", self.simulated_s)?;
+        }
+        Ok(())
+    }
+}
+
+/// An observer's failure (a file that cannot be written, a recording that cannot be logged): it
+/// ends the run, keeping what was recorded.
+pub type ObserverError = Box<dyn std::error::Error + Send + Sync>;
+
+/// What a run tells its observers before the first sample.
+#[derive(Debug, Clone)]
+pub struct RunStart<'a> {
+    pub wheelsets: &'a [String],
+    pub bodies: &'a [String],
+    /// Simulated time the run is to cover, s.
+    pub duration_s: f64,
+}
+
+/// One output time: every wheelset's and body's sample (in the order of [`RunStart`]).
+#[derive(Debug, Clone, Copy)]
+pub struct OutputSample<'a> {
+    pub t: f64,
+    pub wheelsets: &'a [Sample],
+    pub bodies: &'a [BodySample],
+}
+
+/// Receives a run's samples as they are produced (read-only; an `Err` ends the run).
+pub trait RunObserver {
+    fn start(&mut self, _run: &RunStart<'_>) -> Result<(), ObserverError> {
+        Ok(())
+    }
+    fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError>;
+    /// After the last sample, with the summary (also when the run stopped or failed).
+    fn finish(&mut self, _summary: &RunSummary) -> Result<(), ObserverError> {
+        Ok(())
+    }
+}
+
+/// The CSV columns of a wheelset (`--csv DIR` writes `DIR/NAME.csv`; a documented interface).
+pub const CSV_COLUMNS: [&str; 25] = [
+    "t_s",
+    "s_m",
+    "speed_m_s",
+    "y_mm",
+    "yaw_mrad",
+    "z_mm",
+    "roll_mrad",
+    "n_left_n",
+    "n_right_n",
+    "fx_left_n",
+    "fy_left_n",
+    "fx_right_n",
+    "fy_right_n",
+    "y_left_n",
+    "q_left_n",
+    "y_right_n",
+    "q_right_n",
+    "s_wheel_left_mm",
+    "s_rail_left_mm",
+    "s_wheel_right_mm",
+    "s_rail_right_mm",
+    "rail_y_left_mm",
+    "rail_z_left_mm",
+    "rail_y_right_mm",
+    "rail_z_right_mm",
+];
+
+/// One CSV row of a sample (the [`CSV_COLUMNS`], SI converted to the columns' units).
+fn csv_row(s: &Sample) -> [f64; 25] {
+    [
+        s.t,
+        s.s,
+        s.speed,
+        s.y * 1e3,
+        s.yaw * 1e3,
+        s.z * 1e3,
+        s.roll * 1e3,
+        s.normal[0],
+        s.normal[1],
+        s.creep_x[0],
+        s.creep_y[0],
+        s.creep_x[1],
+        s.creep_y[1],
+        s.y_force[0],
+        s.q_force[0],
+        s.y_force[1],
+        s.q_force[1],
+        s.s_wheel[0] * 1e3,
+        s.s_rail[0] * 1e3,
+        s.s_wheel[1] * 1e3,
+        s.s_rail[1] * 1e3,
+        s.rails[0] * 1e3,
+        s.rails[1] * 1e3,
+        s.rails[2] * 1e3,
+        s.rails[3] * 1e3,
+    ]
+}
+
+fn write_row(w: &mut csv::Writer<std::fs::File>, s: &Sample) -> Result<(), csv::Error> {
+    w.write_record(csv_row(s).iter().map(|x| format!("{x:.9e}")))
+}
+
+/// Writes one CSV per wheelset into a directory as the samples come (`DIR/NAME.csv`, the
+/// [`CSV_COLUMNS`]); the files are created at the start (a directory that cannot be written fails
+/// before any work), and what was written is kept if the run stops or fails.
+pub struct CsvWriter {
+    dir: PathBuf,
+    writers: Vec<(PathBuf, csv::Writer<std::fs::File>)>,
+}
+
+impl CsvWriter {
+    /// Creates `dir` and a CSV with its header for each wheelset.
+    pub fn create(dir: &Path, wheelsets: &[String]) -> Result<CsvWriter, csv::Error> {
+        std::fs::create_dir_all(dir)?;
+        let writers = wheelsets
+            .iter()
+            .map(|name| {
+                let path = dir.join(format!("{name}.csv"));
+                let mut w = csv::Writer::from_path(&path)?;
+                w.write_record(CSV_COLUMNS)?;
+                Ok((path, w))
+            })
+            .collect::<Result<Vec<_>, csv::Error>>()?;
+        Ok(CsvWriter {
+            dir: dir.to_path_buf(),
+            writers,
+        })
+    }
+
+    /// The files written.
+    pub fn paths(&self) -> Vec<PathBuf> {
+        self.writers.iter().map(|(p, _)| p.clone()).collect()
+    }
+
+    /// The directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+}
+
+impl RunObserver for CsvWriter {
+    fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
+        for ((path, w), s) in self.writers.iter_mut().zip(sample.wheelsets) {
+            write_row(w, s).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self, _summary: &RunSummary) -> Result<(), ObserverError> {
+        for (path, w) in &mut self.writers {
+            w.flush()
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes the samples of every wheelset as CSV files into `dir` at once (`DIR/NAME.csv`).
+pub fn write_csvs(dir: &Path, wheelsets: &[(String, Vec<Sample>)]) -> Result<Vec<PathBuf>, csv::Error> {
+    std::fs::create_dir_all(dir)?;
+    let mut paths = Vec::with_capacity(wheelsets.len());
+    for (name, samples) in wheelsets {
+        let path = dir.join(format!("{name}.csv"));
+        let mut w = csv::Writer::from_path(&path)?;
+        w.write_record(CSV_COLUMNS)?;
+        for s in samples {
+            write_row(&mut w, s)?;
+        }
+        w.flush()?;
+        paths.push(path);
+    }
+    Ok(paths)
+}

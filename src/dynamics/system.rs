@@ -1,0 +1,185 @@
+//! One interface for every vehicle system the runs integrate — a single wheelset on a moving frame,
+//! a bogie, a whole multibody vehicle — with the model kept apart from the run state (MuJoCo's
+//! model/data split): a [`VehicleModel`] is built once (bodies, wheelsets, elements with their
+//! static preloads, the contact model, the track reference) and never changes during a run; each
+//! evaluator of it (the integrator, the output) owns a [`VehicleData`] (the contact models' warm
+//! starts, the normal forces the creep forces start from). Two evaluators of one model give the
+//! same results from the same state.
+
+use nalgebra::Vector3;
+use thiserror::Error;
+
+use super::reference::Reference;
+use super::wheelset::{WheelsetDynamics, WheelsetError, WheelsetState};
+use crate::contact::{ContactModel, ContactModelError, WarmStart, WheelsetKinematics};
+use crate::track::TrackError;
+
+/// A failure while evaluating a vehicle system. Each names where it happened.
+#[derive(Debug, Error)]
+pub enum DynamicsError {
+    #[error("track at s = {s:.3} m: {source}")]
+    Track {
+        s: f64,
+        #[source]
+        source: TrackError,
+    },
+    #[error("{wheelset}: contact model at y = {y_mm:.4} mm: {source}")]
+    Contact {
+        wheelset: String,
+        y_mm: f64,
+        #[source]
+        source: ContactModelError,
+    },
+    #[error("{wheelset} at y = {y_mm:.4} mm: {source}")]
+    Wheelset {
+        wheelset: String,
+        y_mm: f64,
+        #[source]
+        source: WheelsetError,
+    },
+    #[error("the spherical joints' equations are singular (redundant joints?)")]
+    JointsSingular,
+    #[error("the static equations are singular: some body among [{bodies}] is not held in some direction by the elements")]
+    StaticsSingular { bodies: String },
+    #[error("centred contact: {0}")]
+    CentredContact(#[source] ContactModelError),
+}
+
+/// The disturbance every wheelset starts from.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct InitialDisturbance {
+    /// Lateral displacement, m.
+    pub lateral_m: f64,
+    /// Yaw, rad.
+    pub yaw_rad: f64,
+}
+
+/// The static settling of a multibody vehicle: what the elements' preloads came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settling {
+    /// Static displacement (x, y, z, φ, θ, ψ) of each body had the elements not been preloaded.
+    pub sag: Vec<[f64; 6]>,
+    /// Largest static residual after settling, N or N m.
+    pub residual: f64,
+    /// Static axle loads (both wheels, wheelset weight included), N.
+    pub axle_loads: Vec<f64>,
+}
+
+/// One evaluator's run state.
+#[derive(Debug, Clone, Default)]
+pub struct VehicleData {
+    /// Per wheelset: the contact model's warm start.
+    pub warm: Vec<WarmStart>,
+    /// Per wheelset: the normal forces of the last evaluation, which the next one's creep forces
+    /// start from, N.
+    pub lambda: Vec<[f64; 2]>,
+    /// Contact-model evaluations (for the statistics).
+    pub contact_evaluations: usize,
+}
+
+impl VehicleData {
+    /// Fresh warm starts and the given first normal forces.
+    pub fn new(lambda: Vec<[f64; 2]>) -> VehicleData {
+        VehicleData {
+            warm: vec![WarmStart::default(); lambda.len()],
+            lambda,
+            contact_evaluations: 0,
+        }
+    }
+}
+
+/// Everything one evaluation knows of a wheelset, for output.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WheelsetSample {
+    pub state: WheelsetState,
+    pub kin: WheelsetKinematics,
+    pub dynamics: WheelsetDynamics,
+    pub speed: f64,
+    /// Arc length of the wheelset, m.
+    pub s: f64,
+    /// Rail irregularities at the wheelset [y_lir, z_lir, y_rir, z_rir], m.
+    pub rails: [f64; 4],
+}
+
+/// A rigid body's state and where it is, for output.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodySample {
+    pub s: f64,
+    /// (x, y, z, φ, θ, ψ).
+    pub q: [f64; 6],
+    pub q_dot: [f64; 6],
+}
+
+/// Everything one evaluation of a vehicle knows, for output.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct VehicleSample {
+    pub bodies: Vec<BodySample>,
+    pub wheelsets: Vec<WheelsetSample>,
+    /// Per element: deflection and force in its first body's axes.
+    pub elements: Vec<(Vector3<f64>, Vector3<f64>)>,
+    /// Per spherical joint: the position violation |G_b − G_a|, m.
+    pub joint_error: Vec<f64>,
+}
+
+/// A vehicle system: the constant model. Its state vector is laid out by the system (see each
+/// implementation); its run state is a [`VehicleData`] from [`VehicleModel::new_data`].
+pub trait VehicleModel: Send + Sync {
+    /// Number of states.
+    fn dim(&self) -> usize;
+    /// The wheelsets' names, in output order.
+    fn wheelset_names(&self) -> Vec<String>;
+    /// The rigid bodies' names, in output order (none on a single wheelset).
+    fn body_names(&self) -> Vec<String>;
+    /// The state at t = 0 with every wheelset disturbed by `initial`, rolling at the reference speed.
+    fn initial_state(&self, initial: &InitialDisturbance) -> Vec<f64>;
+    /// A fresh run state for one evaluator.
+    fn new_data(&self) -> VehicleData;
+    /// f(t, x) into `dxdt`.
+    fn rhs(&self, data: &mut VehicleData, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError>;
+    /// Everything an evaluation at (t, x) knows, for output.
+    fn sample(&self, data: &mut VehicleData, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError>;
+    /// The wheelsets' contact model.
+    fn contact(&self) -> &dyn ContactModel;
+    /// The wheels' nominal rolling radius r0, m (the output's z is the centre height minus r0).
+    fn nominal_radius(&self) -> f64;
+    /// The reference motion along the track.
+    fn reference(&self) -> &Reference;
+    /// The static settling behind the elements' preloads (multibody vehicles).
+    fn settling(&self) -> Option<&Settling> {
+        None
+    }
+}
+
+/// A model with one evaluator's state: the [`crate::dynamics::integrator::OdeSystem`] an
+/// integrator steps.
+pub struct Evaluator<'a> {
+    pub model: &'a dyn VehicleModel,
+    pub data: VehicleData,
+}
+
+impl<'a> Evaluator<'a> {
+    /// An evaluator with a fresh run state.
+    pub fn new(model: &'a dyn VehicleModel) -> Evaluator<'a> {
+        Evaluator {
+            data: model.new_data(),
+            model,
+        }
+    }
+
+    /// The sample at (t, x).
+    pub fn sample(&mut self, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError> {
+        self.model.sample(&mut self.data, t, x)
+    }
+}
+
+impl super::integrator::OdeSystem for Evaluator<'_> {
+    type Error = DynamicsError;
+
+    fn dim(&self) -> usize {
+        self.model.dim()
+    }
+
+    fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError> {
+        self.model.rhs(&mut self.data, t, x, dxdt)
+    }
+}

@@ -1,0 +1,372 @@
+//! The `[simulation]` table, as written, and what it compiles into: the contact model, the
+//! vehicle system (settled), the reference motion along the track and the run settings — the one
+//! place where a scenario becomes the objects of a run ([`super::Scene::build_run`]).
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use serde::Deserialize;
+use thiserror::Error;
+
+use crate::contact::forces::ContactForceSettings;
+use crate::contact::models::kec::KecSettings;
+use crate::contact::{ContactBuildError, ContactModel, ContactModelSpec};
+use crate::dynamics::integrator::{Method, Settings};
+use crate::dynamics::multibody::Multibody;
+use crate::dynamics::output::RunObserver;
+use crate::dynamics::reference::{Reference, SpeedProfile};
+use crate::dynamics::single_wheelset::{SingleWheelset, Tie};
+use crate::dynamics::wheelset::WheelsetInertia;
+use crate::dynamics::{
+    run, DynamicsError, InitialDisturbance, RunLabels, RunOutput, RunSettings, StopConditions, VehicleModel,
+};
+use crate::vehicle::VehicleSpec;
+
+/// `[simulation]`: what to run and how.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSpec {
+    /// `[simulation.contact]`: the contact model and its own settings (`model = "kec"`, …).
+    #[serde(default)]
+    pub contact: Option<ContactModelSpec>,
+    /// The contact model by name alone (the form before `[simulation.contact]`; still read).
+    #[serde(default)]
+    pub contact_model: Option<String>,
+    /// KEC's two-point approach beside `contact_model` (the earlier form of
+    /// `[simulation.contact] two_point_approach_m`; still read), m.
+    #[serde(default)]
+    pub kec_two_point_approach_m: Option<f64>,
+    /// Initial forward speed, m/s.
+    pub speed_m_s: f64,
+    /// Speed ramp, m/s² (0: constant speed).
+    #[serde(default)]
+    pub speed_ramp_m_s2: f64,
+    /// Simulated time, s.
+    pub duration_s: f64,
+    /// Output (recording and CSV) rate, Hz.
+    #[serde(default = "default_rate")]
+    pub record_rate_hz: f64,
+    #[serde(default)]
+    pub integrator: IntegratorSpec,
+    #[serde(default)]
+    pub initial: InitialSpec,
+    /// End the run (normally, with a note) when a wheelset's |y| exceeds this, m — e.g. to stop a
+    /// speed ramp once hunting has set in, before flange contact.
+    #[serde(default)]
+    pub stop_lateral_m: Option<f64>,
+    /// Arc length of the vehicle reference at t = 0, m (default: the rearmost body at the
+    /// track's start).
+    #[serde(default)]
+    pub start_m: Option<f64>,
+}
+
+fn default_rate() -> f64 {
+    200.0
+}
+
+/// `[simulation.integrator]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegratorSpec {
+    #[serde(default = "default_method")]
+    pub method: Method,
+    #[serde(default = "default_rtol")]
+    pub rtol: f64,
+    #[serde(default = "default_atol")]
+    pub atol: f64,
+    /// ros34pw2: accepted steps one Jacobian serves before it is evaluated again.
+    #[serde(default = "default_jacobian_max_age")]
+    pub jacobian_max_age: usize,
+}
+
+impl IntegratorSpec {
+    /// The integrator settings this table describes.
+    pub fn settings(&self) -> Settings {
+        let mut s = Settings::new(self.method, self.rtol, self.atol);
+        s.jacobian_max_age = self.jacobian_max_age;
+        s
+    }
+}
+
+fn default_method() -> Method {
+    Method::Ros34pw2
+}
+fn default_rtol() -> f64 {
+    1e-6
+}
+fn default_atol() -> f64 {
+    1e-8
+}
+fn default_jacobian_max_age() -> usize {
+    25
+}
+
+impl Default for IntegratorSpec {
+    fn default() -> Self {
+        IntegratorSpec {
+            method: default_method(),
+            rtol: default_rtol(),
+            atol: default_atol(),
+            jacobian_max_age: default_jacobian_max_age(),
+        }
+    }
+}
+
+/// `[simulation.initial]`: the disturbance the wheelsets start from.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    #[serde(default)]
+    pub lateral_m: f64,
+    #[serde(default)]
+    pub yaw_rad: f64,
+}
+
+impl SimulationSpec {
+    /// The contact model: `[simulation.contact]`, else `contact_model` (with
+    /// `kec_two_point_approach_m`), else KEC with its defaults.
+    pub fn contact_spec(&self) -> Result<ContactModelSpec, String> {
+        match (&self.contact, &self.contact_model, self.kec_two_point_approach_m) {
+            (Some(c), None, None) => Ok(c.clone()),
+            (Some(_), _, _) => Err(
+                "simulation: give the contact model either in [simulation.contact] or as contact_model (and kec_two_point_approach_m), not both"
+                    .to_string(),
+            ),
+            (None, name, approach) => {
+                let name = name.as_deref().unwrap_or("kec");
+                let mut spec = ContactModelSpec::default_for(name).ok_or_else(|| {
+                    format!(
+                        "simulation.contact_model = \"{name}\": expected one of {}",
+                        ContactModelSpec::NAMES.join(", ")
+                    )
+                })?;
+                if let (ContactModelSpec::Kec(k), Some(a)) = (&mut spec, approach) {
+                    k.two_point_approach_m = a;
+                }
+                Ok(spec)
+            }
+        }
+    }
+
+    /// The contact model `name` (the command line's `--contact`): the scenario's own settings when
+    /// it names the same model, else that model's defaults (KEC: with the scenario's legacy
+    /// `kec_two_point_approach_m`, if any).
+    pub fn contact_spec_for(&self, name: &str) -> Result<ContactModelSpec, String> {
+        let own = self.contact_spec()?;
+        if own.name() == name {
+            return Ok(own);
+        }
+        let mut spec = ContactModelSpec::default_for(name).ok_or_else(|| {
+            format!(
+                "unknown contact model \"{name}\": expected one of {}",
+                ContactModelSpec::NAMES.join(", ")
+            )
+        })?;
+        if let (ContactModelSpec::Kec(k), Some(a)) = (&mut spec, self.kec_two_point_approach_m) {
+            k.two_point_approach_m = a;
+        }
+        Ok(spec)
+    }
+
+    /// Problems with the values (empty when valid).
+    pub fn problems(&self) -> Vec<String> {
+        let mut p = Vec::new();
+        let mut check = |name: &str, v: f64, lo: f64, hi: f64| {
+            if !(v.is_finite() && v >= lo && v <= hi) {
+                p.push(format!(
+                    "simulation.{name} = {v}: expected a value in [{lo}, {hi}]"
+                ));
+            }
+        };
+        check("speed_m_s", self.speed_m_s, 0.0, 200.0);
+        check("speed_ramp_m_s2", self.speed_ramp_m_s2, -20.0, 20.0);
+        check("duration_s", self.duration_s, 1e-6, 1e5);
+        check("record_rate_hz", self.record_rate_hz, 0.1, 1e5);
+        check("integrator.rtol", self.integrator.rtol, 1e-14, 1e-1);
+        check("integrator.atol", self.integrator.atol, 1e-16, 1e-1);
+        check(
+            "integrator.jacobian_max_age",
+            self.integrator.jacobian_max_age as f64,
+            1.0,
+            1e6,
+        );
+        if let Some(a) = self.kec_two_point_approach_m {
+            check("kec_two_point_approach_m", a, 0.0, 1e-3);
+        }
+        check("initial.lateral_m", self.initial.lateral_m, -0.02, 0.02);
+        check("initial.yaw_rad", self.initial.yaw_rad, -0.05, 0.05);
+        if let Some(v) = self.start_m {
+            check("start_m", v, -1e7, 1e7);
+        }
+        if let Some(v) = self.stop_lateral_m {
+            check("stop_lateral_m", v, 1e-5, 0.05);
+        }
+        match self.contact_spec() {
+            Ok(c) => p.extend(c.problems()),
+            Err(e) => p.push(e),
+        }
+        p
+    }
+
+    /// The run settings of this table for scene `scene`.
+    pub fn run_settings(&self, scene: &str) -> RunSettings {
+        RunSettings {
+            scene: scene.to_string(),
+            duration_s: self.duration_s,
+            record_rate_hz: self.record_rate_hz,
+            integrator: self.integrator.settings(),
+            initial: InitialDisturbance {
+                lateral_m: self.initial.lateral_m,
+                yaw_rad: self.initial.yaw_rad,
+            },
+            stop: StopConditions {
+                lateral_m: self.stop_lateral_m,
+            },
+        }
+    }
+}
+
+/// Options of a run beyond its scenario (the command line's `--contact`, `--speed`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunOptions {
+    /// A contact model by name, overriding the scenario's.
+    pub contact: Option<String>,
+    /// The initial speed, m/s, overriding the scenario's.
+    pub speed_m_s: Option<f64>,
+}
+
+/// Why the objects of a run could not be built.
+#[derive(Debug, Error)]
+pub enum BuildError {
+    #[error("this scenario has no [simulation] (and [vehicle]) to run")]
+    NoSimulation,
+    #[error("{0}")]
+    Options(String),
+    #[error(transparent)]
+    Contact(#[from] ContactBuildError),
+    #[error("vehicle: {0}")]
+    Vehicle(#[from] DynamicsError),
+}
+
+/// The objects of one run: the vehicle system (with its contact model and reference motion), the
+/// run settings and the labels of its summary.
+pub struct BuiltRun {
+    pub vehicle: Box<dyn VehicleModel>,
+    pub settings: RunSettings,
+    pub labels: RunLabels,
+    /// The contact model's settings.
+    pub contact: ContactModelSpec,
+}
+
+impl BuiltRun {
+    /// Runs it (see [`crate::dynamics::run::run`]).
+    pub fn run(&self, observers: &mut [&mut dyn RunObserver]) -> RunOutput {
+        run(self.vehicle.as_ref(), &self.settings, &self.labels, observers)
+    }
+}
+
+/// The vehicle system of a `[vehicle]` table with `contact`, `forces` and the reference motion
+/// (a multibody vehicle is settled here: its elements' static preloads).
+pub fn build_vehicle(
+    spec: &VehicleSpec,
+    contact: Arc<dyn ContactModel>,
+    forces: &ContactForceSettings,
+    r0: f64,
+    reference: Reference,
+) -> Result<Box<dyn VehicleModel>, DynamicsError> {
+    Ok(match spec {
+        VehicleSpec::WheelsetOnFrame(w) => Box::new(SingleWheelset {
+            name: "wheelset_1".to_string(),
+            inertia: WheelsetInertia {
+                mass_kg: w.wheelset.mass_kg,
+                inertia_kg_m2: w.wheelset.inertia_kg_m2,
+                irw: None,
+            },
+            tie: Tie {
+                longitudinal_stiffness_n_per_m: w.tie.longitudinal_stiffness_n_per_m,
+                lateral_stiffness_n_per_m: w.tie.lateral_stiffness_n_per_m,
+                longitudinal_damping_n_s_per_m: w.tie.longitudinal_damping_n_s_per_m,
+                lateral_damping_n_s_per_m: w.tie.lateral_damping_n_s_per_m,
+                half_spacing_m: w.tie.half_spacing_m,
+            },
+            axle_load_n: w.axle_load_n,
+            contact,
+            forces: forces.clone(),
+            r0,
+            reference,
+        }),
+        VehicleSpec::Multibody(m) => Box::new(Multibody::new(m, contact, forces.clone(), r0, reference)?),
+    })
+}
+
+/// The reference motion of a scene: its track, the speed profile, and the start: `start_m`, else
+/// the rearmost body at the track's start, else 0.
+pub fn reference(
+    sim: &SimulationSpec,
+    vehicle: &VehicleSpec,
+    track: Option<Arc<crate::track::Track>>,
+    speed_m_s: f64,
+) -> Reference {
+    let mut s0 = 0.0;
+    if let Some(t) = &track {
+        s0 = t.centreline.range().0 - vehicle.rear_offset_m();
+    }
+    if let Some(s) = sim.start_m {
+        s0 = s;
+    }
+    Reference {
+        track,
+        s0,
+        speed: SpeedProfile {
+            initial_m_s: speed_m_s,
+            ramp_m_s2: sim.speed_ramp_m_s2,
+        },
+    }
+}
+
+/// KEC's settings of a [`ContactModelSpec`], if it is KEC.
+pub fn kec_settings(spec: &ContactModelSpec) -> Option<&KecSettings> {
+    match spec {
+        ContactModelSpec::Kec(k) => Some(k),
+        _ => None,
+    }
+}
+
+impl super::Scene {
+    /// Builds the objects of the scene's run with `options` (contact model, vehicle system with
+    /// its static settling, reference, settings) — the preprocessing, timed.
+    pub fn build_run(&self, options: &RunOptions) -> Result<BuiltRun, BuildError> {
+        let (sim, vehicle) = self.simulation.as_ref().ok_or(BuildError::NoSimulation)?;
+        let contact = match &options.contact {
+            Some(name) => sim.contact_spec_for(name),
+            None => sim.contact_spec(),
+        }
+        .map_err(BuildError::Options)?;
+        let speed = options.speed_m_s.unwrap_or(sim.speed_m_s);
+        if !(speed.is_finite() && (0.0..=200.0).contains(&speed)) {
+            return Err(BuildError::Options(format!(
+                "--speed {speed}: expected 0 ..= 200 m/s"
+            )));
+        }
+        let t = Instant::now();
+        let model = contact.build(&self.pair)?;
+        let reference = reference(sim, vehicle, self.track.clone(), speed);
+        let vehicle = build_vehicle(
+            vehicle,
+            model,
+            &self.contact_forces,
+            self.pair.wheelset.nominal_radius_m,
+            reference,
+        )?;
+        Ok(BuiltRun {
+            vehicle,
+            settings: sim.run_settings(&self.name),
+            labels: RunLabels {
+                contact_model: contact.name().to_string(),
+                creep_model: self.contact_forces.model.name().to_string(),
+                preprocessing_s: t.elapsed().as_secs_f64(),
+            },
+            contact,
+        })
+    }
+}
