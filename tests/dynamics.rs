@@ -11,20 +11,27 @@ use common::{kecsim, rerun_verify, scene, tmpdir};
 use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};
 use kecsim::contact::geometry::ContactGeometry;
 use kecsim::contact::lookup::{LookupTable1, TableSettings};
+use kecsim::contact::models::kec::KecSettings;
 use kecsim::contact::report::conicity;
-use kecsim::dynamics::contact_model::ContactKind;
-use kecsim::dynamics::integrator::{integrate, Method, Settings};
-use kecsim::dynamics::run::{build_contact, run, RunOutput, Sample};
-use kecsim::dynamics::single_wheelset::{SingleWheelset, SpeedProfile, Tie};
-use kecsim::dynamics::spec::SimulationSpec;
+use kecsim::contact::ContactModelSpec;
+use kecsim::dynamics::integrator::{integrate, Flow, Method, Settings};
+use kecsim::dynamics::single_wheelset::{SingleWheelset, Tie};
+use kecsim::dynamics::system::{Evaluator, InitialDisturbance, VehicleModel};
 use kecsim::dynamics::wheelset::WheelsetInertia;
-use kecsim::scenario::Scene;
+use kecsim::dynamics::{Reference, RunEnd, RunOutput, Sample, SpeedProfile, Stop};
+use kecsim::scenario::{RunOptions, Scene, SimulationSpec};
 
-fn simulate(scene: &Scene, edit: impl Fn(&mut SimulationSpec), contact: ContactKind) -> RunOutput {
-    let (mut sim, veh) = scene.simulation.clone().unwrap();
-    edit(&mut sim);
-    let v = sim.speed_m_s;
-    let out = run(scene, &sim, &veh, contact, v, &mut |_| {}).unwrap();
+/// Runs the scene with its `[simulation]` edited by `edit` and the contact model `contact`.
+fn simulate(scene: &Scene, edit: impl Fn(&mut SimulationSpec), contact: &str) -> RunOutput {
+    let mut scene = scene.clone();
+    edit(&mut scene.simulation.as_mut().unwrap().0);
+    let built = scene
+        .build_run(&RunOptions {
+            contact: Some(contact.to_string()),
+            speed_m_s: None,
+        })
+        .unwrap();
+    let out = built.run(&mut []);
     assert!(out.summary.error.is_none(), "{:?}", out.summary.error);
     out
 }
@@ -44,8 +51,8 @@ fn up_crossings(samples: &[Sample]) -> Vec<f64> {
 #[test]
 fn klingel_wavelength_matches_equivalent_conicity() {
     let sc = scene("wheelset_klingel.toml");
-    let out = simulate(&sc, |_| {}, ContactKind::Kec);
-    let s = &out.samples;
+    let out = simulate(&sc, |_| {}, "kec");
+    let s = out.samples();
     let ups = up_crossings(s);
     assert!(ups.len() >= 6, "{} up-crossings", ups.len());
     let geom = ContactGeometry::with_defaults(sc.pair.clone());
@@ -102,26 +109,35 @@ fn energy_is_conserved_without_creep() {
     };
     let load = 100e3;
     let r0 = sc.pair.wheelset.nominal_radius_m;
-    for kind in [ContactKind::Kec, ContactKind::Lookup] {
-        let mut sys = SingleWheelset::new(
+    for kind in ["kec", "lookup"] {
+        let model = SingleWheelset {
+            name: "wheelset_1".into(),
             inertia,
             tie,
-            load,
-            SpeedProfile {
-                initial_m_s: 10.0,
-                ramp_m_s2: 0.0,
-            },
-            build_contact(&sc, kind).unwrap(),
-            forces.clone(),
+            axle_load_n: load,
+            contact: ContactModelSpec::default_for(kind).unwrap().build(&sc.pair).unwrap(),
+            forces: forces.clone(),
             r0,
-        );
-        let mut obs = sys.clone_for_output();
-        let x0 = sys.initial_state(0.004, 0.002);
+            reference: Reference {
+                track: None,
+                s0: 0.0,
+                speed: SpeedProfile {
+                    initial_m_s: 10.0,
+                    ramp_m_s2: 0.0,
+                },
+            },
+        };
+        let mut sys = Evaluator::new(&model);
+        let mut obs = model.new_data();
+        let x0 = model.initial_state(&InitialDisturbance {
+            lateral_m: 0.004,
+            yaw_rad: 0.002,
+        });
         let mut energies = Vec::new();
         let mut kinetic_max: f64 = 0.0;
         let settings = Settings::new(Method::Dopri5, 1e-9, 1e-11);
         integrate(&mut sys, 0.0, &x0, 3.0, 0.005, &settings, &mut |t, x| {
-            let s = obs.sample(t, x)?;
+            let s = model.evaluate(&mut obs, t, x)?;
             let st = s.state;
             let (m, [ix, iy, iz]) = (inertia.mass_kg, inertia.inertia_kg_m2);
             let kinetic = 0.5 * m * (st.x_dot.powi(2) + st.y_dot.powi(2) + s.kin.z_dot.powi(2))
@@ -135,7 +151,7 @@ fn energy_is_conserved_without_creep() {
                 + tie.lateral_stiffness_n_per_m * st.y.powi(2);
             energies.push(kinetic + (m * 9.81 + load) * s.kin.z + springs);
             kinetic_max = kinetic_max.max(kinetic - 0.5 * iy * st.omega.powi(2));
-            Ok(())
+            Ok(Flow::Continue)
         })
         .unwrap();
         // Secular drift: mean over the last second against the first. What remains periodic is the
@@ -148,11 +164,10 @@ fn energy_is_conserved_without_creep() {
         let swing = energies.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
         let kinetic_max = kinetic_max.max(1e-9);
         println!(
-            "{}: energy drift {drift:.2e} J, swing {swing:.2e} J over 3 s (largest kinetic energy of the oscillation {kinetic_max:.2e} J)",
-            kind.name()
+            "{kind}: energy drift {drift:.2e} J, swing {swing:.2e} J over 3 s (largest kinetic energy of the oscillation {kinetic_max:.2e} J)"
         );
-        assert!(drift < 1e-4 * kinetic_max, "{}: drift {drift} J", kind.name());
-        assert!(swing < 5e-3 * kinetic_max, "{}: swing {swing} J", kind.name());
+        assert!(drift < 1e-4 * kinetic_max, "{kind}: drift {drift} J");
+        assert!(swing < 5e-3 * kinetic_max, "{kind}: swing {swing} J");
     }
 }
 
@@ -165,29 +180,33 @@ fn contact_models_agree() {
     let short = |s: &mut SimulationSpec| s.duration_s = 4.0;
     let rigid = |s: &mut SimulationSpec| {
         s.duration_s = 4.0;
-        s.kec_two_point_approach_m = 0.0;
+        common::set_contact(
+            s,
+            ContactModelSpec::Kec(KecSettings {
+                two_point_approach_m: 0.0,
+            }),
+        );
     };
     // The paper's KEC (rigid kinks) moves as the rigid models do; the default KEC, with its
     // two-point transitions at the contact jumps, differs from them by what the transitions change.
-    let kec_rigid = simulate(&sc, rigid, ContactKind::Kec);
-    let kec = simulate(&sc, short, ContactKind::Kec);
+    let kec_rigid = simulate(&sc, rigid, "kec");
+    let kec = simulate(&sc, short, "kec");
     let max_diff = |a: &RunOutput, b: &RunOutput| {
-        assert_eq!(a.samples.len(), b.samples.len());
+        assert_eq!(a.samples().len(), b.samples().len());
         let mut d = (0.0_f64, 0.0_f64, 0.0_f64);
-        for (p, q) in a.samples.iter().zip(&b.samples) {
+        for (p, q) in a.samples().iter().zip(b.samples()) {
             d.0 = d.0.max((p.y - q.y).abs());
             d.1 = d.1.max((p.yaw - q.yaw).abs());
             d.2 = d.2.max((p.normal[0] - q.normal[0]).abs());
         }
         d
     };
-    for kind in [ContactKind::Lookup, ContactKind::Online] {
+    for kind in ["lookup", "online"] {
         let other = simulate(&sc, short, kind);
         for (label, k, bound) in [("KEC, rigid kinks", &kec_rigid, 0.05e-3), ("KEC", &kec, 0.2e-3)] {
             let (dy, dpsi, dn) = max_diff(k, &other);
             println!(
-                "{label} vs {}: max |Δy| {:.4} mm, max |Δψ| {:.4} mrad, max |ΔN_left| {:.1} N; real-time factors {:.1} (KEC) and {:.1}",
-                kind.name(),
+                "{label} vs {kind}: max |Δy| {:.4} mm, max |Δψ| {:.4} mrad, max |ΔN_left| {:.1} N; real-time factors {:.1} (KEC) and {:.1}",
                 dy * 1e3,
                 dpsi * 1e3,
                 dn,
@@ -196,8 +215,7 @@ fn contact_models_agree() {
             );
             assert!(
                 dy < bound && dpsi < bound,
-                "{label} vs {}: Δy {dy}, Δψ {dpsi}",
-                kind.name()
+                "{label} vs {kind}: Δy {dy}, Δψ {dpsi}"
             );
         }
     }
@@ -220,14 +238,14 @@ fn integrator_convergence_on_the_scene() {
                         s.integrator.rtol = tol;
                         s.integrator.atol = tol * 1e-2;
                     },
-                    ContactKind::Kec,
+                    "kec",
                 )
             })
             .collect();
         let diff = |a: &RunOutput, b: &RunOutput| {
-            a.samples
+            a.samples()
                 .iter()
-                .zip(&b.samples)
+                .zip(b.samples())
                 .map(|(p, q)| (p.y - q.y).abs())
                 .fold(0.0, f64::max)
         };
@@ -254,7 +272,7 @@ fn integrator_convergence_on_the_scene() {
 #[test]
 fn critical_speed_by_speed_ramp() {
     let sc = scene("wheelset_critical_speed.toml");
-    let ramp = simulate(&sc, |_| {}, ContactKind::Kec);
+    let ramp = simulate(&sc, |_| {}, "kec");
     let vc = ramp
         .summary
         .critical_speed_m_s
@@ -263,6 +281,15 @@ fn critical_speed_by_speed_ramp() {
         "hunting onset on the ramp: {vc:.2} m/s; stopped: {:?}",
         ramp.summary.stopped
     );
+    // The run ended on its stop condition (|y| > 5 mm), normally, with the samples up to it.
+    match &ramp.end {
+        RunEnd::Stopped(Stop::Lateral { y_m, limit_m, t, .. }) => {
+            assert!(y_m.abs() > *limit_m && (*limit_m - 0.005).abs() < 1e-12);
+            assert!((ramp.samples().last().unwrap().t - t).abs() < 1e-12);
+        }
+        other => panic!("expected the lateral stop, got {other:?}"),
+    }
+    assert_eq!(ramp.summary.outcome, "stopped");
     assert!((20.0..60.0).contains(&vc), "{vc}");
     let envelope = |v: f64| {
         let out = simulate(
@@ -274,11 +301,12 @@ fn critical_speed_by_speed_ramp() {
                 s.initial.lateral_m = 0.0003;
                 s.stop_lateral_m = None;
             },
-            ContactKind::Kec,
+            "kec",
         );
-        let n = out.samples.len();
+        let s = out.samples();
+        let n = s.len();
         let peak = |r: &[Sample]| r.iter().map(|p| p.y.abs()).fold(0.0, f64::max);
-        (peak(&out.samples[n / 12..n / 4]), peak(&out.samples[3 * n / 4..]))
+        (peak(&s[n / 12..n / 4]), peak(&s[3 * n / 4..]))
     };
     let (a0, a1) = envelope(0.85 * vc);
     println!(
@@ -373,8 +401,26 @@ fn run_interface_csv_json_and_recording() {
     assert!((js["simulated_s"].as_f64().unwrap() - 1.0).abs() < 1e-9);
     let rt = js["realtime_factor"].as_f64().unwrap();
     assert!((rt - 1.0 / js["wall_s"].as_f64().unwrap()).abs() < 1e-6 * rt);
+    assert!(
+        !String::from_utf8_lossy(&out.stderr).contains("ETA"),
+        "no progress bar when stderr is not a terminal"
+    );
     rerun_verify(&rrd);
     let chunks = kecsim::inspect::readback::recording_chunks(&rrd).unwrap();
+    // The recording holds the samples the CSV holds (streamed in batches during the run).
+    let y_rrd: Vec<f64> = kecsim::inspect::readback::scalar_rows(&chunks, "/run/wheelset_1/y_mm")
+        .iter()
+        .map(|r| r[0])
+        .collect();
+    let y_csv: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(3).unwrap().parse::<f64>().unwrap())
+        .collect();
+    assert_eq!(y_rrd.len(), y_csv.len());
+    for (a, b) in y_rrd.iter().zip(&y_csv) {
+        assert!((a - b).abs() <= 1e-9 * a.abs().max(1e-3), "{a} vs {b}");
+    }
     let paths: std::collections::BTreeSet<String> =
         chunks.iter().map(|c| c.entity_path().to_string()).collect();
     for e in [
@@ -385,6 +431,26 @@ fn run_interface_csv_json_and_recording() {
     ] {
         assert!(paths.contains(e), "missing {e}: {paths:?}");
     }
+
+    // --pace 4: the simulated second takes at least a quarter of a second of wall time.
+    let paced = dir.join("paced.json");
+    let out = kecsim(
+        &[
+            "run",
+            short.to_str().unwrap(),
+            "--pace",
+            "4",
+            "--json",
+            paced.to_str().unwrap(),
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let js: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&paced).unwrap()).unwrap();
+    let wall = js["wall_s"].as_f64().unwrap();
+    assert!(wall > 0.24, "paced at 4x real time: {wall} s of wall time for 1 s");
 
     // Bad input: a [simulation] without [vehicle], an out-of-range value, an unknown key.
     let base = std::fs::read_to_string(&short).unwrap();
@@ -412,4 +478,69 @@ fn run_interface_csv_json_and_recording() {
         assert!(!out.status.success() && err.contains(expect), "{name}: {err}");
         assert!(err.contains(name), "{name}: the error names the file: {err}");
     }
+}
+
+/// The recorder streams: while a run is going its samples reach the sink in batches (every
+/// 50 ms of wall time), not all at the end; when it is over the sink holds every sample once,
+/// with the values the run returned.
+#[test]
+fn recording_is_streamed_while_the_run_goes() {
+    use kecsim::dynamics::output::{ObserverError, OutputSample, RunObserver};
+    use kecsim::inspect::readback::{message_chunks, scalar_rows};
+    use kecsim::inspect::run::LiveRecorder;
+
+    struct Probe {
+        storage: rerun::sink::MemorySinkStorage,
+        rows: Vec<Vec<f64>>,
+        /// (samples produced, y rows received by the sink) every 25 samples.
+        seen: Vec<(usize, usize)>,
+        produced: usize,
+    }
+    impl Probe {
+        fn drain(&mut self) {
+            let chunks = message_chunks(&self.storage.take(), "memory").unwrap();
+            self.rows.extend(scalar_rows(&chunks, "/run/wheelset_1/y_mm"));
+        }
+    }
+    impl RunObserver for Probe {
+        fn sample(&mut self, _s: &OutputSample<'_>) -> Result<(), ObserverError> {
+            self.produced += 1;
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            if self.produced % 25 == 0 {
+                self.drain();
+                self.seen.push((self.produced, self.rows.len()));
+            }
+            Ok(())
+        }
+    }
+
+    let sc = scene("wheelset_klingel.toml");
+    let mut built = sc.build_run(&RunOptions::default()).unwrap();
+    built.settings.duration_s = 2.0;
+    let (rec, storage) = rerun::RecordingStreamBuilder::new("kecsim-test").memory().unwrap();
+    let mut recorder = LiveRecorder::on(rec, &sc, &built.vehicle.wheelset_names()).unwrap();
+    let mut probe = Probe {
+        storage,
+        rows: Vec::new(),
+        seen: Vec::new(),
+        produced: 0,
+    };
+    let out = built.run(&mut [&mut recorder, &mut probe]);
+    drop(recorder);
+    probe.drain();
+    let n = out.samples().len();
+    println!(
+        "{n} samples; rows received by the sink while the run went: {:?}",
+        probe.seen
+    );
+    assert_eq!(n, 401);
+    let mid: Vec<&(usize, usize)> = probe.seen.iter().filter(|(_, r)| *r > 0 && *r < n).collect();
+    assert!(mid.len() >= 3, "batches arrive during the run: {:?}", probe.seen);
+    assert!(
+        probe.seen.iter().all(|&(p, r)| r <= p),
+        "nothing arrives before it is produced"
+    );
+    let y: Vec<f64> = probe.rows.iter().map(|r| r[0]).collect();
+    let expect: Vec<f64> = out.samples().iter().map(|s| s.y * 1e3).collect();
+    assert_eq!(y, expect, "every sample once, as the run computed it");
 }

@@ -8,52 +8,55 @@ use std::path::Path;
 mod common;
 use common::{kecsim, scene, tmpdir};
 
-use kecsim::dynamics::contact_model::ContactKind;
-use kecsim::dynamics::integrator::OdeSystem;
-use kecsim::dynamics::integrator::{integrate, Settings};
-use kecsim::dynamics::multibody::{Multibody, MultibodySample};
-use kecsim::dynamics::run::{build_contact, to_sample};
-use kecsim::dynamics::single_wheelset::SpeedProfile;
-use kecsim::dynamics::spec::VehicleSpec;
-use kecsim::scenario::{Scenario, Scene};
+use kecsim::bench::dynamics::differences;
+use kecsim::contact::models::kec::KecSettings;
+use kecsim::contact::ContactModelSpec;
+use kecsim::dynamics::integrator::{integrate, Flow, Settings};
+use kecsim::dynamics::multibody::Multibody;
+use kecsim::dynamics::system::{Evaluator, InitialDisturbance, VehicleModel, VehicleSample};
+use kecsim::dynamics::{Reference, RunOutput, Sample, SpeedProfile};
+use kecsim::scenario::simulation::reference;
+use kecsim::scenario::{RunOptions, Scenario, Scene};
+use kecsim::vehicle::VehicleSpec;
 
 const G: f64 = 9.81;
 
-/// The system of a multibody scene at 19 m/s with `kind`, not yet settled.
-fn multibody(sc: &Scene, spec: &kecsim::vehicle::MultibodySpec, kind: ContactKind) -> Multibody {
-    Multibody::from_spec(
-        spec,
-        build_contact(sc, kind).unwrap(),
-        sc.contact_forces.clone(),
-        sc.pair.wheelset.nominal_radius_m,
-        SpeedProfile {
-            initial_m_s: 19.0,
-            ramp_m_s2: 0.0,
-        },
-    )
-}
-
-fn build(sc: &Scene, kind: ContactKind, with_track: bool) -> Multibody {
-    let (sim, veh) = sc.simulation.clone().unwrap();
+/// The system of a multibody scene with the contact model `kind`, settled, on the scene's track
+/// (`with_track`) or on tangent ideal track at 19 m/s.
+fn multibody(sc: &Scene, kind: &str, with_track: bool) -> Multibody {
+    let (sim, veh) = sc.simulation.as_ref().unwrap();
     let VehicleSpec::Multibody(spec) = veh else {
         panic!("not a multibody scene")
     };
-    let mut sys = multibody(sc, &spec, kind);
-    sys.speed.initial_m_s = sim.speed_m_s;
-    sys.settle().unwrap();
-    if with_track {
-        sys.track = sc.track.clone();
-        sys.s0 = sim.start_m.unwrap();
-    }
-    sys
+    let reference = if with_track {
+        reference(sim, veh, sc.track.clone(), sim.speed_m_s)
+    } else {
+        Reference {
+            track: None,
+            s0: 0.0,
+            speed: SpeedProfile {
+                initial_m_s: 19.0,
+                ramp_m_s2: 0.0,
+            },
+        }
+    };
+    Multibody::new(
+        spec,
+        ContactModelSpec::default_for(kind).unwrap().build(&sc.pair).unwrap(),
+        sc.contact_forces.clone(),
+        sc.pair.wheelset.nominal_radius_m,
+        reference,
+    )
+    .unwrap()
 }
 
 /// Runs the scene's duration and returns the samples at the recording rate and the final sample.
-fn simulate(sc: &Scene, kind: ContactKind) -> (Vec<MultibodySample>, MultibodySample) {
+fn simulate(sc: &Scene, kind: &str) -> (Vec<VehicleSample>, VehicleSample) {
     let (sim, _) = sc.simulation.clone().unwrap();
-    let mut sys = build(sc, kind, true);
-    let mut out_sys = sys.clone_for_output();
-    let x0 = sys.initial_state(0.0, 0.0);
+    let model = multibody(sc, kind, true);
+    let mut sys = Evaluator::new(&model);
+    let mut out = model.new_data();
+    let x0 = model.initial_state(&InitialDisturbance::default());
     let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
     let mut samples = Vec::new();
     integrate(
@@ -64,13 +67,25 @@ fn simulate(sc: &Scene, kind: ContactKind) -> (Vec<MultibodySample>, MultibodySa
         1.0 / sim.record_rate_hz,
         &settings,
         &mut |t, x| {
-            samples.push(out_sys.evaluate_at(t, x, None)?);
-            Ok(())
+            samples.push(model.sample(&mut out, t, x)?);
+            Ok(Flow::Continue)
         },
     )
     .unwrap();
     let last = samples.last().unwrap().clone();
     (samples, last)
+}
+
+/// Runs a scene (its `[simulation]` edited by `edit`) with the contact model `kind`.
+fn run_scene(sc: &Scene, kind: &str, edit: impl Fn(&mut kecsim::scenario::SimulationSpec)) -> RunOutput {
+    let mut sc = sc.clone();
+    edit(&mut sc.simulation.as_mut().unwrap().0);
+    sc.build_run(&RunOptions {
+        contact: Some(kind.to_string()),
+        speed_m_s: None,
+    })
+    .unwrap()
+    .run(&mut [])
 }
 
 /// Settling: the axle loads are half the sprung weight plus the wheelset's, the sag the preloads
@@ -79,12 +94,8 @@ fn simulate(sc: &Scene, kind: ContactKind) -> (Vec<MultibodySample>, MultibodySa
 #[test]
 fn static_settling_and_equilibrium() {
     let sc = scene("bogie_tab6_curve.toml");
-    let (_, veh) = sc.simulation.clone().unwrap();
-    let VehicleSpec::Multibody(spec) = veh else {
-        panic!()
-    };
-    let mut sys = multibody(&sc, &spec, ContactKind::Kec);
-    let st = sys.settle().unwrap();
+    let sys = multibody(&sc, "kec", false);
+    let st = &sys.settling;
     let sprung = (2615.0 + 16000.0) * G;
     for q in &st.axle_loads {
         let hand = 0.5 * sprung + 1813.0 * G;
@@ -102,9 +113,9 @@ fn static_settling_and_equilibrium() {
     // (Within 1 %: the wheelset centre of the centred contact is not exactly r0 above the rail
     // plane, which pre-deflects the primary springs by that difference, 0.2 mm here.)
     assert!((sag - hand_sag).abs() < 1e-2 * hand_sag.abs());
-    let x0 = sys.initial_state(0.0, 0.0);
+    let x0 = sys.initial_state(&InitialDisturbance::default());
     let mut dx = vec![0.0; sys.dim()];
-    sys.rhs(0.0, &x0, &mut dx).unwrap();
+    sys.rhs(&mut sys.new_data(), 0.0, &x0, &mut dx).unwrap();
     let worst = dx.iter().map(|v| v.abs()).fold(0.0, f64::max);
     assert!(worst < 1e-6, "nominal state not at rest: {dx:?}");
 }
@@ -117,16 +128,16 @@ fn static_settling_and_equilibrium() {
 #[test]
 fn bogie_curving_is_quasi_static_and_balanced() {
     let sc = scene("bogie_tab6_curve.toml");
-    let (samples, last) = simulate(&sc, ContactKind::Kec);
+    let (samples, last) = simulate(&sc, "kec");
     let r0 = sc.pair.wheelset.nominal_radius_m;
     let n = samples.len();
     // Steady: the last second changes by < 1 µm.
-    let y_of = |s: &MultibodySample, j: usize| s.wheelsets[j].state.y;
+    let y_of = |s: &VehicleSample, j: usize| s.wheelsets[j].state.y;
     for j in 0..2 {
         let drift = (y_of(&samples[n - 1], j) - y_of(&samples[n - 101], j)).abs();
         assert!(drift < 1e-6, "wheelset {j} still moving: {drift}");
     }
-    let ws: Vec<_> = last.wheelsets.iter().map(|w| to_sample(0.0, w, r0)).collect();
+    let ws: Vec<_> = last.wheelsets.iter().map(|w| Sample::new(0.0, w, r0)).collect();
     let m_tot = 2615.0 + 2.0 * 1813.0 + 16000.0;
     let (v, radius, cant) = (19.0, 235.65, 0.07599);
     let hand_y = m_tot * (v * v / radius - G * cant);
@@ -207,8 +218,8 @@ fn bogie_curving_is_quasi_static_and_balanced() {
 #[test]
 fn bogie_kec_against_lookup() {
     let sc = scene("bogie_tab6_curve.toml");
-    let (kec, _) = simulate(&sc, ContactKind::Kec);
-    let (lookup, _) = simulate(&sc, ContactKind::Lookup);
+    let (kec, _) = simulate(&sc, "kec");
+    let (lookup, _) = simulate(&sc, "lookup");
     assert_eq!(kec.len(), lookup.len());
     for j in 0..2 {
         let (mut dy, mut dpsi) = (0.0_f64, 0.0_f64);
@@ -320,30 +331,20 @@ fn multibody_run_interface_and_bad_tables() {
 #[test]
 fn manchester_vehicle_settles_and_runs_on_irregular_track() {
     let sc = scene("manchester_vehicle1_tab6.toml");
-    let (mut sim, veh) = sc.simulation.clone().unwrap();
-    let VehicleSpec::Multibody(spec) = &veh else {
-        panic!()
-    };
-    let mut sys = multibody(&sc, spec, ContactKind::Kec);
-    let st = sys.settle().unwrap();
+    let sys = multibody(&sc, "kec", false);
     let hand = (32000.0 / 4.0 + 2615.0 / 2.0 + 1813.0) * G;
-    for q in &st.axle_loads {
+    for q in &sys.settling.axle_loads {
         assert!((q - hand).abs() < 1e-6 * hand, "axle load {q} vs {hand}");
     }
-    sim.duration_s = 1.0;
-    let go = |kind| kecsim::dynamics::run::run(&sc, &sim, &veh, kind, 19.0, &mut |_| {}).unwrap();
-    let (kec, online, lookup2) = (
-        go(ContactKind::Kec),
-        go(ContactKind::Online),
-        go(ContactKind::Lookup2),
-    );
+    let go = |kind| run_scene(&sc, kind, |s| s.duration_s = 1.0);
+    let (kec, online, lookup2) = (go("kec"), go("online"), go("lookup2"));
     for o in [&kec, &online] {
         assert!(o.summary.error.is_none(), "{:?}", o.summary.error);
         assert_eq!(o.wheelsets.len(), 4);
         assert_eq!(o.bodies.len(), 3);
     }
-    let (dy, dpsi) = kecsim::dynamics::bench::differences(&kec, &online);
-    let (dy2, dpsi2) = kecsim::dynamics::bench::differences(&kec, &lookup2);
+    let (dy, dpsi) = differences(&kec, &online);
+    let (dy2, dpsi2) = differences(&kec, &lookup2);
     println!(
         "Manchester vehicle 1, 1 s: max |y| {:.3} mm; KEC vs online max |Δy| {:.4} mm, max |Δψ| {:.4} mrad (real-time factors {:.1} / {:.2}); KEC vs 2-entry lookup {:.3} mm, {:.3} mrad over {:.2} s{}",
         kec.summary.max_abs_y_mm,
@@ -382,8 +383,8 @@ fn irw_bogie_rolls_without_longitudinal_creep() {
             .compile("irw", path.parent().unwrap())
             .unwrap()
     };
-    let (_, last) = simulate(&compile(&irw_text), ContactKind::Kec);
-    let (_, solid) = simulate(&compile(&base), ContactKind::Kec);
+    let (_, last) = simulate(&compile(&irw_text), "kec");
+    let (_, solid) = simulate(&compile(&base), "kec");
     for (j, (w, ws)) in last.wheelsets.iter().zip(&solid.wheelsets).enumerate() {
         let fx_irw = w.dynamics.creep[0].fx.abs().max(w.dynamics.creep[1].fx.abs());
         let fx_solid = ws.dynamics.creep[0].fx.abs().max(ws.dynamics.creep[1].fx.abs());
@@ -454,38 +455,31 @@ fn spherical_joint_between_carbody_halves() {
             .unwrap()
     };
     let (sc_whole, sc_halves) = (compile(&whole), compile(&halves));
-    let (mut sim, veh) = sc_halves.simulation.clone().unwrap();
+    let (sim, veh) = sc_halves.simulation.clone().unwrap();
     let VehicleSpec::Multibody(spec) = &veh else {
         panic!()
     };
     assert_eq!(spec.joints.len(), 1);
-    let mut sys = multibody(&sc_halves, spec, ContactKind::Kec);
-    let st = sys.settle().unwrap();
     let hand = (32000.0 / 4.0 + 2615.0 / 2.0 + 1813.0) * G;
-    for q in &st.axle_loads {
+    for q in &multibody(&sc_halves, "kec", false).settling.axle_loads {
         assert!((q - hand).abs() < 1e-4 * hand, "axle load {q} vs {hand}");
     }
-    sim.duration_s = 1.0;
-    let (_, veh_whole) = sc_whole.simulation.clone().unwrap();
-    let a =
-        kecsim::dynamics::run::run(&sc_whole, &sim, &veh_whole, ContactKind::Kec, 19.0, &mut |_| {}).unwrap();
-    let b = kecsim::dynamics::run::run(&sc_halves, &sim, &veh, ContactKind::Kec, 19.0, &mut |_| {}).unwrap();
+    let a = run_scene(&sc_whole, "kec", |s| s.duration_s = 1.0);
+    let b = run_scene(&sc_halves, "kec", |s| s.duration_s = 1.0);
     assert!(b.summary.error.is_none(), "{:?}", b.summary.error);
-    // The joint's violation along the run (re-evaluated at the recorded states is not kept by
-    // run(); integrate here for it).
-    sys.track = sc_halves.track.clone();
-    sys.s0 = 10.78;
-    let mut out_sys = sys.clone_for_output();
-    let x0 = sys.initial_state(0.0, 0.0);
+    // The joint's violation along the run (not in the run's output: integrate here for it).
+    let sys = multibody(&sc_halves, "kec", true);
+    let mut out = sys.new_data();
+    let x0 = sys.initial_state(&InitialDisturbance::default());
     let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
     let mut worst: f64 = 0.0;
-    integrate(&mut sys, 0.0, &x0, 1.0, 0.01, &settings, &mut |t, x| {
-        let s = out_sys.evaluate_at(t, x, None)?;
+    integrate(&mut Evaluator::new(&sys), 0.0, &x0, 1.0, 0.01, &settings, &mut |t, x| {
+        let s = sys.sample(&mut out, t, x)?;
         worst = worst.max(s.joint_error[0]);
-        Ok(())
+        Ok(Flow::Continue)
     })
     .unwrap();
-    let (dy, dpsi) = kecsim::dynamics::bench::differences(&a, &b);
+    let (dy, dpsi) = differences(&a, &b);
     println!(
         "carbody halves vs whole: max |Δy| {:.4} mm, max |Δψ| {:.4} mrad; joint violation ≤ {:.2e} m; real-time factors {:.1} / {:.1}",
         dy * 1e3,
@@ -507,14 +501,18 @@ fn spherical_joint_between_carbody_halves() {
 #[test]
 fn two_point_transition_removes_the_sliding_mode() {
     let sc = scene("bogie_tab6_curve.toml");
-    let (sim, veh) = sc.simulation.clone().unwrap();
     let go = |approach: f64| {
-        let mut s = sim.clone();
-        s.duration_s = 32.0;
-        s.kec_two_point_approach_m = approach;
-        kecsim::dynamics::run::run(&sc, &s, &veh, ContactKind::Kec, 19.0, &mut |_| {}).unwrap()
+        run_scene(&sc, "kec", |s| {
+            s.duration_s = 32.0;
+            common::set_contact(
+                s,
+                ContactModelSpec::Kec(KecSettings {
+                    two_point_approach_m: approach,
+                }),
+            );
+        })
     };
-    let (rigid, smooth) = (go(0.0), go(sim.kec_two_point_approach_m));
+    let (rigid, smooth) = (go(0.0), go(KecSettings::default().two_point_approach_m));
     for (label, o) in [("rigid kinks", &rigid), ("two-point transitions", &smooth)] {
         println!(
             "{label}: {} steps, {} rejected, {} right-hand sides, real-time factor {:.0}",
@@ -536,7 +534,7 @@ fn two_point_transition_removes_the_sliding_mode() {
     assert!(smooth.summary.rhs_evaluations * 2 < rigid.summary.rhs_evaluations);
     // Quasi-static in the curve (t = 20 s, s = 470 m): the same offsets and yaw angles.
     for ((name, a), (_, b)) in rigid.wheelsets.iter().zip(&smooth.wheelsets) {
-        let at = |v: &[kecsim::dynamics::run::Sample]| *v.iter().find(|p| (p.t - 20.0).abs() < 1e-9).unwrap();
+        let at = |v: &[Sample]| *v.iter().find(|p| (p.t - 20.0).abs() < 1e-9).unwrap();
         let (p, q) = (at(a), at(b));
         println!(
             "{name} at 20 s: y {:.4} / {:.4} mm, yaw {:.4} / {:.4} mrad",
@@ -556,9 +554,8 @@ fn two_point_transition_removes_the_sliding_mode() {
 #[test]
 fn manchester_vehicle_runs_the_whole_kilometre() {
     let sc = scene("manchester_vehicle1_tab6.toml");
-    let (sim, veh) = sc.simulation.clone().unwrap();
-    let o =
-        kecsim::dynamics::run::run(&sc, &sim, &veh, ContactKind::Kec, sim.speed_m_s, &mut |_| {}).unwrap();
+    let (sim, _) = sc.simulation.clone().unwrap();
+    let o = run_scene(&sc, "kec", |_| {});
     let s = &o.summary;
     println!(
         "Manchester vehicle 1, {:.0} s: real-time factor {:.1}, {} steps ({} rejected); max |y| {:.2} mm, max |yaw| {:.2} mrad, normal forces {:.1} .. {:.1} kN, max |Y/Q| {:.2}",

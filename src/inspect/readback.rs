@@ -27,22 +27,44 @@ pub fn recording_chunks(path: &Path) -> Result<Vec<Chunk>, ReadbackError> {
         path: p.clone(),
         source,
     })?;
-    let mut chunks = Vec::new();
-    for msg in DecoderApp::decode_lazy(BufReader::new(file)) {
-        let msg = msg.map_err(|e| ReadbackError::Decode {
+    let msgs = DecoderApp::decode_lazy(BufReader::new(file))
+        .collect::<Result<Vec<LogMsg>, _>>()
+        .map_err(|e| ReadbackError::Decode {
             path: p.clone(),
             message: e.to_string(),
         })?;
+    message_chunks(&msgs, &p)
+}
+
+/// The data chunks of the recording store among log messages (e.g. of a memory sink); `origin`
+/// names them in errors.
+pub fn message_chunks(msgs: &[LogMsg], origin: &str) -> Result<Vec<Chunk>, ReadbackError> {
+    let mut chunks = Vec::new();
+    for msg in msgs {
         if let LogMsg::ArrowMsg(store, arrow) = msg {
             if store.kind() != StoreKind::Recording {
                 continue;
             }
-            let chunk = Chunk::from_arrow_msg(&arrow).map_err(|e| ReadbackError::Decode {
-                path: p.clone(),
+            let chunk = Chunk::from_arrow_msg(arrow).map_err(|e| ReadbackError::Decode {
+                path: origin.to_string(),
                 message: e.to_string(),
             })?;
             chunks.push(chunk);
         }
     }
     Ok(chunks)
+}
+
+/// Every scalar of the entity `entity` (e.g. `/run/wheelset_1/y_mm`) among `chunks`, row by row
+/// in chunk order (each row the entity's values at one time), static chunks excluded.
+pub fn scalar_rows(chunks: &[Chunk], entity: &str) -> Vec<Vec<f64>> {
+    chunks
+        .iter()
+        .filter(|c| c.entity_path().to_string() == entity && !c.is_static())
+        .flat_map(|c| {
+            c.iter_slices::<f64>(rerun::Scalars::descriptor_scalars().component)
+                .map(|v| v.to_vec())
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }

@@ -41,32 +41,8 @@ impl fmt::Display for ProfileKind {
     }
 }
 
-/// Side of the track. Left is +Y (track frame Y to the left, paper §2.2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Side {
-    Left,
-    Right,
-}
-
-impl Side {
-    pub const BOTH: [Side; 2] = [Side::Left, Side::Right];
-
-    /// +1 on the left, −1 on the right.
-    pub fn sign(self) -> f64 {
-        match self {
-            Side::Left => 1.0,
-            Side::Right => -1.0,
-        }
-    }
-
-    /// `"left"` / `"right"`, as used in entity paths and CSV columns.
-    pub fn name(self) -> &'static str {
-        match self {
-            Side::Left => "left",
-            Side::Right => "right",
-        }
-    }
-}
+/// Side of the track (a track concept; here because every profile has one).
+pub use crate::track::Side;
 
 /// A profile-file or profile-name problem. Every variant names the file; line-specific
 /// problems name the line (1-based).

@@ -9,7 +9,6 @@ use serde::Deserialize;
 use thiserror::Error;
 
 use crate::contact::forces::ContactForceSettings;
-use crate::contact::models::kec::KecSettings;
 use crate::contact::{ContactBuildError, ContactModel, ContactModelSpec};
 use crate::dynamics::integrator::{Method, Settings};
 use crate::dynamics::multibody::Multibody;
@@ -324,14 +323,6 @@ pub fn reference(
     }
 }
 
-/// KEC's settings of a [`ContactModelSpec`], if it is KEC.
-pub fn kec_settings(spec: &ContactModelSpec) -> Option<&KecSettings> {
-    match spec {
-        ContactModelSpec::Kec(k) => Some(k),
-        _ => None,
-    }
-}
-
 impl super::Scene {
     /// Builds the objects of the scene's run with `options` (contact model, vehicle system with
     /// its static settling, reference, settings) — the preprocessing, timed.
@@ -368,5 +359,63 @@ impl super::Scene {
             },
             contact,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::models::kec::KecSettings;
+
+    fn spec(extra: &str) -> Result<SimulationSpec, toml::de::Error> {
+        toml::from_str(&format!("speed_m_s = 19.0\nduration_s = 1.0\n{extra}"))
+    }
+
+    /// `[simulation.contact]` and the earlier keys (`contact_model`, `kec_two_point_approach_m`)
+    /// give the same model; both at once, an unknown name or a bad value are reported.
+    #[test]
+    fn contact_model_from_the_table_or_the_earlier_keys() {
+        let table = spec("[contact]\nmodel = \"kec\"\ntwo_point_approach_m = 2e-5").unwrap();
+        let legacy = spec("contact_model = \"kec\"\nkec_two_point_approach_m = 2e-5").unwrap();
+        let expect = ContactModelSpec::Kec(KecSettings {
+            two_point_approach_m: 2e-5,
+        });
+        assert_eq!(table.contact_spec().unwrap(), expect);
+        assert_eq!(legacy.contact_spec().unwrap(), expect);
+        assert!(table.problems().is_empty() && legacy.problems().is_empty());
+        // Neither: KEC with its defaults.
+        assert_eq!(spec("").unwrap().contact_spec().unwrap(), ContactModelSpec::default());
+        // Another model by name: its defaults; the legacy KEC key is then unused.
+        let l = spec("contact_model = \"lookup2\"").unwrap();
+        assert_eq!(l.contact_spec().unwrap().name(), "lookup2");
+        // `--contact`: the scenario's own settings for the same model, the defaults for another
+        // (KEC keeping the scenario's legacy approach).
+        assert_eq!(table.contact_spec_for("kec").unwrap(), expect);
+        assert_eq!(table.contact_spec_for("online").unwrap().name(), "online");
+        assert_eq!(l.contact_spec_for("kec").unwrap(), ContactModelSpec::default());
+        assert_eq!(
+            spec("contact_model = \"online\"\nkec_two_point_approach_m = 0.0")
+                .unwrap()
+                .contact_spec_for("kec")
+                .unwrap(),
+            ContactModelSpec::Kec(KecSettings {
+                two_point_approach_m: 0.0
+            })
+        );
+        assert!(table.contact_spec_for("magic").unwrap_err().contains("magic"));
+        let both = spec("contact_model = \"kec\"\n[contact]\nmodel = \"kec\"").unwrap();
+        assert!(both.problems().iter().any(|p| p.contains("not both")), "{:?}", both.problems());
+        let unknown = spec("contact_model = \"magic\"").unwrap();
+        assert!(unknown.problems().iter().any(|p| p.contains("\"magic\"") && p.contains("lookup2")));
+        let bad = spec("[contact]\nmodel = \"lookup2\"\ngv_step_m = 0.0").unwrap();
+        assert!(
+            bad.problems().iter().any(|p| p.contains("simulation.contact.gv_step_m = 0")),
+            "{:?}",
+            bad.problems()
+        );
+        let e = spec("[contact]\nmodel = \"online\"\ntwo_point_approach_m = 1e-5")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("two_point_approach_m") && e.contains("line"), "{e}");
     }
 }

@@ -24,7 +24,7 @@ pub mod spectrum;
 pub use centreline::{Centreline, FrameMotion, Start, TrackFrame};
 pub use irregularity::{Generation, Irregularities, IrregularityState};
 pub use psd::{Channel, Psd};
-pub use rails::{RailMotion, RailOffsets, TrackGauge};
+pub use rails::{RailMotion, RailOffsets, Side, TrackGauge};
 
 /// Track errors. File problems name the file and, where there is one, the line.
 #[derive(Debug, thiserror::Error)]

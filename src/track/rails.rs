@@ -1,8 +1,33 @@
-//! The rails at one cross-section of the track: where the gauge is measured, and the rail
+//! The rails at one cross-section of the track: its two sides, where the gauge is measured, and the rail
 //! displacements that the irregularities make of the ideal rails (METHOD.md §2, Eq. 5–11) — what
 //! the contact models see of the track.
 
-use crate::profile::Side;
+/// Side of the track. Left is +Y (track frame Y to the left, paper §2.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
+}
+
+impl Side {
+    pub const BOTH: [Side; 2] = [Side::Left, Side::Right];
+
+    /// +1 on the left, −1 on the right.
+    pub fn sign(self) -> f64 {
+        match self {
+            Side::Left => 1.0,
+            Side::Right => -1.0,
+        }
+    }
+
+    /// `"left"` / `"right"`, as used in entity paths and CSV columns.
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Left => "left",
+            Side::Right => "right",
+        }
+    }
+}
 
 /// Track gauge and where it is measured.
 #[derive(Debug, Clone, Copy, PartialEq)]

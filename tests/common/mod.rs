@@ -50,3 +50,10 @@ pub fn scene(file: &str) -> kecsim::scenario::Scene {
         .compile(&path.display().to_string(), path.parent().unwrap())
         .unwrap()
 }
+
+/// Sets the contact model of a `[simulation]` (the table form; the legacy keys cleared).
+pub fn set_contact(sim: &mut kecsim::scenario::SimulationSpec, spec: kecsim::contact::ContactModelSpec) {
+    sim.contact = Some(spec);
+    sim.contact_model = None;
+    sim.kec_two_point_approach_m = None;
+}

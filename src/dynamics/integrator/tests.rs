@@ -9,6 +9,7 @@ struct Oscillator {
 }
 
 impl OdeSystem for Oscillator {
+    type Error = String;
     fn dim(&self) -> usize {
         2
     }
@@ -25,6 +26,7 @@ struct Prothero {
 }
 
 impl OdeSystem for Prothero {
+    type Error = String;
     fn dim(&self) -> usize {
         1
     }
@@ -35,7 +37,7 @@ impl OdeSystem for Prothero {
 }
 
 fn run(
-    sys: &mut dyn OdeSystem,
+    sys: &mut dyn OdeSystem<Error = String>,
     x0: &[f64],
     t_end: f64,
     dt_out: f64,
@@ -44,7 +46,7 @@ fn run(
     let mut out = Vec::new();
     let stats = integrate(sys, 0.0, x0, t_end, dt_out, s, &mut |t, x| {
         out.push((t, x.to_vec()));
-        Ok(())
+        Ok(Flow::Continue)
     })
     .unwrap();
     (out, stats)
@@ -114,6 +116,7 @@ struct WrongJacobian {
 }
 
 impl OdeSystem for WrongJacobian {
+    type Error = String;
     fn dim(&self) -> usize {
         2
     }
@@ -228,6 +231,7 @@ fn energy_conserved_to_tolerance() {
 fn failures_are_diagnosed() {
     struct BlowUp;
     impl OdeSystem for BlowUp {
+        type Error = String;
         fn dim(&self) -> usize {
             1
         }
@@ -238,6 +242,7 @@ fn failures_are_diagnosed() {
     }
     struct Lift;
     impl OdeSystem for Lift {
+        type Error = String;
         fn dim(&self) -> usize {
             1
         }
@@ -251,14 +256,14 @@ fn failures_are_diagnosed() {
     }
     for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2] {
         let s = Settings::new(method, 1e-8, 1e-8);
-        let e = integrate(&mut BlowUp, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(())).unwrap_err();
+        let e = integrate(&mut BlowUp, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(Flow::Continue)).unwrap_err();
         match e {
             IntegrationError::NonFinite { t } => assert!((t - 1.0).abs() < 1e-6, "{t}"),
             other => panic!("{method:?}: {other}"),
         }
-        let e = integrate(&mut Lift, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(())).unwrap_err();
+        let e = integrate(&mut Lift, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(Flow::Continue)).unwrap_err();
         assert!(
-            matches!(e, IntegrationError::Model { t, ref message } if t <= 0.5 + 1e-9 && message.contains("normal force")),
+            matches!(e, IntegrationError::Model { t, ref error } if t <= 0.5 + 1e-9 && error.contains("normal force")),
             "{e}"
         );
         let mut tight = Settings::new(method, 1e-30, 1e-30);
@@ -270,11 +275,54 @@ fn failures_are_diagnosed() {
             1.0,
             0.1,
             &tight,
-            &mut |_, _| Ok(()),
+            &mut |_, _| Ok(Flow::Continue),
         )
         .unwrap_err();
         assert!(
             matches!(e, IntegrationError::StepCollapse { .. }),
+            "{method:?}: {e}"
+        );
+    }
+}
+
+/// The observer ends an integration normally with `Flow::Stop` at an output time (a stop
+/// condition): `Completion::Stopped` at that time, no output after it, the work done kept; an
+/// observer's error is an `Output` failure at its time.
+#[test]
+fn observer_stops_and_fails_at_output_times() {
+    for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2] {
+        let s = Settings::new(method, 1e-8, 1e-10);
+        let mut seen = Vec::new();
+        let mut stats = Stats::default();
+        let end = integrate_into(
+            &mut Oscillator { w: 2.0 },
+            0.0,
+            &[1.0, 0.0],
+            10.0,
+            0.1,
+            &s,
+            &mut |t, x| {
+                seen.push(t);
+                // Stop when x first falls below −0.5 (cos 2t = −0.5 at t = π/3).
+                Ok(if x[0] < -0.5 { Flow::Stop } else { Flow::Continue })
+            },
+            &mut stats,
+        )
+        .unwrap();
+        let t_stop = *seen.last().unwrap();
+        assert_eq!(end, Completion::Stopped { t: t_stop }, "{method:?}");
+        assert!((t_stop - 1.1).abs() < 1e-9, "{method:?}: stopped at {t_stop}");
+        assert!(stats.accepted > 0 && stats.rhs_evaluations > 0, "{method:?}: {stats:?}");
+        let e = integrate(&mut Oscillator { w: 2.0 }, 0.0, &[1.0, 0.0], 10.0, 0.1, &s, &mut |t, _| {
+            if t > 0.45 {
+                Err(format!("cannot write at {t}"))
+            } else {
+                Ok(Flow::Continue)
+            }
+        })
+        .unwrap_err();
+        assert!(
+            matches!(e, IntegrationError::Output { t, ref error } if (t - 0.5).abs() < 1e-9 && error.contains("cannot write")),
             "{method:?}: {e}"
         );
     }
@@ -289,6 +337,7 @@ fn ros34pw2_reuses_jacobians_on_a_stiff_problem() {
         mu: f64,
     }
     impl OdeSystem for VanDerPol {
+        type Error = String;
         fn dim(&self) -> usize {
             2
         }
