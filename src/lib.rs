@@ -10,7 +10,7 @@
 //! * [`vehicle`]: bodies, wheelsets and force elements of a vehicle (§2.4–2.5).
 //! * [`dynamics`]: equations of motion, contact reactions, integrators, runs.
 //! * [`scenario`]: scenario files (TOML) compiled into scenes.
-//! * [`bench`]: measured speed with its error, printed by `kecsim bench`.
+//! * [`bench`](mod@bench): measured speed with its error, printed by `kecsim bench`.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
 
 /// The schema version of the scenario and track files this build reads (`schema_version`).

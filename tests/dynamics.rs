@@ -115,7 +115,10 @@ fn energy_is_conserved_without_creep() {
             inertia,
             tie,
             axle_load_n: load,
-            contact: ContactModelSpec::default_for(kind).unwrap().build(&sc.pair).unwrap(),
+            contact: ContactModelSpec::default_for(kind)
+                .unwrap()
+                .build(&sc.pair)
+                .unwrap(),
             forces: forces.clone(),
             r0,
             reference: Reference {
@@ -450,7 +453,10 @@ fn run_interface_csv_json_and_recording() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let js: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&paced).unwrap()).unwrap();
     let wall = js["wall_s"].as_f64().unwrap();
-    assert!(wall > 0.24, "paced at 4x real time: {wall} s of wall time for 1 s");
+    assert!(
+        wall > 0.24,
+        "paced at 4x real time: {wall} s of wall time for 1 s"
+    );
 
     // Bad input: a [simulation] without [vehicle], an out-of-range value, an unknown key.
     let base = std::fs::read_to_string(&short).unwrap();
@@ -506,7 +512,7 @@ fn recording_is_streamed_while_the_run_goes() {
         fn sample(&mut self, _s: &OutputSample<'_>) -> Result<(), ObserverError> {
             self.produced += 1;
             std::thread::sleep(std::time::Duration::from_millis(1));
-            if self.produced % 25 == 0 {
+            if self.produced.is_multiple_of(25) {
                 self.drain();
                 self.seen.push((self.produced, self.rows.len()));
             }
@@ -517,7 +523,9 @@ fn recording_is_streamed_while_the_run_goes() {
     let sc = scene("wheelset_klingel.toml");
     let mut built = sc.build_run(&RunOptions::default()).unwrap();
     built.settings.duration_s = 2.0;
-    let (rec, storage) = rerun::RecordingStreamBuilder::new("kecsim-test").memory().unwrap();
+    let (rec, storage) = rerun::RecordingStreamBuilder::new("kecsim-test")
+        .memory()
+        .unwrap();
     let mut recorder = LiveRecorder::on(rec, &sc, &built.vehicle.wheelset_names()).unwrap();
     let mut probe = Probe {
         storage,

@@ -42,7 +42,10 @@ fn multibody(sc: &Scene, kind: &str, with_track: bool) -> Multibody {
     };
     Multibody::new(
         spec,
-        ContactModelSpec::default_for(kind).unwrap().build(&sc.pair).unwrap(),
+        ContactModelSpec::default_for(kind)
+            .unwrap()
+            .build(&sc.pair)
+            .unwrap(),
         sc.contact_forces.clone(),
         sc.pair.wheelset.nominal_radius_m,
         reference,
@@ -473,11 +476,19 @@ fn spherical_joint_between_carbody_halves() {
     let x0 = sys.initial_state(&InitialDisturbance::default());
     let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
     let mut worst: f64 = 0.0;
-    integrate(&mut Evaluator::new(&sys), 0.0, &x0, 1.0, 0.01, &settings, &mut |t, x| {
-        let s = sys.sample(&mut out, t, x)?;
-        worst = worst.max(s.joint_error[0]);
-        Ok(Flow::Continue)
-    })
+    integrate(
+        &mut Evaluator::new(&sys),
+        0.0,
+        &x0,
+        1.0,
+        0.01,
+        &settings,
+        &mut |t, x| {
+            let s = sys.sample(&mut out, t, x)?;
+            worst = worst.max(s.joint_error[0]);
+            Ok(Flow::Continue)
+        },
+    )
     .unwrap();
     let (dy, dpsi) = differences(&a, &b);
     println!(

@@ -603,7 +603,7 @@ impl LookupTable1 {
         Ok(r)
     }
 
-    /// Writes the table as CSV (see [`write_rows_csv`]).
+    /// Writes the table as CSV (the columns of the README, one row per tabulated y).
     pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
         write_rows_csv(path, &self.rows, self.r0, self.l_r)
     }

@@ -189,8 +189,11 @@ const KNIFE_SERIES: Series = ("s_knife_mm", &["left", "right"], |s| {
         .map_or(vec![f64::NAN; 2], |k| vec![k[0] * 1e3, k[1] * 1e3])
 });
 
+/// One every-wheelset series: entity under `run/vehicle/`, the value of a wheelset's sample.
+type VehicleSeries = (&'static str, fn(&Sample) -> f64);
+
 /// The every-wheelset series under `run/vehicle/` (one line per wheelset).
-const VEHICLE_SERIES: [(&str, fn(&Sample) -> f64); 4] = [
+const VEHICLE_SERIES: [VehicleSeries; 4] = [
     ("y_mm", |s| s.y * 1e3),
     ("yaw_mrad", |s| s.yaw * 1e3),
     ("min_normal_kn", |s| s.normal[0].min(s.normal[1]) * 1e-3),

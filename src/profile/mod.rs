@@ -1,11 +1,11 @@
 //! Wheel and rail profiles (paper §3).
 //!
 //! A [`Profile`] is a plane curve z(s) in the profile's own frame, SI units:
-//! * `s` [m], the lateral surface parameter, increasing towards the **field side** (outside of the
+//! * `s` \[m\], the lateral surface parameter, increasing towards the **field side** (outside of the
 //!   track) for a profile on the **left** side of the track; the right side is the mirror image
 //!   (see [`Side`]), which gives the paper's convention that s^w and s^r both increase towards +Y
 //!   on each side once mirrored.
-//! * `z` [m], **up**. For a rail, z is the rail head height h^r(s^r) of Eq. (20). For a wheel, z is
+//! * `z` \[m\], **up**. For a rail, z is the rail head height h^r(s^r) of Eq. (20). For a wheel, z is
 //!   the height of the running surface above the taping line (nominal rolling circle), so that the
 //!   paper's wheel radius function of Eq. (21) is h^w(s^w) = r0 − z(s^w) (flanges point down,
 //!   as on a real wheel).

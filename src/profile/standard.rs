@@ -2,11 +2,11 @@
 //! S1002 wheel; the MS vehicle runs on UIC54).
 //!
 //! * **S1002** wheel (EN 13715, h28 e32.5): the DLR/Netter analytic definition, eight sections
-//!   (polynomials, circles, straight flank). Coordinates as published: S [mm] lateral from the
-//!   taping line, positive towards the field side (flange at negative S); F(S) [mm] radial offset,
+//!   (polynomials, circles, straight flank). Coordinates as published: S \[mm\] lateral from the
+//!   taping line, positive towards the field side (flange at negative S); F(S) \[mm\] radial offset,
 //!   positive = larger radius. Flange back at S = −70 mm (nominal rolling circle 70 mm from it).
 //! * **60E1 (UIC60)** and **54E1 (UIC54)** rail heads (EN 13674-1): arcs R300, R80, R13 joined
-//!   tangentially, then the 1:20 flank; y [mm] from the rail centreline, depth d [mm] below the top.
+//!   tangentially, then the 1:20 flank; y \[mm\] from the rail centreline, depth d \[mm\] below the top.
 //!
 //! The published geometry is in mm and is kept so here (the boundary); [`StandardProfile::profile`]
 //! converts to SI once when it builds the runtime [`Profile`] (a C² spline through points sampled

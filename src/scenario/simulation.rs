@@ -384,7 +384,10 @@ mod tests {
         assert_eq!(legacy.contact_spec().unwrap(), expect);
         assert!(table.problems().is_empty() && legacy.problems().is_empty());
         // Neither: KEC with its defaults.
-        assert_eq!(spec("").unwrap().contact_spec().unwrap(), ContactModelSpec::default());
+        assert_eq!(
+            spec("").unwrap().contact_spec().unwrap(),
+            ContactModelSpec::default()
+        );
         // Another model by name: its defaults; the legacy KEC key is then unused.
         let l = spec("contact_model = \"lookup2\"").unwrap();
         assert_eq!(l.contact_spec().unwrap().name(), "lookup2");
@@ -404,12 +407,21 @@ mod tests {
         );
         assert!(table.contact_spec_for("magic").unwrap_err().contains("magic"));
         let both = spec("contact_model = \"kec\"\n[contact]\nmodel = \"kec\"").unwrap();
-        assert!(both.problems().iter().any(|p| p.contains("not both")), "{:?}", both.problems());
+        assert!(
+            both.problems().iter().any(|p| p.contains("not both")),
+            "{:?}",
+            both.problems()
+        );
         let unknown = spec("contact_model = \"magic\"").unwrap();
-        assert!(unknown.problems().iter().any(|p| p.contains("\"magic\"") && p.contains("lookup2")));
+        assert!(unknown
+            .problems()
+            .iter()
+            .any(|p| p.contains("\"magic\"") && p.contains("lookup2")));
         let bad = spec("[contact]\nmodel = \"lookup2\"\ngv_step_m = 0.0").unwrap();
         assert!(
-            bad.problems().iter().any(|p| p.contains("simulation.contact.gv_step_m = 0")),
+            bad.problems()
+                .iter()
+                .any(|p| p.contains("simulation.contact.gv_step_m = 0")),
             "{:?}",
             bad.problems()
         );

@@ -8,7 +8,7 @@
 //! * [`psd`]: FRA and German irregularity spectra; [`irregularity`]: generation (sum of cosines),
 //!   C² interpolation with derivatives, rail displacements and rail-frame placement (METHOD.md §2);
 //!   [`measured`]: irregularity CSV files; [`spectrum`]: PSD estimates to check them.
-//! * [`file`]: the `[track]` table of track and scenario files; the paper's Tab. 6 track embedded.
+//! * [`file`](mod@file): the `[track]` table of track and scenario files; the paper's Tab. 6 track embedded.
 
 pub mod centreline;
 pub mod clothoid;

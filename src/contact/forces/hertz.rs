@@ -77,7 +77,7 @@ pub struct RelativeCurvature {
 impl RelativeCurvature {
     /// From the real contact point: the wheel's rolling radius r (m) and contact angle γ (rad, between
     /// the contact normal and the wheel's radial direction), the lateral curvatures of the wheel and
-    /// rail profiles (1/m, convex positive, as [`crate::contact::geometry::ContactPoint`] gives them).
+    /// rail profiles (1/m, convex positive, as [`crate::contact::ContactPoint`] gives them).
     /// The rail is straight along x.
     pub fn wheel_rail(
         rolling_radius: f64,

@@ -256,12 +256,18 @@ fn failures_are_diagnosed() {
     }
     for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2] {
         let s = Settings::new(method, 1e-8, 1e-8);
-        let e = integrate(&mut BlowUp, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(Flow::Continue)).unwrap_err();
+        let e = integrate(&mut BlowUp, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| {
+            Ok(Flow::Continue)
+        })
+        .unwrap_err();
         match e {
             IntegrationError::NonFinite { t } => assert!((t - 1.0).abs() < 1e-6, "{t}"),
             other => panic!("{method:?}: {other}"),
         }
-        let e = integrate(&mut Lift, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| Ok(Flow::Continue)).unwrap_err();
+        let e = integrate(&mut Lift, 0.0, &[0.0], 3.0, 0.1, &s, &mut |_, _| {
+            Ok(Flow::Continue)
+        })
+        .unwrap_err();
         assert!(
             matches!(e, IntegrationError::Model { t, ref error } if t <= 0.5 + 1e-9 && error.contains("normal force")),
             "{e}"
@@ -312,14 +318,25 @@ fn observer_stops_and_fails_at_output_times() {
         let t_stop = *seen.last().unwrap();
         assert_eq!(end, Completion::Stopped { t: t_stop }, "{method:?}");
         assert!((t_stop - 1.1).abs() < 1e-9, "{method:?}: stopped at {t_stop}");
-        assert!(stats.accepted > 0 && stats.rhs_evaluations > 0, "{method:?}: {stats:?}");
-        let e = integrate(&mut Oscillator { w: 2.0 }, 0.0, &[1.0, 0.0], 10.0, 0.1, &s, &mut |t, _| {
-            if t > 0.45 {
-                Err(format!("cannot write at {t}"))
-            } else {
-                Ok(Flow::Continue)
-            }
-        })
+        assert!(
+            stats.accepted > 0 && stats.rhs_evaluations > 0,
+            "{method:?}: {stats:?}"
+        );
+        let e = integrate(
+            &mut Oscillator { w: 2.0 },
+            0.0,
+            &[1.0, 0.0],
+            10.0,
+            0.1,
+            &s,
+            &mut |t, _| {
+                if t > 0.45 {
+                    Err(format!("cannot write at {t}"))
+                } else {
+                    Ok(Flow::Continue)
+                }
+            },
+        )
         .unwrap_err();
         assert!(
             matches!(e, IntegrationError::Output { t, ref error } if (t - 0.5).abs() < 1e-9 && error.contains("cannot write")),
