@@ -93,7 +93,7 @@ pub fn dynamics() -> Result<String, String> {
         "| scene | contact model | integrator (rtol) | simulated s | wall s | real-time factor | steps (rejected) | max Δy vs KEC [mm] | max Δψ vs KEC [mrad] |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     let mut streaming = String::from(
-        "\n| scene | real-time factor without a sink | with an .rrd file sink | streaming cost |\n|---|---|---|---|\n",
+        "\n| scene | output samples | real-time factor without a sink | with an .rrd file sink | streaming cost |\n|---|---|---|---|---|\n",
     );
     let rrd = std::env::temp_dir().join(format!("kecsim-bench-{}.rrd", std::process::id()));
     for (name, text, window) in SCENES {
@@ -149,11 +149,15 @@ pub fn dynamics() -> Result<String, String> {
                 // The same run streamed to a recording file (what `kecsim run --save` does).
                 let streamed = run_with(&scene, model, |_| {}, Some(&Sink::Save(rrd.clone())))?;
                 let (a, b) = (s.realtime_factor, streamed.summary.realtime_factor);
+                let extra = streamed.summary.wall_s - s.wall_s;
                 let (dy, _) = differences(&o, &streamed);
                 let _ = writeln!(
                     streaming,
-                    "| {name} | {a:.2} | {b:.2} | {:+.1} % wall time{} |",
+                    "| {name} | {} | {a:.2} | {b:.2} | {:+.1} % wall time ({:+.0} ms, {:+.1} µs per sample){} |",
+                    s.samples,
                     (a / b - 1.0) * 100.0,
+                    extra * 1e3,
+                    extra * 1e6 / s.samples.max(1) as f64,
                     if dy == 0.0 { "" } else { " (results differ!)" }
                 );
                 kec = Some(o);
@@ -196,32 +200,60 @@ pub fn dispatch() -> Result<String, String> {
             pair: pair.clone(),
         }
     };
-    let n = 200_000;
+    let n = 20_000;
     let ys: Vec<f64> = (0..n)
         .map(|k| 6e-3 * ((k as f64 * 0.618_033_988_75).fract() * 2.0 - 1.0))
         .collect();
     let rails = RailMotion::default();
-    let time = |f: &dyn Fn(f64, &mut WarmStart) -> f64| {
-        let mut best = f64::INFINITY;
-        for _ in 0..5 {
-            let mut warm = WarmStart::default();
-            let t = Instant::now();
-            let mut acc = 0.0;
-            for &y in &ys {
-                acc += f(black_box(y), &mut warm);
-            }
-            black_box(acc);
-            best = best.min(t.elapsed().as_secs_f64() / n as f64);
+    // One pass over the points, s per call.
+    let pass = |f: &dyn Fn(f64, &mut WarmStart) -> f64| {
+        let mut warm = WarmStart::default();
+        let t = Instant::now();
+        let mut acc = 0.0;
+        for &y in &ys {
+            acc += f(black_box(y), &mut warm);
         }
-        best
+        black_box(acc);
+        t.elapsed().as_secs_f64() / n as f64
     };
     let dynamic: &dyn ContactModel = model.as_ref();
-    let t_dyn = time(&|y, w| dynamic.kinematics(y, 0.01, &rails, w).map_or(0.0, |k| k.z));
-    let t_static = time(&|y, w| concrete.kinematics(y, 0.01, &rails, w).map_or(0.0, |k| k.z));
+    // The whole result is kept (black_box), so that the inlined direct call cannot skip the work
+    // whose result is unused.
+    let via_dyn =
+        |y: f64, w: &mut WarmStart| black_box(dynamic.kinematics(y, 0.01, &rails, w)).map_or(0.0, |k| k.z);
+    let direct =
+        |y: f64, w: &mut WarmStart| black_box(concrete.kinematics(y, 0.01, &rails, w)).map_or(0.0, |k| k.z);
+    // Short passes in pairs, alternating which goes first (the machine's speed drifts); the
+    // median of the pairs' ratios.
+    let pairs = 41;
+    let (mut t_dyn, mut t_static, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..pairs {
+        let (d, s) = if k % 2 == 0 {
+            let d = pass(&via_dyn);
+            (d, pass(&direct))
+        } else {
+            let s = pass(&direct);
+            (pass(&via_dyn), s)
+        };
+        t_dyn.push(d);
+        t_static.push(s);
+        ratio.push(d / s);
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (lo, hi) = {
+        let mut r = ratio.clone();
+        r.sort_by(f64::total_cmp);
+        (r[pairs / 4], r[3 * pairs / 4])
+    };
     Ok(format!(
-        "\ncontact-model dispatch (KEC kinematics, {n} random y, best of 5): through `dyn ContactModel` {:.1} ns/call, concrete type {:.1} ns/call ({:+.1} %); a right-hand side of the Manchester vehicle costs ~30 µs\n",
-        t_dyn * 1e9,
-        t_static * 1e9,
-        (t_dyn / t_static - 1.0) * 100.0
+        "\ncontact-model dispatch (KEC kinematics at {n} y per pass, {pairs} pairs of passes): through `dyn ContactModel` {:.0} ns/call, the concrete type {:.0} ns/call (medians); ratio dyn/concrete {:.3} (median; quartiles {:.3} .. {:.3}); a right-hand side of the Manchester vehicle costs ~30 µs\n",
+        median(t_dyn) * 1e9,
+        median(t_static) * 1e9,
+        median(ratio),
+        lo,
+        hi
     ))
 }

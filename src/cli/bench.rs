@@ -28,6 +28,8 @@ enum BenchTarget {
     /// Real-time factor of every scene with every contact model, each model's difference from KEC
     /// on the same scene, the cost of streaming to a recording, and the contact-model dispatch.
     Dynamics,
+    /// The cost of calling a contact model through the `dyn ContactModel` interface.
+    Dispatch,
 }
 
 pub(super) fn run(a: BenchArgs) -> Result<()> {
@@ -53,6 +55,10 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         BenchTarget::Dynamics => print!(
             "{}",
             kecsim::bench::dynamics::dynamics().map_err(anyhow::Error::msg)?
+        ),
+        BenchTarget::Dispatch => print!(
+            "{}",
+            kecsim::bench::dynamics::dispatch().map_err(anyhow::Error::msg)?
         ),
     }
     Ok(())

@@ -11,7 +11,7 @@ use kecsim::contact::lookup::LookupTable2;
 use kecsim::contact::report::ContactReport;
 use kecsim::inspect;
 
-use super::{describe, positive_mm, PairArgs, SinkArgs, TableArgs};
+use super::{describe, positive_mm, title, PairArgs, SinkArgs, TableArgs};
 
 #[derive(Args)]
 pub(super) struct ContactArgs {
@@ -46,10 +46,7 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
         sink,
     } = a;
     let pair = pair.pair()?;
-    let title = format!(
-        "kecsim contact: {} on {} at {}",
-        pair.wheel.name, pair.rail.name, pair.inclination
-    );
+    let title = title("contact", &pair);
     let geom = ContactGeometry::with_defaults(pair);
     let settings = table.settings()?;
     let report = ContactReport::new(&geom, &settings)?;

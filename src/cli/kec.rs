@@ -11,7 +11,7 @@ use kecsim::contact::lookup::{LookupTable1, LookupTable2};
 use kecsim::contact::report::{kec_error_markdown, kec_irregularity_errors, kec_summary};
 use kecsim::inspect;
 
-use super::{describe, PairArgs, SinkArgs, TableArgs};
+use super::{describe, title, PairArgs, SinkArgs, TableArgs};
 
 #[derive(Args)]
 pub(super) struct KecArgs {
@@ -39,10 +39,7 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
         sink,
     } = a;
     let pair = pair.pair()?;
-    let title = format!(
-        "kecsim kec: {} on {} at {}",
-        pair.wheel.name, pair.rail.name, pair.inclination
-    );
+    let title = title("kec", &pair);
     let l_w = pair.wheelset.l_w();
     let geom = ContactGeometry::with_defaults(pair);
     let settings = table.settings()?;

@@ -179,6 +179,14 @@ fn describe(sink: &Sink) -> String {
     }
 }
 
+/// The title of a command's summary on a pair: `kecsim CMD: WHEEL on RAIL at INCLINATION`.
+fn title(command: &str, pair: &WheelRailPair) -> String {
+    format!(
+        "kecsim {command}: {} on {} at {}",
+        pair.wheel.name, pair.rail.name, pair.inclination
+    )
+}
+
 /// The placed pair's summary, as plain text.
 fn print_pair(pair: &WheelRailPair) {
     println!(
