@@ -639,11 +639,15 @@ impl KecModel {
     /// (y_lir, z_lir, y_rir, z_rir) from `start` (a previous x, or `None` for Eq. 51).
     ///
     /// Near a kink (a real contact jump, typically at flange contact) Newton from the Eq. (51)
-    /// guess can fail; the solve then restarts from [`KecModel::table_guess`].
+    /// guess can fail, and near the end of the profiles on displaced rails that guess (s^k = −y,
+    /// blind to the rails) can lie off them; the solve then restarts from
+    /// [`KecModel::table_guess`], which places each knife edge from its own rail's offset.
     pub fn solve(&self, y: f64, rails: [f64; 4], start: Option<[f64; 4]>) -> Result<KecSolution, KecError> {
         let q = [y, rails[0], rails[1], rails[2], rails[3]];
         match self.newton(y, &q, start.unwrap_or_else(|| self.guess(y))) {
-            Err(KecError::NoConvergence { .. }) => self.newton(y, &q, self.table_guess(y, rails)),
+            Err(KecError::NoConvergence { .. } | KecError::OffProfile { .. }) => {
+                self.newton(y, &q, self.table_guess(y, rails))
+            }
             other => other,
         }
     }

@@ -23,12 +23,14 @@
 //! 30 m/s they are < 1e-3 m/s²) and products of small rates other than the gyroscopic ones; kept:
 //! the gyroscopic moments I_y Ω (ψ̇ + ω_tz), I_y Ω (φ̇ + ω_tx), and Coriolis.
 //!
-//! The creep forces depend on λ (Hertz ellipse, μN): fixed-point passes — creep from the previous
-//! λ, solve, creep from the new λ, … — until λ settles to 1e-12 relative (DYNAMICS.md §4; two or
-//! three passes: the creep forces depend on λ only through a^⅓-scalings and μN). The last change
-//! is returned. A λ ≤ 0 is a lifting wheel: an error with the diagnosis.
+//! The creep forces depend on λ (Hertz ellipse, μN): G(λ) = Φ(λ) − λ = 0, with Φ the normal forces
+//! the equations give for the creep forces at λ (DYNAMICS.md §4), solved by Broyden's method from
+//! the previous evaluation's λ, to 1e-12 relative — so that the right-hand side is a function of
+//! the state alone (the plain fixed point, which stopped after 8 passes, left up to 1.3e-7 relative
+//! on the Manchester run, measured; each pass reuses the factored matrix). Its residual is returned;
+//! not converging is an error with the diagnosis, as is a λ ≤ 0 (a lifting wheel).
 
-use nalgebra::{SMatrix, SVector, Vector3};
+use nalgebra::{Matrix2, SMatrix, SVector, Vector2, Vector3};
 use thiserror::Error;
 
 use crate::contact::forces::{
@@ -116,7 +118,8 @@ pub struct WheelsetDynamics {
     pub creep: [CreepForce; 2],
     /// Creepages left, right.
     pub creepage: [Creepage; 2],
-    /// Change of λ between the two creep passes, N.
+    /// |Φ(λ) − λ| of the normal forces returned: the residual of the creep/normal-force
+    /// iteration (≤ 1e-12 relative), N.
     pub lambda_change: f64,
 }
 
@@ -129,12 +132,14 @@ pub enum WheelsetError {
     Contact { side: &'static str, message: String },
     #[error("singular wheelset equations")]
     Singular,
+    #[error("the normal forces and the creep forces did not agree after {passes} passes (last change {change:.3e} N)")]
+    NormalForces { change: f64, passes: usize },
 }
 
-/// Fixed-point passes between creep forces and normal forces: at most this many, stopping when λ
-/// changes by less than `LAMBDA_TOLERANCE` relative (so that the right-hand side is a function of
-/// the state, not of the previous evaluation — implicit integrators difference it).
-const MAX_PASSES: usize = 8;
+/// Passes between creep forces and normal forces: at most 1 + this many, until Φ(λ) − λ is below
+/// `LAMBDA_TOLERANCE` relative (so that the right-hand side is a function of the state, not of the
+/// previous evaluation — implicit integrators difference it); else a diagnosed failure.
+const MAX_PASSES: usize = 30;
 const LAMBDA_TOLERANCE: f64 = 1e-12;
 
 /// Evaluates the wheelset's accelerations and normal forces. `lambda_guess` seeds the creep
@@ -253,7 +258,8 @@ pub fn evaluate(
         );
     }
     // 10×10: [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr θ̈_bridge Ω̇_r]. The matrix does not depend on the creep
-    // forces: factored once, the fixed-point passes only change the right-hand side.
+    // forces: factored once, the passes of the creep/normal-force iteration only change the
+    // right-hand side.
     //
     // Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → about the axle a (Ω̇). With
     // H = I_x φ̇ x + I_y Ω a + I_z ψ̇ z and ȧ = (−ψ̇, 0, φ̇): the x and z rows carry I_y Ω̇ a_x,
@@ -303,10 +309,9 @@ pub fn evaluate(
     a[(7, 3)] = 1.0;
     a[(7, 1)] = -kin.phi_y;
     let lu = a.lu();
-    let mut lambda = lambda_guess;
-    let mut result = WheelsetDynamics::default();
-    let mut prev_lambda = lambda;
-    for pass in 0..MAX_PASSES {
+    // One pass: the creep forces at the normal forces `lambda`, then the accelerations and the
+    // normal forces they give, Φ(λ).
+    let pass = |lambda: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
         let mut f = f_known;
         let mut mo = m_known;
         // Moments of each wheel's creep forces about the centre.
@@ -351,25 +356,46 @@ pub fn evaluate(
         b[6] = kin.c_z;
         b[7] = kin.c_phi;
         let sol = lu.solve(&b).ok_or(WheelsetError::Singular)?;
-        let new_lambda = [sol[6], sol[7]];
-        result = WheelsetDynamics {
+        Ok(WheelsetDynamics {
             accel: [sol[0], sol[1], sol[2], sol[3], sol[4], sol[5]],
             spin_accel_right: sol[9],
-            normal: new_lambda,
+            normal: [sol[6], sol[7]],
             creep,
             creepage,
-            lambda_change: (new_lambda[0] - prev_lambda[0])
-                .abs()
-                .max((new_lambda[1] - prev_lambda[1]).abs()),
-        };
-        prev_lambda = new_lambda;
-        lambda = new_lambda;
-        if pass > 0
-            && result.lambda_change <= LAMBDA_TOLERANCE * (1.0 + new_lambda[0].abs() + new_lambda[1].abs())
-        {
+            lambda_change: 0.0,
+        })
+    };
+    // Solve G(λ) = Φ(λ) − λ = 0 by Broyden's method, started as the plain fixed point (B₀ = −I:
+    // the first step is λ₁ = Φ(λ₀)); the secant updates make it superlinear where the plain
+    // iteration converges linearly (its factor reaches ~0.3 in flange contact).
+    let mut lambda = lambda_guess;
+    let mut result = pass(lambda)?;
+    let mut g = Vector2::new(result.normal[0] - lambda[0], result.normal[1] - lambda[1]);
+    let mut jac = -Matrix2::<f64>::identity();
+    let tolerance = |r: &WheelsetDynamics| LAMBDA_TOLERANCE * (1.0 + r.normal[0].abs() + r.normal[1].abs());
+    let mut converged = g.amax() <= tolerance(&result);
+    for _ in 0..MAX_PASSES {
+        if converged {
             break;
         }
+        let step = match jac.lu().solve(&(-g)) {
+            Some(s) if s.iter().all(|v| v.is_finite()) => s,
+            _ => g,
+        };
+        let next = [lambda[0] + step[0], lambda[1] + step[1]];
+        let r = pass(next)?;
+        let g_next = Vector2::new(r.normal[0] - next[0], r.normal[1] - next[1]);
+        let dg = g_next - g;
+        let dl = step.norm_squared();
+        if dl > 0.0 {
+            jac += (dg - jac * step) * step.transpose() / dl;
+        }
+        lambda = next;
+        g = g_next;
+        result = r;
+        converged = g.amax() <= tolerance(&result);
     }
+    result.lambda_change = g.amax();
     for (i, side) in Side::BOTH.iter().enumerate() {
         if result.normal[i].is_nan() || result.normal[i] <= 0.0 {
             return Err(WheelsetError::Lift {
@@ -377,6 +403,12 @@ pub fn evaluate(
                 normal: result.normal[i],
             });
         }
+    }
+    if !converged {
+        return Err(WheelsetError::NormalForces {
+            change: result.lambda_change,
+            passes: MAX_PASSES + 1,
+        });
     }
     Ok(result)
 }
