@@ -91,6 +91,29 @@ impl TableRow {
         self.rolling_radius[0] - self.rolling_radius[1]
     }
 
+    /// The row of an ideal-track configuration (at ȳ) moved as Eq. (44)–(46) move the wheelset
+    /// onto displaced rails: its centre from (ȳ, z) to (y, z + vp) and its roll by δ = cl/(2 L_r).
+    /// The real contact points are the wheel's, so they move with it — c′ + R(δ)(p − c) — and the
+    /// normals turn by δ with the rails (the contact angle by +δ on the left, −δ on the right).
+    /// (Returning the ideal track's points instead put the lever arms off by (al, z_ir) per side:
+    /// a false rolling-radius difference equal to the cross level and a roll moment ≈ W al.)
+    pub fn displaced(&self, y: f64, vp: f64, delta: f64) -> TableRow {
+        let mut r = *self;
+        let (c_y, c_z) = (self.y, self.x[0]);
+        let (sd, cd) = delta.sin_cos();
+        r.y = y;
+        r.x[0] = c_z + vp;
+        r.x[1] = self.x[1] + delta;
+        for i in 0..2 {
+            let (dy, dz) = (self.position[2 * i] - c_y, self.position[2 * i + 1] - c_z);
+            r.position[2 * i] = y + cd * dy - sd * dz;
+            r.position[2 * i + 1] = r.x[0] + sd * dy + cd * dz;
+        }
+        r.contact_angle[0] = self.contact_angle[0] + delta;
+        r.contact_angle[1] = self.contact_angle[1] - delta;
+        r
+    }
+
     fn other(&self) -> [f64; N_OTHER] {
         let mut o = [0.0; N_OTHER];
         o[0..2].copy_from_slice(&self.contact_angle);
@@ -593,14 +616,11 @@ impl LookupTable1 {
 
     /// Eq. (44)–(46): the contact of a wheelset at lateral displacement `y` on rails with offsets
     /// `off` (the gauge variation is ignored by a 1-entry table): enter with ȳ = y − al, then
-    /// z = z_clu + vp, φ = φ_clu + cl/(2 L_r).
+    /// z = z_clu + vp, φ = φ_clu + cl/(2 L_r); the contact points and normals move with the
+    /// wheelset ([`TableRow::displaced`]).
     pub fn contact(&self, y: f64, off: &RailOffsets) -> Result<TableRow, TableError> {
         let (al, vp, _gv, cl) = off.combinations();
-        let mut r = self.lookup(y - al)?;
-        r.y = y;
-        r.x[0] += vp;
-        r.x[1] += cl / (2.0 * self.l_r);
-        Ok(r)
+        Ok(self.lookup(y - al)?.displaced(y, vp, cl / (2.0 * self.l_r)))
     }
 
     /// Writes the table as CSV (the columns of the README, one row per tabulated y).
@@ -681,14 +701,12 @@ impl LookupTable2 {
         Ok(out)
     }
 
-    /// Eq. (44)–(46) with the gauge variation as second entry.
+    /// Eq. (44)–(46) with the gauge variation as second entry (see [`LookupTable1::contact`]).
     pub fn contact(&self, y: f64, off: &RailOffsets) -> Result<TableRow, TableError> {
         let (al, vp, gv, cl) = off.combinations();
-        let mut r = self.lookup(y - al, gv)?;
-        r.y = y;
-        r.x[0] += vp;
-        r.x[1] += cl / (2.0 * self.columns[0].l_r);
-        Ok(r)
+        Ok(self
+            .lookup(y - al, gv)?
+            .displaced(y, vp, cl / (2.0 * self.columns[0].l_r)))
     }
 
     /// Writes all columns into one CSV (with the `gv_mm` column).

@@ -84,17 +84,22 @@ impl KecContact {
         Ok(s)
     }
 
-    /// The real contact points of a solution (Eq. 52): positions on the real wheel.
-    fn contacts(&self, sol: &KecSolution) -> [ContactPoint; 2] {
+    /// The real contact points of a solution (Eq. 52): positions on the real wheel in the solved
+    /// pose; the normals of the ideal track's contact turned with the rails by their roll
+    /// δ = (z_lir − z_rir)/(2 L_r) (Eq. 11) — the contact angle by +δ on the left, −δ on the right.
+    fn contacts(&self, sol: &KecSolution, rails: &[f64; 4]) -> [ContactPoint; 2] {
         let pair = &self.pair;
+        let delta = RailOffsets::from_array(*rails).delta(pair.rail_placement.lateral_m);
         let c = |i: usize, side: Side| {
             let p = &sol.real[i];
+            let contact_angle = p.contact_angle + side.sign() * delta;
+            let (s, co) = contact_angle.sin_cos();
             ContactPoint {
                 position: pair
                     .wheelset
                     .wheel_point(&pair.wheel, side, p.s_wheel, sol.y, sol.z, sol.phi),
-                normal: p.normal(side),
-                contact_angle: p.contact_angle,
+                normal: (-side.sign() * s, co),
+                contact_angle,
                 rolling_radius: p.rolling_radius,
                 wheel_curvature: p.wheel_curvature,
                 rail_curvature: p.rail_curvature,
@@ -119,7 +124,7 @@ impl ContactModel for KecContact {
             phi: s.phi,
             z_y: s.dx_dq[0][0],
             phi_y: s.dx_dq[1][0],
-            contacts: self.contacts(&s),
+            contacts: self.contacts(&s, &rails.to_array()),
         })
     }
 
@@ -167,7 +172,7 @@ impl ContactModel for KecContact {
             phi_dot,
             c_z,
             c_phi,
-            contacts: self.contacts(&s),
+            contacts: self.contacts(&s, &rails.q),
             s_knife: Some(s.s_k),
         })
     }
