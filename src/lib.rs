@@ -10,6 +10,7 @@
 //! * [`vehicle`]: bodies, wheelsets and force elements of a vehicle (§2.4–2.5).
 //! * [`dynamics`]: equations of motion, contact reactions, integrators, runs.
 //! * [`scenario`]: scenario files (TOML) compiled into scenes.
+//! * [`compare`]: the same scene with several contact models, their differences and costs.
 //! * [`bench`](mod@bench): measured speed with its error, printed by `kecsim bench`.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
 
@@ -17,6 +18,7 @@
 pub const SCHEMA_VERSION: u32 = 1;
 
 pub mod bench;
+pub mod compare;
 pub mod contact;
 pub mod dynamics;
 pub mod inspect;

@@ -458,6 +458,15 @@ fn run_interface_csv_json_and_recording() {
         "paced at 4x real time: {wall} s of wall time for 1 s"
     );
 
+    // A missing file: named, its cause said once.
+    let out = kecsim(&["run", "no_such_scene.toml"], &dir);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("no_such_scene.toml"),
+        "{err}"
+    );
+    assert_eq!(err.matches("No such file").count(), 1, "{err}");
+
     // Bad input: a [simulation] without [vehicle], an out-of-range value, an unknown key.
     let base = std::fs::read_to_string(&short).unwrap();
     let cut = &base[..base.find("[vehicle]").unwrap()];
@@ -551,4 +560,61 @@ fn recording_is_streamed_while_the_run_goes() {
     let y: Vec<f64> = probe.rows.iter().map(|r| r[0]).collect();
     let expect: Vec<f64> = out.samples().iter().map(|s| s.y * 1e3).collect();
     assert_eq!(y, expect, "every sample once, as the run computed it");
+}
+
+/// `kecsim compare`: the same scene with two contact models; the differences it reports are the
+/// samples' (recomputed here), within the paper's bounds on the Klingel scene; the recording holds
+/// the overlays and the differences.
+#[test]
+fn compare_reports_the_differences_of_the_runs() {
+    let sc = scene("wheelset_klingel.toml");
+    let c = kecsim::compare::compare(&sc, &["kec".to_string(), "lookup".to_string()], Some(1.0)).unwrap();
+    assert_eq!(c.runs.len(), 2);
+    assert!((c.common_s - 1.0).abs() < 1e-12);
+    let (a, b) = (c.runs[0].output.samples(), c.runs[1].output.samples());
+    let max_dy = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| (p.y - q.y).abs())
+        .fold(0.0, f64::max);
+    let d = &c.differences[0];
+    assert_eq!(
+        (d.model.as_str(), d.wheelset.as_str(), d.samples),
+        ("lookup", "wheelset_1", 201)
+    );
+    assert_eq!(d.max_dy, max_dy);
+    assert!(d.rms_dy <= d.max_dy && d.within_paper_bounds(), "{d:?}");
+    assert!(c.markdown().contains("| wheelset_1 | lookup |"));
+
+    let dir = tmpdir("compare");
+    let rrd = dir.join("c.rrd");
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wheelset_klingel.toml");
+    let out = kecsim(
+        &[
+            "compare",
+            scene_path.to_str().unwrap(),
+            "--contact",
+            "kec,lookup",
+            "--duration",
+            "0.5",
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        stdout.contains("within the paper's bounds") && stdout.contains("| lookup |"),
+        "{stdout}"
+    );
+    rerun_verify(&rrd);
+    let chunks = kecsim::inspect::readback::recording_chunks(&rrd).unwrap();
+    let rows = kecsim::inspect::readback::scalar_rows(&chunks, "/compare/wheelset_1/y_mm");
+    assert_eq!(rows.len(), 101);
+    assert!(rows.iter().all(|r| r.len() == 2), "one series per model");
+    let diff = kecsim::inspect::readback::scalar_rows(&chunks, "/compare/wheelset_1/dy_mm");
+    for (r, d) in rows.iter().zip(&diff) {
+        assert!((d[0] - (r[1] - r[0])).abs() < 1e-9);
+    }
 }

@@ -653,3 +653,43 @@ fn right_hand_side_does_not_depend_on_the_previous_evaluation() {
     // The fixed point of 8 passes gave 3e-6 here.)
     assert!(worst < 1e-8, "{worst}");
 }
+
+/// The MS vehicle (paper §8): 5 carbodies, 4 spherical joints, 3 bogies, 6 IRW-wheelsets. Its
+/// static settling carries the whole loaded weight (Tab. 4 masses, bogies, wheelsets) on the six
+/// axles, the preloaded vehicle is in equilibrium at its nominal geometry, its state counts the
+/// coordinates stated in the scene (8 bodies x 6 + 6 IRW-wheelsets x 5 = 78), and it runs the
+/// first 2 s of the irregular track with the wheelsets inside the flange.
+#[test]
+fn ms_vehicle_settles_and_runs() {
+    let sc = scene("ms_vehicle_tab6.toml");
+    let sys = multibody(&sc, "kec", true);
+    assert_eq!(sys.bodies.len(), 8);
+    assert_eq!(sys.wheelsets.len(), 6);
+    assert_eq!(sys.joints.len(), 4);
+    // Positions and rates of the 8 x 6 body and 6 x 3 wheelset coordinates, the 12 wheel spins'
+    // rates (their angles enter no force).
+    assert_eq!(sys.dim(), 2 * (8 * 6 + 6 * 3) + 6 * 2);
+    let carbodies = 10380.0 + 12080.0 + 7160.0 + 11580.0 + 10280.0;
+    let total = (carbodies + 2.0 * 2200.0 + 1300.0 + 6.0 * 680.0) * G;
+    let axles: f64 = sys.settling.axle_loads.iter().sum();
+    println!(
+        "MS vehicle: axle loads {:?} kN (sum {:.1} kN, weight {:.1} kN), residual {:.1e} N",
+        sys.settling
+            .axle_loads
+            .iter()
+            .map(|q| (q * 1e-2).round() / 10.0)
+            .collect::<Vec<_>>(),
+        axles * 1e-3,
+        total * 1e-3,
+        sys.settling.residual
+    );
+    assert!((axles - total).abs() < 1e-6 * total, "{axles} vs {total}");
+    assert!(sys.settling.residual < 1e-4 * total);
+    // The middle bogie carries the middle module and half of each suspended one: the heaviest.
+    let q = &sys.settling.axle_loads;
+    assert!(q[2] > q[0] && q[2] > q[5], "{q:?}");
+    let out = run_scene(&sc, "kec", |s| s.duration_s = 2.0);
+    assert!(out.summary.error.is_none(), "{:?}", out.summary.error);
+    assert!(out.summary.min_normal_n > 0.0);
+    assert!(out.summary.max_abs_y_mm < 7.0, "{}", out.summary.max_abs_y_mm);
+}

@@ -2,6 +2,7 @@
 //! each of which only parses its options and calls the library.
 
 mod bench;
+mod compare;
 mod contact;
 mod creep;
 mod generate;
@@ -38,6 +39,9 @@ pub struct Cli {
 enum Command {
     /// Run a scenario (the embedded default when none is given), streaming it to the recording.
     Run(run::RunArgs),
+    /// The same scene with several contact models: differences of every wheelset (the paper's
+    /// Fig. 18-19) and the cost of each, printed and recorded.
+    Compare(compare::CompareArgs),
     /// Record the wheel and rail profiles of both sides placed on the track cross-section.
     Profiles(profiles::ProfilesArgs),
     /// Contact geometry sweep over y: lookup table, contact jumps, equivalent conicity (EN 15302).
@@ -58,6 +62,7 @@ enum Command {
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Run(a) => run::run(a),
+        Command::Compare(a) => compare::run(a),
         Command::Profiles(a) => profiles::run(a),
         Command::Contact(a) => contact::run(a),
         Command::Kec(a) => kec::run(a),

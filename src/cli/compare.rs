@@ -1,0 +1,62 @@
+//! `kecsim compare SCENARIO [--contact kec,lookup,...] [--duration S]`: the same scene with several
+//! contact models, each wheelset's differences from the first model (max and RMS of Δy, Δψ against
+//! the paper's 1 mm / 0.5 mrad) and each run's cost, printed and recorded (the paper's Fig. 18–19).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use clap::Args;
+
+use kecsim::contact::ContactModelSpec;
+use kecsim::inspect;
+use kecsim::scenario::Scenario;
+
+use super::{describe, SinkArgs};
+
+#[derive(Args)]
+pub(super) struct CompareArgs {
+    /// Scenario file (TOML) with a [simulation].
+    scenario: PathBuf,
+    /// Contact models to compare, the first the reference [default: kec, lookup, lookup2].
+    #[arg(long, value_delimiter = ',', value_parser = super::contact_model_names())]
+    contact: Vec<String>,
+    /// Simulated time, s [default: the scenario's].
+    #[arg(long, value_name = "S")]
+    duration: Option<f64>,
+    #[command(flatten)]
+    sink: SinkArgs,
+}
+
+pub(super) fn run(a: CompareArgs) -> Result<()> {
+    let models = if a.contact.is_empty() {
+        ["kec", "lookup", "lookup2"]
+            .iter()
+            .filter(|m| ContactModelSpec::NAMES.contains(m))
+            .map(|m| m.to_string())
+            .collect()
+    } else {
+        a.contact.clone()
+    };
+    if let Some(d) = a.duration {
+        anyhow::ensure!(
+            d.is_finite() && d > 0.0 && d <= 1e5,
+            "--duration {d}: expected a positive time in s, at most 1e5"
+        );
+    }
+    let origin = a.scenario.display().to_string();
+    let scene =
+        Scenario::read(&a.scenario)?.compile(&origin, a.scenario.parent().unwrap_or(Path::new(".")))?;
+    anyhow::ensure!(
+        scene.simulation.is_some(),
+        "{origin}: this scenario has no [simulation] to compare"
+    );
+    let sink = a.sink.sink();
+    let c = kecsim::compare::compare(&scene, &models, a.duration)?;
+    {
+        let rec = inspect::open_recording("kecsim", &sink, || inspect::compare::blueprint(&c))?;
+        inspect::compare::record(&rec, &c)?;
+    }
+    print!("{}", c.markdown());
+    println!("{}", describe(&sink));
+    Ok(())
+}

@@ -1,0 +1,158 @@
+//! The paper's comparison (§8.3, Fig. 18–19) for any scene: the same run with several contact
+//! models, each wheelset's lateral displacement and yaw against the first model's (the reference
+//! of the comparison, KEC by default) — maximum and RMS of the difference over the time all runs
+//! cover, against the paper's bounds (1 mm, 0.5 mrad) — and what each run cost.
+//! `kecsim compare` prints it and records it ([`crate::inspect::compare`]).
+
+use std::fmt::Write as _;
+
+use crate::dynamics::RunOutput;
+use crate::scenario::{BuildError, RunOptions, Scene};
+
+/// The paper's bounds on the difference between KEC and the lookup tables (§8.3): lateral
+/// displacement, m, and yaw, rad.
+pub const PAPER_BOUNDS: (f64, f64) = (1e-3, 0.5e-3);
+
+/// One model's run of the comparison.
+pub struct ModelRun {
+    pub model: String,
+    pub output: RunOutput,
+}
+
+/// One wheelset's differences between a model and the reference model, over the common time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelsetDifference {
+    pub wheelset: String,
+    pub model: String,
+    /// Samples compared.
+    pub samples: usize,
+    pub max_dy: f64,
+    pub rms_dy: f64,
+    pub max_dpsi: f64,
+    pub rms_dpsi: f64,
+}
+
+impl WheelsetDifference {
+    /// Within the paper's bounds (max |Δy| < 1 mm and max |Δψ| < 0.5 mrad).
+    pub fn within_paper_bounds(&self) -> bool {
+        self.max_dy < PAPER_BOUNDS.0 && self.max_dpsi < PAPER_BOUNDS.1
+    }
+}
+
+/// The runs and their differences.
+pub struct Comparison {
+    pub scene: String,
+    pub runs: Vec<ModelRun>,
+    /// Simulated time every run covers, s.
+    pub common_s: f64,
+    /// Per model after the first, per wheelset.
+    pub differences: Vec<WheelsetDifference>,
+}
+
+/// Runs `scene` with each of `models` (the first is the reference) for `duration_s` (None: the
+/// scene's), and compares.
+pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Result<Comparison, BuildError> {
+    let mut runs = Vec::with_capacity(models.len());
+    for model in models {
+        let mut built = scene.build_run(&RunOptions {
+            contact: Some(model.clone()),
+            speed_m_s: None,
+        })?;
+        if let Some(d) = duration_s {
+            built.settings.duration_s = d;
+        }
+        runs.push(ModelRun {
+            model: model.clone(),
+            output: built.run(&mut []),
+        });
+    }
+    let common_s = runs
+        .iter()
+        .map(|r| r.output.summary.simulated_s)
+        .fold(f64::INFINITY, f64::min);
+    let mut differences = Vec::new();
+    if let Some((reference, others)) = runs.split_first() {
+        for other in others {
+            for ((name, a), (_, b)) in reference.output.wheelsets.iter().zip(&other.output.wheelsets) {
+                let (mut n, mut max_dy, mut sum_dy, mut max_dpsi, mut sum_dpsi) =
+                    (0usize, 0.0_f64, 0.0, 0.0_f64, 0.0);
+                for (p, q) in a.iter().zip(b).take_while(|(p, _)| p.t <= common_s + 1e-9) {
+                    let (dy, dpsi) = ((p.y - q.y).abs(), (p.yaw - q.yaw).abs());
+                    max_dy = max_dy.max(dy);
+                    max_dpsi = max_dpsi.max(dpsi);
+                    sum_dy += dy * dy;
+                    sum_dpsi += dpsi * dpsi;
+                    n += 1;
+                }
+                let rms = |s: f64| if n > 0 { (s / n as f64).sqrt() } else { 0.0 };
+                differences.push(WheelsetDifference {
+                    wheelset: name.clone(),
+                    model: other.model.clone(),
+                    samples: n,
+                    max_dy,
+                    rms_dy: rms(sum_dy),
+                    max_dpsi,
+                    rms_dpsi: rms(sum_dpsi),
+                });
+            }
+        }
+    }
+    Ok(Comparison {
+        scene: scene.name.clone(),
+        runs,
+        common_s,
+        differences,
+    })
+}
+
+impl Comparison {
+    /// The report: each run's outcome and cost, then each wheelset's differences (Markdown).
+    pub fn markdown(&self) -> String {
+        let mut s = format!("# kecsim compare: {}\n\n", self.scene);
+        s += "| contact model | simulated s | outcome | wall s | real-time factor | preprocessing s | steps (rejected) | right-hand sides |\n|---|---|---|---|---|---|---|---|\n";
+        for r in &self.runs {
+            let m = &r.output.summary;
+            let outcome = match (&m.error, &m.stopped) {
+                (Some(e), _) => format!("failed: {e}"),
+                (None, Some(st)) => format!("stopped: {st}"),
+                _ => m.outcome.to_string(),
+            };
+            let _ = writeln!(
+                s,
+                "| {} | {:.2} | {outcome} | {:.3} | {:.2} | {:.2} | {} ({}) | {} |",
+                r.model,
+                m.simulated_s,
+                m.wall_s,
+                m.realtime_factor,
+                m.preprocessing_s,
+                m.steps,
+                m.rejected_steps,
+                m.rhs_evaluations
+            );
+        }
+        if let Some(reference) = self.runs.first() {
+            let _ = write!(
+                s,
+                "\nDifferences from {} over the {:.2} s every run covers (the paper's bounds: {} mm, {} mrad):\n\n| wheelset | contact model | max \\|Δy\\| [mm] | RMS Δy [mm] | max \\|Δψ\\| [mrad] | RMS Δψ [mrad] | within the paper's bounds |\n|---|---|---|---|---|---|---|\n",
+                reference.model,
+                self.common_s,
+                PAPER_BOUNDS.0 * 1e3,
+                PAPER_BOUNDS.1 * 1e3
+            );
+        }
+        for d in &self.differences {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {} |",
+                d.wheelset,
+                d.model,
+                d.max_dy * 1e3,
+                d.rms_dy * 1e3,
+                d.max_dpsi * 1e3,
+                d.rms_dpsi * 1e3,
+                if d.within_paper_bounds() { "yes" } else { "no" }
+            );
+        }
+        s
+    }
+}
