@@ -187,6 +187,7 @@ fn contact_models_agree() {
             s,
             ContactModelSpec::Kec(KecSettings {
                 two_point_approach_m: 0.0,
+                ..KecSettings::default()
             }),
         );
     };

@@ -519,6 +519,7 @@ fn two_point_transition_removes_the_sliding_mode() {
                 s,
                 ContactModelSpec::Kec(KecSettings {
                     two_point_approach_m: approach,
+                    ..KecSettings::default()
                 }),
             );
         })

@@ -515,7 +515,17 @@ impl KecModel {
     /// table rows there are still reproduced exactly; inside, the real contact point, angle and
     /// rolling radius pass from one side's values to the other's (a single resultant standing for
     /// the two loaded points). `approach_m` = 0 keeps the paper's kinks.
-    pub fn with_two_point_transition(mut self, approach_m: f64) -> Self {
+    pub fn with_two_point_transition(self, approach_m: f64) -> Self {
+        self.with_two_point_transition_capped(approach_m, TWO_POINT_MAX_WIDTH_M)
+    }
+
+    /// [`KecModel::with_two_point_transition`] with the fillets' widths limited to `max_width_m`
+    /// instead of [`TWO_POINT_MAX_WIDTH_M`] — for pairs without contact jumps near the centre
+    /// (whose small-amplitude conicity a wide fillet would change), where the flange-root jump
+    /// can take the width that the track's lateral elasticity gives the load transfer (rail-head
+    /// deflections of tenths of a millimetre under flange forces), which the rigid rails of the
+    /// constraint model do not have.
+    pub fn with_two_point_transition_capped(mut self, approach_m: f64, max_width_m: f64) -> Self {
         if approach_m <= 0.0 || self.kinks.is_empty() {
             return self;
         }
@@ -523,7 +533,7 @@ impl KecModel {
         let mut half: Vec<(f64, f64)> = Vec::new();
         for k in self.kinks.iter().filter(|k| k.real_jump) {
             let dm = (k.slope_after - k.slope_before).abs().max(1e-6);
-            let a = (0.5 * approach_m / dm).min(0.5 * TWO_POINT_MAX_WIDTH_M);
+            let a = (0.5 * approach_m / dm).min(0.5 * max_width_m);
             match half.iter_mut().find(|(y, _)| (y - k.y).abs() < 1e-9) {
                 Some(h) => h.1 = h.1.min(a),
                 None => half.push((k.y, a)),
@@ -939,13 +949,19 @@ mod tests {
     #[test]
     fn two_point_transition_rounds_each_kink_over_its_elastic_width() {
         let (_, table, rigid) = setup();
-        let approach = 5e-5;
-        let smooth = rigid.clone().with_two_point_transition(approach);
         let same = rigid.clone().with_two_point_transition(0.0);
         assert_eq!(same.left.s, rigid.left.s);
+        // The default cap, and a wider one (the width then set by the approach).
+        for (approach, cap) in [(5e-5, TWO_POINT_MAX_WIDTH_M), (4e-4, 4e-4)] {
+            check_fillets(&table, &rigid, approach, cap);
+        }
+    }
+
+    fn check_fillets(table: &LookupTable1, rigid: &KecModel, approach: f64, cap: f64) {
+        let smooth = rigid.clone().with_two_point_transition_capped(approach, cap);
         for k in rigid.kinks.iter().filter(|k| k.real_jump) {
             let dm = (k.slope_after - k.slope_before).abs();
-            let a = (0.5 * approach / dm).min(0.5 * TWO_POINT_MAX_WIDTH_M);
+            let a = (0.5 * approach / dm).min(0.5 * cap);
             for side in Side::BOTH {
                 let Some(kink) = rigid
                     .kinks
@@ -1029,7 +1045,7 @@ mod tests {
                 let d = |y: f64| m.solve(y, [0.0; 4], None).unwrap().dx_dq[0][0];
                 (d(k.y + 1e-9) - d(k.y - 1e-9)).abs()
             };
-            let (r, sm) = (jump(&rigid), jump(&smooth));
+            let (r, sm) = (jump(rigid), jump(&smooth));
             assert!(
                 r > 1e-3 && sm < 0.01 * r,
                 "dz/dy at y {}: rigid jump {r}, smoothed {sm}",

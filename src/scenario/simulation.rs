@@ -379,6 +379,7 @@ mod tests {
         let legacy = spec("contact_model = \"kec\"\nkec_two_point_approach_m = 2e-5").unwrap();
         let expect = ContactModelSpec::Kec(KecSettings {
             two_point_approach_m: 2e-5,
+            ..KecSettings::default()
         });
         assert_eq!(table.contact_spec().unwrap(), expect);
         assert_eq!(legacy.contact_spec().unwrap(), expect);
@@ -402,7 +403,8 @@ mod tests {
                 .contact_spec_for("kec")
                 .unwrap(),
             ContactModelSpec::Kec(KecSettings {
-                two_point_approach_m: 0.0
+                two_point_approach_m: 0.0,
+                ..KecSettings::default()
             })
         );
         assert!(table.contact_spec_for("magic").unwrap_err().contains("magic"));

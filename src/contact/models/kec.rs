@@ -4,7 +4,8 @@
 //!
 //! Settings: `two_point_approach_m` — the elastic approach δ over which a real contact jump becomes
 //! a two-point transition ([`KecModel::with_two_point_transition`]; 0 keeps the paper's rigid
-//! kinks).
+//! kinks); `two_point_max_width_m` — the largest width of a transition
+//! ([`KecModel::with_two_point_transition_capped`]).
 
 use std::sync::Arc;
 
@@ -30,6 +31,14 @@ pub struct KecSettings {
     /// The elastic approach δ of the two-point transitions at the contact jumps, m (0: rigid kinks).
     #[serde(default = "default_approach")]
     pub two_point_approach_m: f64,
+    /// The largest width of a two-point transition in s^k, m (default 5e-5: wider fillets at jumps
+    /// near the centre change the small-amplitude conicity).
+    #[serde(default = "default_max_width")]
+    pub two_point_max_width_m: f64,
+}
+
+fn default_max_width() -> f64 {
+    crate::contact::kec::TWO_POINT_MAX_WIDTH_M
 }
 
 fn default_approach() -> f64 {
@@ -40,6 +49,7 @@ impl Default for KecSettings {
     fn default() -> Self {
         KecSettings {
             two_point_approach_m: DEFAULT_TWO_POINT_APPROACH_M,
+            two_point_max_width_m: default_max_width(),
         }
     }
 }
@@ -62,7 +72,7 @@ impl ContactModelSettings for KecSettings {
         let geometry = ContactGeometry::with_defaults(pair.clone());
         let table = LookupTable1::build(&geometry, &TableSettings::default())?;
         let model = KecModel::from_table(&table, pair.wheelset.l_w())?
-            .with_two_point_transition(self.two_point_approach_m);
+            .with_two_point_transition_capped(self.two_point_approach_m, self.two_point_max_width_m);
         Ok(Arc::new(KecContact {
             model,
             pair: pair.clone(),

@@ -155,7 +155,8 @@ mod tests {
         assert_eq!(
             s,
             ContactModelSpec::Kec(kec::KecSettings {
-                two_point_approach_m: 0.0
+                two_point_approach_m: 0.0,
+                ..kec::KecSettings::default()
             })
         );
         let e = toml::from_str::<ContactModelSpec>("model = \"lookup\"\ntwo_point_approach_m = 0.0")
