@@ -315,13 +315,39 @@ fn multibody_run_interface_and_bad_tables() {
             ),
             "mass",
         ),
+        (
+            "unheld.toml",
+            base.replace(
+                "bodies = [\"bogie\", \"wheelset_2\"]",
+                "bodies = [\"bogie\", \"wheelset_1\"]",
+            ),
+            "wheelsets[wheelset_2]: no element holds it",
+        ),
+        (
+            "redundant.toml",
+            format!(
+                "{base}\n[[vehicle.bodies]]\nname = \"extra\"\nmass_kg = 100.0\ninertia_kg_m2 = [10.0, 10.0, 10.0]\nposition_m = [0.0, 0.0, 1.0]\n\
+                 [[vehicle.joints]]\nname = \"j1\"\nbodies = [\"bogie\", \"extra\"]\nat_m = [0.0, 0.5, 1.0]\n\
+                 [[vehicle.joints]]\nname = \"j2\"\nbodies = [\"bogie\", \"extra\"]\nat_m = [0.0, -0.5, 1.0]\n"
+            ),
+            "over-constrained — 2 spherical joints give 5 independent constraints of 6",
+        ),
     ] {
         let p = dir.join(name);
-        std::fs::write(&p, text).unwrap();
+        std::fs::write(&p, &text).unwrap();
         let out = kecsim(&["run", p.to_str().unwrap()], &dir);
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && err.contains(expect), "{name}: {err}");
         assert!(err.contains(name), "{name}: names the file: {err}");
+        // Problems of an entry name its line: that of the entry's `name = "…"`.
+        let entry = ["wheelset_1", "wheelset_2"]
+            .iter()
+            .find(|w| expect.contains(&format!("[{w}]")));
+        if let Some(w) = entry {
+            let at = text.find(&format!("name = \"{w}\"")).unwrap();
+            let line = 1 + text[..at].matches('\n').count();
+            assert!(err.contains(&format!("{name}:{line}: ")), "{name}: line {line}: {err}");
+        }
     }
 }
 

@@ -247,7 +247,11 @@ impl Scenario {
         let simulation = match (&self.simulation, &self.vehicle) {
             (Some(sim), Some(veh)) => {
                 problems.extend(sim.problems());
-                problems.extend(veh.problems());
+                problems.extend(
+                    veh.problems()
+                        .into_iter()
+                        .map(|p| locate(origin, &self.source, &p)),
+                );
                 Some((sim.clone(), veh.clone()))
             }
             (None, None) => None,
@@ -315,6 +319,28 @@ impl Scenario {
             simulation,
         })
     }
+}
+
+/// A vehicle problem with the file and line of the entry it names (`vehicle.wheelsets[w1]…`: the
+/// line of `name = "w1"` in the `[vehicle]` part of the file; a problem of the whole table: the
+/// `[vehicle]` line).
+fn locate(origin: &str, source: &str, problem: &str) -> String {
+    let Some(start) = source.find("[vehicle]") else {
+        return problem.to_string();
+    };
+    let entry = problem
+        .split_once('[')
+        .filter(|(head, _)| head.starts_with("vehicle.") && !head.contains(' '))
+        .and_then(|(_, rest)| rest.split_once(']'))
+        .map(|(name, _)| name);
+    let at = entry
+        .and_then(|name| {
+            ["name = \"", "name=\""]
+                .iter()
+                .find_map(|key| source[start..].find(&format!("{key}{name}\"")))
+        })
+        .map_or(start, |i| start + i);
+    format!("{origin}:{}: {problem}", crate::track::file::line_of(source, at))
 }
 
 /// A standard profile name stays as it is; anything else is a path relative to `base`.

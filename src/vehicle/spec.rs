@@ -304,6 +304,42 @@ impl MultibodySpec {
             .collect()
     }
 
+    /// An over-constrained joint set: the spherical joints' constraint rows at the nominal
+    /// geometry (3 per joint on the bodies' 6 coordinates each) not independent — two joints
+    /// between the same bodies, a closed loop — which leaves their reactions undetermined.
+    fn redundant_joints(&self) -> Option<String> {
+        let nj = self.joints.len();
+        let index = |n: &str| self.bodies.iter().position(|b| b.name == n);
+        let pairs: Vec<(usize, usize, &JointSpec)> = self
+            .joints
+            .iter()
+            .filter_map(|j| Some((index(&j.bodies[0])?, index(&j.bodies[1])?, j)))
+            .collect();
+        if nj == 0 || pairs.len() != nj {
+            return None; // unknown bodies are reported on their own
+        }
+        let nb = self.bodies.len();
+        let mut jac = nalgebra::DMatrix::<f64>::zeros(3 * nj, 6 * nb);
+        for (r, &(a, b, j)) in pairs.iter().enumerate() {
+            let at = Vector3::from(j.at_m);
+            for (body, sign) in [(a, -1.0), (b, 1.0)] {
+                let arm = at - Vector3::from(self.bodies[body].position_m);
+                jac.view_mut((3 * r, 6 * body), (3, 3))
+                    .copy_from(&(sign * nalgebra::Matrix3::identity()));
+                jac.view_mut((3 * r, 6 * body + 3), (3, 3))
+                    .copy_from(&(-sign * arm.cross_matrix()));
+            }
+        }
+        let rank = jac.rank(1e-9 * jac.amax().max(1.0));
+        (rank < 3 * nj).then(|| {
+            format!(
+                "vehicle.joints: over-constrained — {nj} spherical joints give {} independent constraints of {} (two joints between the same bodies, or a closed loop): their reactions are undetermined",
+                rank,
+                3 * nj
+            )
+        })
+    }
+
     /// Problems with values and names, each naming the entry.
     pub fn problems(&self) -> Vec<VehicleProblem> {
         let mut p = Vec::new();
@@ -362,6 +398,24 @@ impl MultibodySpec {
             if n == "track" || names[..i].contains(n) {
                 p.push(format!("vehicle: body name \"{n}\" is reserved or used twice"));
             }
+        }
+        // Every wheelset hangs in something: a wheelset no element holds would run away.
+        for w in &self.wheelsets {
+            let held = self.elements.iter().any(|e| match e {
+                ElementSpec::Bushing { bodies, .. }
+                | ElementSpec::Axial { bodies, .. }
+                | ElementSpec::Rotational { bodies, .. } => bodies.contains(&w.name),
+                ElementSpec::CarriedMass { body, .. } => body == &w.name,
+            });
+            if !held {
+                p.push(format!(
+                    "vehicle.wheelsets[{}]: no element holds it (a wheelset hangs in a bogie or frame by its primary suspension)",
+                    w.name
+                ));
+            }
+        }
+        if let Some(problem) = self.redundant_joints() {
+            p.push(problem);
         }
         for j in &self.joints {
             for b in &j.bodies {
