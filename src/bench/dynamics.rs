@@ -178,28 +178,16 @@ pub fn dynamics() -> Result<String, String> {
 /// the concrete KEC model directly (static dispatch, inlinable), per `kinematics` call on random
 /// lateral displacements — the measured justification of a trait object for the models.
 pub fn dispatch() -> Result<String, String> {
-    use crate::contact::models::kec::{KecContact, KecSettings};
+    use crate::contact::models::kec::KecSettings;
     use crate::contact::models::ContactModelSettings;
     use crate::profile::placement::WheelRailPair;
     use crate::profile::StandardProfile;
 
     let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40")
         .map_err(|e| e.to_string())?;
-    let model = KecSettings::default().build(&pair).map_err(|e| e.to_string())?;
-    let concrete: KecContact = {
-        let geometry = crate::contact::geometry::ContactGeometry::with_defaults(pair.clone());
-        let table = crate::contact::lookup::LookupTable1::build(
-            &geometry,
-            &crate::contact::lookup::TableSettings::default(),
-        )
-        .map_err(|e| e.to_string())?;
-        KecContact {
-            model: crate::contact::kec::KecModel::from_table(&table, pair.wheelset.l_w())
-                .map_err(|e| e.to_string())?
-                .with_two_point_transition(KecSettings::default().two_point_approach_m),
-            pair: pair.clone(),
-        }
-    };
+    let settings = KecSettings::default();
+    let model = settings.build(&pair).map_err(|e| e.to_string())?;
+    let concrete = settings.kec_contact(&pair).map_err(|e| e.to_string())?;
     let n = 20_000;
     let ys: Vec<f64> = (0..n)
         .map(|k| 6e-3 * ((k as f64 * 0.618_033_988_75).fract() * 2.0 - 1.0))

@@ -313,7 +313,7 @@ pub fn contact_table(rows: &[ContactBenchRow]) -> String {
 /// measured in one run. KEC cold starts from Eq. (51); warm from the previous step's solution.
 pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     use crate::contact::geometry::ContactGeometry;
-    use crate::contact::kec::{rails, KecModel};
+    use crate::contact::kec::KecModel;
     use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
     use crate::profile::placement::WheelRailPair;
     use crate::track::RailOffsets;
@@ -369,7 +369,7 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     let mut acc = 0.0;
     for k in 0..n {
         acc += model
-            .solve(black_box(ys[k]), rails(&offs[k]), None)
+            .solve(black_box(ys[k]), offs[k].to_array(), None)
             .map_err(|e| e.to_string())?
             .z;
     }
@@ -377,7 +377,7 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     let us = t.elapsed().as_secs_f64() * 1e6 / n as f64;
     let sol = |k: usize| {
         model
-            .solve(ys[k], rails(&offs[k]), None)
+            .solve(ys[k], offs[k].to_array(), None)
             .map(|s| (s.z, s.phi))
             .unwrap_or((f64::NAN, f64::NAN))
     };
@@ -398,7 +398,7 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     let t = Instant::now();
     for &(y, g) in &path {
         let s = model
-            .solve(y, rails(&RailOffsets::gauge_variation(g)), x)
+            .solve(y, RailOffsets::gauge_variation(g).to_array(), x)
             .map_err(|e| e.to_string())?;
         x = Some(s.x(model.r0));
         warm.push((s.z, s.phi));

@@ -810,11 +810,6 @@ impl KecModel {
     }
 }
 
-/// Rail irregularities [y_lir, z_lir, y_rir, z_rir] of rail offsets.
-pub fn rails(off: &crate::track::RailOffsets) -> [f64; 4] {
-    [off.y_left, off.z_left, off.y_right, off.z_right]
-}
-
 /// The table rows the model was built from are reproduced: (max |Δz|, max |Δφ|) over `rows`.
 pub fn reproduction_error(model: &KecModel, rows: &[TableRow]) -> Result<(f64, f64), KecError> {
     let (mut ez, mut ep) = (0.0f64, 0.0f64);

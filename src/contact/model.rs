@@ -205,11 +205,6 @@ impl WarmStart {
             None => self.0 = Some(Box::new(value)),
         }
     }
-
-    /// Forgets the stored state.
-    pub fn clear(&mut self) {
-        self.0 = None;
-    }
 }
 
 #[cfg(test)]
@@ -229,8 +224,7 @@ mod tests {
         assert_eq!(w.get::<[f64; 4]>(), Some(&[5.0, 6.0, 7.0, 8.0]));
         w.set(vec![1.0]);
         assert_eq!(w.get::<Vec<f64>>(), Some(&vec![1.0]));
-        w.clear();
-        assert!(w.get::<Vec<f64>>().is_none());
+        assert!(w.get::<[f64; 4]>().is_none(), "replaced by the other type");
     }
 
     /// A model with a closed-form configuration: z = a y², φ = b y (+ the rails' vertical

@@ -255,7 +255,7 @@ pub fn kec_irregularity_errors(
                 .solve(y, &off)
                 .map_err(|e| format!("online, gv {gv}, cl {cl}: {e}"))?;
             let kec = model
-                .solve(y, super::kec::rails(&off), None)
+                .solve(y, off.to_array(), None)
                 .map_err(|e| format!("KEC, gv {gv}, cl {cl}: {e}"))?;
             let t2 = table2.contact(y, &off).map_err(|e| e.to_string())?;
             let t1 = table1.contact(y, &off).map_err(|e| e.to_string())?;

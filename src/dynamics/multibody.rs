@@ -670,13 +670,8 @@ impl Multibody {
         // then linearising left the nominal state out of balance by the elements' second-order
         // forces: on the MS vehicle 5.9 kN from the traction rods, horizontal 1 m rods whose length
         // changes by 0.8 mm when the secondary sags 40 mm.)
-        let mut residual = 0.0;
-        for step in 0..2 {
-            let (r, _, _) = self.static_residual(&u, &ws_poses, &[])?;
-            residual = r.amax();
-            if residual < 1e-9 * weight || n == 0 || step == 1 {
-                break;
-            }
+        let (r, nominal, _) = self.static_residual(&u, &ws_poses, &[])?;
+        if n > 0 && r.amax() >= 1e-9 * weight {
             let mut jac = DMatrix::zeros(n, n);
             let h = 1e-7;
             for k in 0..n {
@@ -696,9 +691,7 @@ impl Multibody {
                 .lu()
                 .solve(&(-&r))
                 .ok_or_else(|| DynamicsError::StaticsSingular { bodies: names() })?;
-            for k in 0..n {
-                u[k] += du[k];
-            }
+            u.copy_from_slice(du.as_slice());
         }
         // The static forces by the linearisation at the nominal geometry (the settled state is
         // centimetres away; its rotated lever arms must not enter the preloads): loads at ε u,
@@ -706,7 +699,6 @@ impl Multibody {
         let eps = 1e-6;
         let small: Vec<f64> = u.iter().map(|v| v * eps).collect();
         let (_, settled, penalty) = self.static_residual(&small, &ws_poses, &[])?;
-        let (_, nominal, _) = self.static_residual(&vec![0.0; n], &ws_poses, &[])?;
         for ((e, ls), ln) in self.elements.iter_mut().zip(&settled).zip(&nominal) {
             let extrapolated = ElementLoad {
                 force: ln.force + (ls.force - ln.force) / eps,
@@ -723,8 +715,7 @@ impl Multibody {
         // balance gravity (the settling's residual is this one: the linear step's own is only
         // the elements' nonlinearity over the sag).
         let (r, loads, _) = self.static_residual(&vec![0.0; n], &ws_poses, &joint_static)?;
-        let _ = residual;
-        residual = r.amax();
+        let residual = r.amax();
         let mut all_poses: Vec<Pose> = self
             .bodies
             .iter()

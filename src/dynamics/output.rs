@@ -262,7 +262,6 @@ fn write_row(w: &mut csv::Writer<std::fs::File>, s: &Sample) -> Result<(), csv::
 /// [`CSV_COLUMNS`]); the files are created at the start (a directory that cannot be written fails
 /// before any work), and what was written is kept if the run stops or fails.
 pub struct CsvWriter {
-    dir: PathBuf,
     writers: Vec<(PathBuf, csv::Writer<std::fs::File>)>,
 }
 
@@ -279,20 +278,12 @@ impl CsvWriter {
                 Ok((path, w))
             })
             .collect::<Result<Vec<_>, csv::Error>>()?;
-        Ok(CsvWriter {
-            dir: dir.to_path_buf(),
-            writers,
-        })
+        Ok(CsvWriter { writers })
     }
 
     /// The files written.
     pub fn paths(&self) -> Vec<PathBuf> {
         self.writers.iter().map(|(p, _)| p.clone()).collect()
-    }
-
-    /// The directory.
-    pub fn dir(&self) -> &Path {
-        &self.dir
     }
 }
 
@@ -311,21 +302,4 @@ impl RunObserver for CsvWriter {
         }
         Ok(())
     }
-}
-
-/// Writes the samples of every wheelset as CSV files into `dir` at once (`DIR/NAME.csv`).
-pub fn write_csvs(dir: &Path, wheelsets: &[(String, Vec<Sample>)]) -> Result<Vec<PathBuf>, csv::Error> {
-    std::fs::create_dir_all(dir)?;
-    let mut paths = Vec::with_capacity(wheelsets.len());
-    for (name, samples) in wheelsets {
-        let path = dir.join(format!("{name}.csv"));
-        let mut w = csv::Writer::from_path(&path)?;
-        w.write_record(CSV_COLUMNS)?;
-        for s in samples {
-            write_row(&mut w, s)?;
-        }
-        w.flush()?;
-        paths.push(path);
-    }
-    Ok(paths)
 }

@@ -152,7 +152,6 @@ pub(crate) fn send_scalar_rows(
     names: &[&str],
     colors: Vec<Color>,
 ) -> Result<(), InspectError> {
-    let per_row = names.len();
     log_static(
         rec,
         entity,
@@ -160,6 +159,19 @@ pub(crate) fn send_scalar_rows(
             .with_names(names.iter().copied())
             .with_colors(colors),
     )?;
+    send_scalar_values(rec, timelines, rows, entity, values, names.len())
+}
+
+/// The values of scalar series (styled elsewhere) on any timelines (each of `rows` entries), sent
+/// as columns: `values` holds `per_row` values per row.
+pub(crate) fn send_scalar_values(
+    rec: &RecordingStream,
+    timelines: Vec<TimeColumn>,
+    rows: usize,
+    entity: &str,
+    values: Vec<f64>,
+    per_row: usize,
+) -> Result<(), InspectError> {
     let log_err = |source: rerun::RecordingStreamError| InspectError::Log {
         entity: entity.to_string(),
         source,

@@ -40,11 +40,9 @@ use rerun::blueprint::{
     Blueprint, ContainerLike, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView,
     Vertical,
 };
-use rerun::{
-    Color, LineStrips2D, Points2D, Radius, RecordingStream, Scalars, SeriesLines, TextDocument, TimeColumn,
-};
+use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines, TextDocument, TimeColumn};
 
-use super::{log_static, open_recording, section_mm, InspectError, Sink};
+use super::{log_static, open_recording, section_mm, send_scalar_values, InspectError, Sink};
 use crate::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
 use crate::dynamics::{RunSummary, Sample};
 use crate::profile::Side;
@@ -259,11 +257,6 @@ impl LiveRecorder {
         Ok(r)
     }
 
-    /// The recording stream.
-    pub fn stream(&self) -> &RecordingStream {
-        &self.rec
-    }
-
     fn log_statics(&self) -> Result<(), InspectError> {
         let green = vec![Color::from_rgb(60, 180, 120)];
         for name in &self.names {
@@ -330,21 +323,17 @@ impl LiveRecorder {
 
     /// Sends one series of one wheelset's pending samples as columns on `time` and `distance_mm`.
     fn send_series(&self, name: &str, samples: &[Sample], series: &Series) -> Result<(), InspectError> {
-        let entity = format!("run/{name}/{}", series.0);
-        let values: Vec<f64> = samples.iter().flat_map(series.2).collect();
-        let columns = Scalars::new(values)
-            .columns(std::iter::repeat_n(series.1.len(), samples.len()))
-            .map_err(|e| log_err(&entity)(e.into()))?;
-        self.rec
-            .send_columns(
-                entity.as_str(),
-                [
-                    TimeColumn::new_duration_secs(TIME, samples.iter().map(|s| s.t)),
-                    TimeColumn::new_sequence(DISTANCE, samples.iter().map(|s| (s.s * 1e3).round() as i64)),
-                ],
-                columns,
-            )
-            .map_err(log_err(&entity))
+        send_scalar_values(
+            &self.rec,
+            vec![
+                TimeColumn::new_duration_secs(TIME, samples.iter().map(|s| s.t)),
+                TimeColumn::new_sequence(DISTANCE, samples.iter().map(|s| (s.s * 1e3).round() as i64)),
+            ],
+            samples.len(),
+            &format!("run/{name}/{}", series.0),
+            samples.iter().flat_map(series.2).collect(),
+            series.1.len(),
+        )
     }
 
     /// Sends what is pending.
@@ -375,20 +364,16 @@ impl LiveRecorder {
         if self.names.len() > 1 {
             let first = &self.pending[0];
             for (entity, f) in VEHICLE_SERIES {
-                let entity = format!("run/vehicle/{entity}");
-                let values: Vec<f64> = (0..n)
-                    .flat_map(|i| self.pending.iter().map(move |w| f(&w[i])))
-                    .collect();
-                let columns = Scalars::new(values)
-                    .columns(std::iter::repeat_n(self.names.len(), n))
-                    .map_err(|e| log_err(&entity)(e.into()))?;
-                self.rec
-                    .send_columns(
-                        entity.as_str(),
-                        [TimeColumn::new_duration_secs(TIME, first.iter().map(|s| s.t))],
-                        columns,
-                    )
-                    .map_err(log_err(&entity))?;
+                send_scalar_values(
+                    &self.rec,
+                    vec![TimeColumn::new_duration_secs(TIME, first.iter().map(|s| s.t))],
+                    n,
+                    &format!("run/vehicle/{entity}"),
+                    (0..n)
+                        .flat_map(|i| self.pending.iter().map(move |w| f(&w[i])))
+                        .collect(),
+                    self.names.len(),
+                )?;
             }
         }
         self.sent += n;
@@ -500,26 +485,4 @@ impl RunObserver for LiveRecorder {
     fn finish(&mut self, summary: &RunSummary) -> Result<(), ObserverError> {
         Ok(self.log_summary(summary)?)
     }
-}
-
-/// Records a finished run's samples (every wheelset's time series; the cross-section and the
-/// track position of the first wheelset) and its summary on an open stream, as [`LiveRecorder`]
-/// streams them during a run.
-pub fn record(
-    rec: &RecordingStream,
-    scene: &Scene,
-    wheelsets: &[(String, Vec<Sample>)],
-    summary: &RunSummary,
-) -> Result<(), InspectError> {
-    let names: Vec<String> = wheelsets.iter().map(|w| w.0.clone()).collect();
-    let mut r = LiveRecorder::on(rec.clone(), scene, &names)?;
-    let n = wheelsets.iter().map(|w| w.1.len()).min().unwrap_or(0);
-    for i in 0..n {
-        let row: Vec<Sample> = wheelsets.iter().map(|w| w.1[i]).collect();
-        for (p, s) in r.pending.iter_mut().zip(&row) {
-            p.push(*s);
-        }
-        r.log_section(&row[0])?;
-    }
-    r.log_summary(summary)
 }

@@ -67,16 +67,23 @@ impl ContactModelSettings for KecSettings {
         p
     }
 
-    /// The ideal-track 1-entry table of the real profiles, then the equivalent profiles (paper §6).
     fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+        Ok(Arc::new(self.kec_contact(pair)?))
+    }
+}
+
+impl KecSettings {
+    /// The model as its concrete type: the ideal-track 1-entry table of the real profiles, then
+    /// the equivalent profiles (paper §6) with these settings' two-point transitions.
+    pub fn kec_contact(&self, pair: &WheelRailPair) -> Result<KecContact, ContactBuildError> {
         let geometry = ContactGeometry::with_defaults(pair.clone());
         let table = LookupTable1::build(&geometry, &TableSettings::default())?;
         let model = KecModel::from_table(&table, pair.wheelset.l_w())?
             .with_two_point_transition_capped(self.two_point_approach_m, self.two_point_max_width_m);
-        Ok(Arc::new(KecContact {
+        Ok(KecContact {
             model,
             pair: pair.clone(),
-        }))
+        })
     }
 }
 
