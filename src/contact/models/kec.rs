@@ -64,6 +64,13 @@ impl ContactModelSettings for KecSettings {
             0.0,
             1e-3,
         );
+        check_range(
+            &mut p,
+            "two_point_max_width_m",
+            self.two_point_max_width_m,
+            0.0,
+            2e-3,
+        );
         p
     }
 

@@ -169,5 +169,13 @@ mod tests {
         assert!(e.contains("magic") && e.contains("kec"), "{e}");
         let bad: ContactModelSpec = toml::from_str("model = \"kec\"\ntwo_point_approach_m = -1.0").unwrap();
         assert!(bad.problems()[0].contains("simulation.contact.two_point_approach_m = -1"));
+        let wide: ContactModelSpec = toml::from_str("model = \"kec\"\ntwo_point_max_width_m = 0.01").unwrap();
+        assert!(
+            wide.problems()
+                .iter()
+                .any(|p| p.contains("simulation.contact.two_point_max_width_m = 0.01")),
+            "{:?}",
+            wide.problems()
+        );
     }
 }
