@@ -543,6 +543,22 @@ impl ContactGeometry {
         Ok([-gl, phi, lw, lr, rw, rr])
     }
 
+    /// The smallest vertical gap between one wheel and its rail with the wheelset at (y, z, φ) (z
+    /// the centre height as [`ContactSolution::z`] gives it): the global scan of the real
+    /// profiles, polished (golden section on the exact gap). Negative: the profiles
+    /// interpenetrate. For independent checks of a lifted or penetrating wheel.
+    pub fn vertical_gap(
+        &self,
+        side: Side,
+        off: &RailOffsets,
+        y: f64,
+        z: f64,
+        phi: f64,
+    ) -> Result<f64, ContactError> {
+        let env = self.envelope(side, off);
+        Ok(self.min_gap(side, &env, off, y, phi, true)?.0 + z)
+    }
+
     /// The seed of Newton: the sampled global search to 1e-7 rad in roll.
     pub fn seed(&self, y: f64, off: &RailOffsets) -> Result<[f64; 6], ContactError> {
         self.search(y, off, false, 1e-7)

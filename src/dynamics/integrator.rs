@@ -50,6 +50,24 @@ pub trait OdeSystem {
     fn jacobian(&mut self, _t: f64, _x: &[f64], _jac: &mut DMatrix<f64>) -> Option<Result<(), Self::Error>> {
         None
     }
+    /// Number of event functions (discontinuities such as impacts; default none).
+    fn event_count(&self) -> usize {
+        0
+    }
+    /// The event functions g_k(x). Event k happens where g_k passes from > 0 to ≤ 0 within an
+    /// accepted step (located on the continuous extension), or is < 0 at its end: the step is
+    /// cut there and [`Self::jump`] called.
+    fn events(&self, _x: &[f64], _g: &mut [f64]) {}
+    /// Applies event `event` at (t, x), changing the state (an impact). The integration goes on
+    /// from the changed state with a fresh f(t, x).
+    fn jump(&mut self, _t: f64, _event: usize, _x: &mut [f64]) -> Result<(), Self::Error> {
+        Ok(())
+    }
+    /// Whether state j is left out of finite-difference Jacobians at x (its column zero): for
+    /// states where a perturbation switches the model rather than moves it.
+    fn inactive(&self, _x: &[f64], _j: usize) -> bool {
+        false
+    }
 }
 
 /// What the output observer tells the integrator: go on, or stop here (a stop condition met; the
@@ -152,6 +170,8 @@ pub struct Stats {
     pub jacobians: usize,
     pub smallest_step: f64,
     pub largest_step: f64,
+    /// Events located and applied ([`OdeSystem::jump`]).
+    pub events: usize,
 }
 
 // Dormand–Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Nørsett & Wanner I, Table II.5.2).
@@ -341,6 +361,10 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
     // Rejections in a row at the current point.
     let mut rejections = 0usize;
     let q = settings.method.error_order();
+    let n_events = sys.event_count();
+    let mut g0 = vec![0.0; n_events];
+    let mut g1 = vec![0.0; n_events];
+    sys.events(&x, &mut g0);
     while t < t_end {
         if stats.accepted + stats.rejected >= settings.max_steps {
             return Err(IntegrationError::MaxSteps(settings.max_steps));
@@ -393,8 +417,23 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
         if !err.is_finite() {
             return Err(IntegrationError::NonFinite { t });
         }
-        // Accepted: output every multiple of dt_out inside (t, t + h].
-        let t1 = t + h;
+        // Accepted. An event inside the step cuts it at the event (s_event < 1).
+        let event = if n_events > 0 {
+            sys.events(&x1, &mut g1);
+            first_event(&g0, &g1, |s| {
+                let xs = stepper.dense(&x, &x1, &f0, &f1, h, s);
+                let mut g = vec![0.0; n_events];
+                sys.events(&xs, &mut g);
+                g
+            })
+        } else {
+            None
+        };
+        let t1 = match event {
+            Some((_, s)) => t + s * h,
+            None => t + h,
+        };
+        // Output every multiple of dt_out inside (t, t1].
         while next_out <= t1 + 1e-12 * t1.abs().max(1.0) && next_out <= t_end + 1e-12 * t_end.abs().max(1.0) {
             let s = ((next_out - t) / h).clamp(0.0, 1.0);
             let xo = stepper.dense(&x, &x1, &f0, &f1, h, s);
@@ -408,9 +447,29 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
         stepper.accepted(settings.jacobian_max_age);
         stats.smallest_step = stats.smallest_step.min(h);
         stats.largest_step = stats.largest_step.max(h);
-        t = if last { t_end } else { t1 };
+        if let Some((k, s)) = event {
+            // The state at the event, changed by the jump; f there afresh (no FSAL across it).
+            let mut xe = if s < 1.0 {
+                stepper.dense(&x, &x1, &f0, &f1, h, s)
+            } else {
+                x1.clone()
+            };
+            sys.jump(t1, k, &mut xe).map_err(model(t1))?;
+            sys.rhs(t1, &xe, &mut f1).map_err(model(t1))?;
+            stats.rhs_evaluations += 1;
+            stats.events += 1;
+            if !all_finite(&xe) || !all_finite(&f1) {
+                return Err(IntegrationError::NonFinite { t: t1 });
+            }
+            x1.copy_from_slice(&xe);
+            stepper.jac_age = None;
+        }
+        t = if last && event.is_none() { t_end } else { t1 };
         std::mem::swap(&mut x, &mut x1);
         std::mem::swap(&mut f0, &mut f1);
+        if n_events > 0 {
+            sys.events(&x, &mut g0);
+        }
         if settings.fixed_step.is_none() {
             // PI controller (Gustafsson; Hairer's DOPRI5 uses β = 0.04).
             let beta = 0.04;
@@ -435,6 +494,52 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
         stats.smallest_step = 0.0;
     }
     Ok(Completion::Finished)
+}
+
+/// The first event in a step from g0 (at its start) to g1 (at its end): the index and the step
+/// fraction s ∈ (0, 1] where it happens. Event k happens if g_k passes from > 0 to ≤ 0 (located
+/// by the Illinois method on `g_at(s)`, the events on the continuous extension, to 1e-10 of the
+/// step), or is < 0 at the end without having been > 0 (s = 1).
+fn first_event(g0: &[f64], g1: &[f64], mut g_at: impl FnMut(f64) -> Vec<f64>) -> Option<(usize, f64)> {
+    let mut best: Option<(usize, f64)> = None;
+    for k in 0..g0.len() {
+        let s = if g0[k] > 0.0 && g1[k] <= 0.0 {
+            let (mut a, mut b, mut ga, mut gb) = (0.0, 1.0, g0[k], g1[k]);
+            let mut side = 0i8;
+            for _ in 0..60 {
+                if b - a <= 1e-10 {
+                    break;
+                }
+                let c = (a * gb - b * ga) / (gb - ga);
+                let c = if c > a && c < b { c } else { 0.5 * (a + b) };
+                let gc = g_at(c)[k];
+                if gc > 0.0 {
+                    a = c;
+                    ga = gc;
+                    if side == -1 {
+                        gb *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    b = c;
+                    gb = gc;
+                    if side == 1 {
+                        ga *= 0.5;
+                    }
+                    side = 1;
+                }
+            }
+            b
+        } else if g1[k] < 0.0 && g0[k] <= 0.0 {
+            1.0
+        } else {
+            continue;
+        };
+        if best.is_none_or(|(_, sb)| s < sb) {
+            best = Some((k, s));
+        }
+    }
+    best
 }
 
 fn all_finite(v: &[f64]) -> bool {
@@ -522,6 +627,12 @@ impl Stepper {
             Some(r) => r.map_err(StepFailure::Model)?,
             None => {
                 for j in 0..n {
+                    if sys.inactive(x, j) {
+                        for i in 0..n {
+                            self.jac[(i, j)] = 0.0;
+                        }
+                        continue;
+                    }
                     let dx = 1.5e-8 * x[j].abs().max(s.atol / s.rtol).max(1e-12);
                     self.tmp.copy_from_slice(x);
                     self.tmp[j] += dx;

@@ -26,8 +26,10 @@
 //! the force it carries there. At the nominal configuration the vehicle is then in equilibrium
 //! (checked by a test) and the wheel loads are the static ones.
 //!
-//! State: per body [q, q̇] (12), then per wheelset [x, y, ψ, ẋ, ẏ, ψ̇, Ω] (7) or, per
-//! IRW-wheelset, [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, Ω_r] (8: each wheel's spin; the bridge does not pitch).
+//! State: per body [q, q̇] (12), then per wheelset [x, y, ψ, ẋ, ẏ, ψ̇, Ω, θ_l, θ_r, θ̇_l, θ̇_r] (11)
+//! or, per IRW-wheelset, [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, Ω_r, θ_l, θ_r, θ̇_l, θ̇_r] (12: each wheel's spin;
+//! the bridge does not pitch); θ a lifted wheel's roll about the other wheel's contact
+//! ([`super::wheelset::Lift`]).
 
 use std::sync::Arc;
 
@@ -38,9 +40,11 @@ use super::system::{
     BodySample, DynamicsError, InitialDisturbance, Settling, VehicleData, VehicleModel, VehicleSample,
     WheelsetSample,
 };
-use super::wheelset::{evaluate, FrameMotion, IrwInertia, Load, WheelsetInertia, WheelsetState};
+use super::wheelset::{
+    evaluate, land, pose_kinematics, FrameMotion, IrwInertia, Landing, Load, WheelsetInertia, WheelsetState,
+};
 use crate::contact::forces::ContactForceSettings;
-use crate::contact::{ContactModel, WarmStart};
+use crate::contact::{ContactModel, WarmStart, WheelsetKinematics};
 use crate::track::RailMotion;
 use crate::vehicle::elements::{BodyRef, Element, ElementLoad, FrameLoads, Pose};
 use crate::vehicle::spec::MultibodySpec;
@@ -185,14 +189,39 @@ impl Multibody {
         12 * i
     }
 
-    /// State size of wheelset j: solid axle [x, y, ψ, ẋ, ẏ, ψ̇, Ω] (7); IRW-wheelset
-    /// [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, Ω_r] (8).
+    /// State size of wheelset j ([`WheelsetState::slot_size`]): solid axle [x, y, ψ, ẋ, ẏ, ψ̇, Ω,
+    /// θ_l, θ_r, θ̇_l, θ̇_r] (11); IRW-wheelset [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, Ω_r, θ_l, θ_r, θ̇_l, θ̇_r]
+    /// (12: each wheel's spin; the bridge does not pitch).
     fn wheelset_size(&self, j: usize) -> usize {
-        if self.wheelsets[j].inertia.irw.is_some() {
-            8
-        } else {
-            7
-        }
+        WheelsetState::slot_size(self.is_irw(j))
+    }
+
+    fn is_irw(&self, j: usize) -> bool {
+        self.wheelsets[j].inertia.irw.is_some()
+    }
+
+    /// Wheelset j's contact-model kinematics (two-point) and its frame at state `st`.
+    fn wheelset_kinematics(
+        &self,
+        data: &mut VehicleData,
+        j: usize,
+        st: &WheelsetState,
+        s_ref: f64,
+        v: f64,
+        v_dot: f64,
+    ) -> Result<(WheelsetKinematics, FrameAt, f64), DynamicsError> {
+        let s = s_ref + self.wheelsets[j].d + st.x;
+        let f = self.frame_at(s, v, v_dot)?;
+        let kin = self
+            .contact
+            .kinematics(st.y, st.y_dot, &f.rails, &mut data.warm[j])
+            .map_err(|source| DynamicsError::Contact {
+                wheelset: self.wheelsets[j].name.clone(),
+                y_mm: st.y * 1e3,
+                source,
+            })?;
+        data.contact_evaluations += 1;
+        Ok((kin, f, s))
     }
 
     fn wheelset_offset(&self, j: usize) -> usize {
@@ -212,12 +241,15 @@ impl Multibody {
             .unwrap_or(self.r0);
         for j in 0..self.wheelsets.len() {
             let o = self.wheelset_offset(j);
-            x[o + 1] = y0;
-            x[o + 2] = psi0;
-            x[o + 6] = self.reference.speed.at(0.0) / r_mean;
-            if self.wheelset_size(j) == 8 {
-                x[o + 7] = x[o + 6];
+            let omega = self.reference.speed.at(0.0) / r_mean;
+            WheelsetState {
+                y: y0,
+                psi: psi0,
+                omega,
+                omega_right: omega,
+                ..WheelsetState::default()
             }
+            .write(&mut x[o..], self.is_irw(j));
         }
         x
     }
@@ -347,42 +379,28 @@ impl Multibody {
         let mut ws_rails = Vec::with_capacity(nw);
         for j in 0..nw {
             let o = self.wheelset_offset(j);
-            let irw = self.wheelset_size(j) == 8;
-            let st = WheelsetState {
-                x: x[o],
-                y: x[o + 1],
-                psi: x[o + 2],
-                x_dot: x[o + 3],
-                y_dot: x[o + 4],
-                psi_dot: x[o + 5],
-                omega: x[o + 6],
-                omega_right: if irw { x[o + 7] } else { x[o + 6] },
-            };
-            let s = s_ref + self.wheelsets[j].d + st.x;
-            let f = self.frame_at(s, v, v_dot)?;
-            let kin = self
-                .contact
-                .kinematics(st.y, st.y_dot, &f.rails, &mut data.warm[j])
-                .map_err(|source| DynamicsError::Contact {
-                    wheelset: self.wheelsets[j].name.clone(),
-                    y_mm: st.y * 1e3,
-                    source,
-                })?;
-            data.contact_evaluations += 1;
+            let st = WheelsetState::read(&x[o..], self.is_irw(j));
+            let (kin, f, s) = self.wheelset_kinematics(data, j, &st, s_ref, v, v_dot)?;
+            // The pose: the two-point configuration moved by a lifted wheel's θ.
+            let pose = pose_kinematics(&st, &kin).map_err(|source| DynamicsError::Wheelset {
+                wheelset: self.wheelsets[j].name.clone(),
+                y_mm: st.y * 1e3,
+                source,
+            })?;
             poses.push(Pose {
                 origin: f.origin,
                 rotation: f.rotation,
-                centre: Vector3::new(0.0, st.y, kin.z),
-                theta: Vector3::new(kin.phi, 0.0, st.psi),
-                centre_velocity: Vector3::new(st.x_dot, st.y_dot, kin.z_dot),
-                theta_dot: Vector3::new(kin.phi_dot, 0.0, st.psi_dot),
+                centre: Vector3::new(0.0, st.y, pose.z),
+                theta: Vector3::new(pose.phi, 0.0, st.psi),
+                centre_velocity: Vector3::new(st.x_dot, st.y_dot, pose.z_dot),
+                theta_dot: Vector3::new(pose.phi_dot, 0.0, st.psi_dot),
                 speed: v,
                 omega_t: v3(f.motion.omega),
             });
             frames.push(frame_loads(&f.motion));
             motions.push(f.motion);
             ws_states.push(st);
-            kins.push(kin);
+            kins.push((kin, pose));
             ws_s.push(s);
             ws_rails.push(f.rails.q);
         }
@@ -431,7 +449,7 @@ impl Multibody {
             let dynamics = evaluate(
                 &self.wheelsets[j].inertia,
                 &ws_states[j],
-                &kins[j],
+                &kins[j].0,
                 &motions[nb + j],
                 &load,
                 &self.forces,
@@ -445,21 +463,11 @@ impl Multibody {
             data.lambda[j] = dynamics.normal;
             if let Some(d) = dxdt.as_deref_mut() {
                 let o = self.wheelset_offset(j);
-                let a = dynamics.accel;
-                d[o] = x[o + 3];
-                d[o + 1] = x[o + 4];
-                d[o + 2] = x[o + 5];
-                d[o + 3] = a[0];
-                d[o + 4] = a[1];
-                d[o + 5] = a[4];
-                d[o + 6] = a[5];
-                if self.wheelset_size(j) == 8 {
-                    d[o + 7] = dynamics.spin_accel_right;
-                }
+                WheelsetState::write_rates(&x[o..], &mut d[o..], &dynamics, self.is_irw(j));
             }
             ws_samples.push(WheelsetSample {
                 state: ws_states[j],
-                kin: kins[j],
+                kin: kins[j].1,
                 dynamics,
                 speed: v,
                 s: ws_s[j],
@@ -795,6 +803,34 @@ impl VehicleModel for Multibody {
 
     fn sample(&self, data: &mut VehicleData, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError> {
         self.evaluate(data, t, x, None)
+    }
+
+    fn lift_offsets(&self) -> Vec<usize> {
+        (0..self.wheelsets.len())
+            .map(|j| self.wheelset_offset(j) + WheelsetState::lift_index(self.is_irw(j)))
+            .collect()
+    }
+
+    fn land(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &mut [f64],
+        wheelset: usize,
+    ) -> Result<Option<Landing>, DynamicsError> {
+        let j = wheelset;
+        let (o, irw) = (self.wheelset_offset(j), self.is_irw(j));
+        let mut st = WheelsetState::read(&x[o..], irw);
+        let (v, v_dot) = self.reference.speed_at(t);
+        let (kin, _, _) = self.wheelset_kinematics(data, j, &st, self.reference.s_ref(t), v, v_dot)?;
+        let landing =
+            land(&self.wheelsets[j].inertia, &mut st, &kin).map_err(|source| DynamicsError::Wheelset {
+                wheelset: self.wheelsets[j].name.clone(),
+                y_mm: st.y * 1e3,
+                source,
+            })?;
+        st.write(&mut x[o..], irw);
+        Ok(landing)
     }
 
     fn contact(&self) -> &dyn ContactModel {

@@ -39,6 +39,8 @@ pub struct Sample {
     /// KEC: knife-edge contact parameters, m.
     pub s_knife: Option<[f64; 2]>,
     pub rails: [f64; 4],
+    /// Each wheel's gap to its rail (0 on the rail; a lifted wheel's lift), m.
+    pub lift: [f64; 2],
 }
 
 impl Sample {
@@ -73,14 +75,20 @@ impl Sample {
             position: [s.kin.contacts[0].position, s.kin.contacts[1].position],
             s_knife: s.kin.s_knife,
             rails: s.rails,
+            lift: d.lift_gap,
         }
     }
 
-    /// The larger |Y/Q| of the two wheels.
+    /// The larger |Y/Q| of the two wheels (a lifted wheel, Q = 0, has none).
     pub fn max_abs_y_over_q(&self) -> f64 {
-        (self.y_force[0] / self.q_force[0])
-            .abs()
-            .max((self.y_force[1] / self.q_force[1]).abs())
+        let ratio = |i: usize| {
+            if self.q_force[i] > 0.0 {
+                (self.y_force[i] / self.q_force[i]).abs()
+            } else {
+                0.0
+            }
+        };
+        ratio(0).max(ratio(1))
     }
 }
 
@@ -115,6 +123,16 @@ pub struct RunSummary {
     pub outcome: &'static str,
     /// Output samples per wheelset.
     pub samples: usize,
+    /// The largest gap of a lifted wheel to its rail, mm (0: no wheel lifted).
+    pub max_lift_mm: f64,
+    /// The longest time one wheel stayed lifted (from the output samples), s.
+    pub longest_lift_s: f64,
+    /// Landings of lifted wheels (plastic impacts).
+    pub landings: usize,
+    /// The largest closing speed at a landing, m/s.
+    pub max_landing_speed_m_s: f64,
+    /// The largest normal impulse of a landing, N s.
+    pub max_landing_impulse_n_s: f64,
 }
 
 impl fmt::Display for RunSummary {
@@ -142,6 +160,17 @@ impl fmt::Display for RunSummary {
                 self.min_normal_n * 1e-3,
                 self.max_normal_n * 1e-3,
                 self.max_abs_y_over_q
+            )?;
+        }
+        if self.max_lift_mm > 0.0 || self.landings > 0 {
+            writeln!(
+                f,
+                "wheel lift: up to {:.3} mm, longest {:.3} s; {} landings, closing speed up to {:.3} m/s, impulse up to {:.1} N s",
+                self.max_lift_mm,
+                self.longest_lift_s,
+                self.landings,
+                self.max_landing_speed_m_s,
+                self.max_landing_impulse_n_s
             )?;
         }
         if let Some(v) = self.critical_speed_m_s {
@@ -195,7 +224,7 @@ pub trait RunObserver {
 }
 
 /// The CSV columns of a wheelset (`--csv DIR` writes `DIR/NAME.csv`; a documented interface).
-pub const CSV_COLUMNS: [&str; 25] = [
+pub const CSV_COLUMNS: [&str; 27] = [
     "t_s",
     "s_m",
     "speed_m_s",
@@ -221,10 +250,12 @@ pub const CSV_COLUMNS: [&str; 25] = [
     "rail_z_left_mm",
     "rail_y_right_mm",
     "rail_z_right_mm",
+    "lift_left_mm",
+    "lift_right_mm",
 ];
 
 /// One CSV row of a sample (the [`CSV_COLUMNS`], SI converted to the columns' units).
-fn csv_row(s: &Sample) -> [f64; 25] {
+fn csv_row(s: &Sample) -> [f64; 27] {
     [
         s.t,
         s.s,
@@ -251,6 +282,8 @@ fn csv_row(s: &Sample) -> [f64; 25] {
         s.rails[1] * 1e3,
         s.rails[2] * 1e3,
         s.rails[3] * 1e3,
+        s.lift[0] * 1e3,
+        s.lift[1] * 1e3,
     ]
 }
 

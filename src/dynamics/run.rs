@@ -14,7 +14,9 @@ use thiserror::Error;
 
 use super::integrator::{integrate_into, Completion, Flow, IntegrationError, Settings, Stats};
 use super::output::{ObserverError, OutputSample, RunObserver, RunStart, RunSummary, Sample};
-use super::system::{BodySample, DynamicsError, Evaluator, InitialDisturbance, Settling, VehicleModel};
+use super::system::{
+    BodySample, DynamicsError, Evaluator, InitialDisturbance, LandingEvent, Settling, VehicleModel,
+};
 
 /// What to run and how (the vehicle and its track reference are the model's).
 #[derive(Debug, Clone, PartialEq)]
@@ -117,6 +119,8 @@ pub struct RunOutput {
     pub settling: Option<Settling>,
     pub summary: RunSummary,
     pub end: RunEnd,
+    /// The landings of lifted wheels, in time order.
+    pub landings: Vec<LandingEvent>,
 }
 
 impl RunOutput {
@@ -252,7 +256,8 @@ pub fn run(
         (Ok(_), None, Some(s)) => RunEnd::Stopped(s),
         (Ok(_), None, None) => RunEnd::Completed,
     };
-    let mut summary = summarise(settings, labels, &wheelsets, wall_s, &stats, &end);
+    let landings = std::mem::take(&mut sys.data.landings);
+    let mut summary = summarise(settings, labels, &wheelsets, wall_s, &stats, &end, &landings);
     if vehicle.reference().speed.ramp_m_s2 != 0.0 {
         summary.critical_speed_m_s = wheelsets.first().and_then(|w| hunting_onset(&w.1, 2.0));
     }
@@ -272,6 +277,7 @@ pub fn run(
         settling: vehicle.settling().cloned(),
         summary,
         end,
+        landings,
     }
 }
 
@@ -282,7 +288,28 @@ fn summarise(
     wall_s: f64,
     stats: &Stats,
     end: &RunEnd,
+    landings: &[LandingEvent],
 ) -> RunSummary {
+    // The longest continuous lift of one wheel in the samples.
+    let mut longest_lift_s: f64 = 0.0;
+    for (_, w) in wheelsets {
+        for side in 0..2 {
+            let mut since: Option<f64> = None;
+            for s in w {
+                match (s.lift[side] > 0.0, since) {
+                    (true, None) => since = Some(s.t),
+                    (false, Some(t0)) => {
+                        longest_lift_s = longest_lift_s.max(s.t - t0);
+                        since = None;
+                    }
+                    _ => {}
+                }
+            }
+            if let (Some(t0), Some(last)) = (since, w.last()) {
+                longest_lift_s = longest_lift_s.max(last.t - t0);
+            }
+        }
+    }
     let samples: Vec<&Sample> = wheelsets.iter().flat_map(|w| w.1.iter()).collect();
     let fold = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(|s| f(s)).fold(0.0_f64, f64::max);
     let simulated_s = wheelsets.first().and_then(|w| w.1.last()).map_or(0.0, |s| s.t);
@@ -316,5 +343,10 @@ fn summarise(
         critical_speed_m_s: None,
         outcome,
         samples: wheelsets.first().map_or(0, |w| w.1.len()),
+        max_lift_mm: fold(&|s| s.lift[0].max(s.lift[1]) * 1e3),
+        longest_lift_s,
+        landings: landings.len(),
+        max_landing_speed_m_s: landings.iter().map(|l| l.landing.speed).fold(0.0, f64::max),
+        max_landing_impulse_n_s: landings.iter().map(|l| l.landing.impulse).fold(0.0, f64::max),
     }
 }

@@ -6,17 +6,20 @@
 //! (frame motion, gravity with cant) and its contact sees the rail irregularities at its arc
 //! length; without a track it runs on tangent, level, ideal track.
 //!
-//! State: [x, y, ψ, ẋ, ẏ, ψ̇, Ω] (see [`super::wheelset`]); z, φ from the contact model.
+//! State: [x, y, ψ, ẋ, ẏ, ψ̇, Ω, θ_l, θ_r, θ̇_l, θ̇_r] (see [`WheelsetState::read`]); z, φ from the
+//! contact model (and a lifted wheel's θ).
 
 use std::sync::Arc;
 
+use super::reference::FrameAt;
 use super::reference::{Reference, G};
 use super::system::{
     DynamicsError, InitialDisturbance, VehicleData, VehicleModel, VehicleSample, WheelsetSample,
 };
-use super::wheelset::{evaluate, Load, WheelsetInertia, WheelsetState};
+use super::wheelset::{evaluate, land, pose_kinematics, Landing, Load, WheelsetInertia, WheelsetState};
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::ContactModel;
+use crate::contact::WheelsetKinematics;
 
 /// The tie between the wheelset and the moving frame, per axle box.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,16 +47,32 @@ pub struct SingleWheelset {
 
 impl SingleWheelset {
     fn unpack(x: &[f64]) -> WheelsetState {
-        WheelsetState {
-            x: x[0],
-            y: x[1],
-            psi: x[2],
-            x_dot: x[3],
-            y_dot: x[4],
-            psi_dot: x[5],
-            omega: x[6],
-            ..WheelsetState::default()
-        }
+        WheelsetState::read(x, false)
+    }
+
+    /// The contact model's two-point kinematics of the state at (t, x).
+    fn kinematics(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        st: &WheelsetState,
+    ) -> Result<(WheelsetKinematics, FrameAt), DynamicsError> {
+        let (v, v_dot) = self.reference.speed_at(t);
+        let s = self.reference.s_ref(t) + st.x;
+        let frame = self
+            .reference
+            .frame(s, v, v_dot)
+            .map_err(|source| DynamicsError::Track { s, source })?;
+        let kin = self
+            .contact
+            .kinematics(st.y, st.y_dot, &frame.rails, &mut data.warm[0])
+            .map_err(|source| DynamicsError::Contact {
+                wheelset: self.name.clone(),
+                y_mm: st.y * 1e3,
+                source,
+            })?;
+        data.contact_evaluations += 1;
+        Ok((kin, frame))
     }
 
     /// Evaluates the model at (t, x).
@@ -64,22 +83,10 @@ impl SingleWheelset {
         x: &[f64],
     ) -> Result<WheelsetSample, DynamicsError> {
         let st = Self::unpack(x);
-        let (v, v_dot) = self.reference.speed_at(t);
+        let (v, _) = self.reference.speed_at(t);
         let s = self.reference.s_ref(t) + st.x;
-        let frame = self
-            .reference
-            .frame(s, v, v_dot)
-            .map_err(|source| DynamicsError::Track { s, source })?;
+        let (kin, frame) = self.kinematics(data, t, &st)?;
         let rails = frame.rails;
-        let kin = self
-            .contact
-            .kinematics(st.y, st.y_dot, &rails, &mut data.warm[0])
-            .map_err(|source| DynamicsError::Contact {
-                wheelset: self.name.clone(),
-                y_mm: st.y * 1e3,
-                source,
-            })?;
-        data.contact_evaluations += 1;
         let tie = &self.tie;
         let mut load = Load {
             force: [0.0, 0.0, -self.axle_load_n],
@@ -111,6 +118,11 @@ impl SingleWheelset {
             source,
         })?;
         data.lambda[0] = dynamics.normal;
+        let kin = pose_kinematics(&st, &kin).map_err(|source| DynamicsError::Wheelset {
+            wheelset: self.name.clone(),
+            y_mm: st.y * 1e3,
+            source,
+        })?;
         Ok(WheelsetSample {
             state: st,
             kin,
@@ -124,7 +136,7 @@ impl SingleWheelset {
 
 impl VehicleModel for SingleWheelset {
     fn dim(&self) -> usize {
-        7
+        WheelsetState::slot_size(false)
     }
 
     fn wheelset_names(&self) -> Vec<String> {
@@ -137,15 +149,15 @@ impl VehicleModel for SingleWheelset {
 
     /// Lateral offset y₀, yaw ψ₀, rolling at V₀/r0.
     fn initial_state(&self, initial: &InitialDisturbance) -> Vec<f64> {
-        vec![
-            0.0,
-            initial.lateral_m,
-            initial.yaw_rad,
-            0.0,
-            0.0,
-            0.0,
-            self.reference.speed.at(0.0) / self.r0,
-        ]
+        let mut x = vec![0.0; self.dim()];
+        WheelsetState {
+            y: initial.lateral_m,
+            psi: initial.yaw_rad,
+            omega: self.reference.speed.at(0.0) / self.r0,
+            ..WheelsetState::default()
+        }
+        .write(&mut x, false);
+        x
     }
 
     /// The static wheel loads: half the axle load and the wheelset's weight each.
@@ -156,14 +168,7 @@ impl VehicleModel for SingleWheelset {
 
     fn rhs(&self, data: &mut VehicleData, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError> {
         let s = self.evaluate(data, t, x)?;
-        let a = s.dynamics.accel;
-        dxdt[0] = x[3];
-        dxdt[1] = x[4];
-        dxdt[2] = x[5];
-        dxdt[3] = a[0];
-        dxdt[4] = a[1];
-        dxdt[5] = a[4];
-        dxdt[6] = a[5];
+        WheelsetState::write_rates(x, dxdt, &s.dynamics, false);
         Ok(())
     }
 
@@ -172,6 +177,29 @@ impl VehicleModel for SingleWheelset {
             wheelsets: vec![self.evaluate(data, t, x)?],
             ..VehicleSample::default()
         })
+    }
+
+    fn lift_offsets(&self) -> Vec<usize> {
+        vec![WheelsetState::lift_index(false)]
+    }
+
+    fn land(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &mut [f64],
+        wheelset: usize,
+    ) -> Result<Option<Landing>, DynamicsError> {
+        debug_assert_eq!(wheelset, 0);
+        let mut st = Self::unpack(x);
+        let (kin, _) = self.kinematics(data, t, &st)?;
+        let landing = land(&self.inertia, &mut st, &kin).map_err(|source| DynamicsError::Wheelset {
+            wheelset: self.name.clone(),
+            y_mm: st.y * 1e3,
+            source,
+        })?;
+        st.write(x, false);
+        Ok(landing)
     }
 
     fn contact(&self) -> &dyn ContactModel {

@@ -10,7 +10,7 @@ use nalgebra::Vector3;
 use thiserror::Error;
 
 use super::reference::Reference;
-use super::wheelset::{WheelsetDynamics, WheelsetError, WheelsetState};
+use super::wheelset::{Landing, WheelsetDynamics, WheelsetError, WheelsetState};
 use crate::contact::{ContactModel, ContactModelError, WarmStart, WheelsetKinematics};
 use crate::track::TrackError;
 
@@ -75,6 +75,8 @@ pub struct VehicleData {
     pub lambda: Vec<[f64; 2]>,
     /// Contact-model evaluations (for the statistics).
     pub contact_evaluations: usize,
+    /// The landings of lifted wheels so far (integrator events; trial steps never land).
+    pub landings: Vec<LandingEvent>,
 }
 
 impl VehicleData {
@@ -84,6 +86,7 @@ impl VehicleData {
             warm: vec![WarmStart::default(); lambda.len()],
             lambda,
             contact_evaluations: 0,
+            landings: Vec::new(),
         }
     }
 }
@@ -148,6 +151,26 @@ pub trait VehicleModel: Send + Sync {
     fn settling(&self) -> Option<&Settling> {
         None
     }
+    /// Per wheelset: the index of its θ_l in the state (θ_r, θ̇_l, θ̇_r follow; see
+    /// [`WheelsetState::read`]).
+    fn lift_offsets(&self) -> Vec<usize>;
+    /// Lands wheelset `wheelset`'s lifted wheel at (t, x): the plastic impact of
+    /// [`super::wheelset::land`], its velocities changed in `x`.
+    fn land(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &mut [f64],
+        wheelset: usize,
+    ) -> Result<Option<Landing>, DynamicsError>;
+}
+
+/// A landing that happened during a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LandingEvent {
+    pub t: f64,
+    pub wheelset: usize,
+    pub landing: Landing,
 }
 
 /// A model with one evaluator's state: the [`crate::dynamics::integrator::OdeSystem`] an
@@ -181,5 +204,36 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
 
     fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError> {
         self.model.rhs(&mut self.data, t, x, dxdt)
+    }
+
+    /// Two per wheelset: each wheel's lift θ (a lifted wheel lands where it passes zero).
+    fn event_count(&self) -> usize {
+        2 * self.model.wheelset_names().len()
+    }
+
+    fn events(&self, x: &[f64], g: &mut [f64]) {
+        for (j, o) in self.model.lift_offsets().into_iter().enumerate() {
+            g[2 * j] = x[o];
+            g[2 * j + 1] = x[o + 1];
+        }
+    }
+
+    /// The lift states of a wheel on its rail (θ = θ̇ = 0) are left out of finite-difference
+    /// Jacobians: a perturbation there would release the wheel (a switch, not a derivative).
+    fn inactive(&self, x: &[f64], j: usize) -> bool {
+        self.model.lift_offsets().into_iter().any(|o| {
+            (o..o + 4).contains(&j) && {
+                let side = (j - o) % 2;
+                x[o + side] == 0.0 && x[o + 2 + side] == 0.0
+            }
+        })
+    }
+
+    fn jump(&mut self, t: f64, event: usize, x: &mut [f64]) -> Result<(), DynamicsError> {
+        let wheelset = event / 2;
+        if let Some(landing) = self.model.land(&mut self.data, t, x, wheelset)? {
+            self.data.landings.push(LandingEvent { t, wheelset, landing });
+        }
+        Ok(())
     }
 }

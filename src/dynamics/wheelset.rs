@@ -96,6 +96,74 @@ pub struct WheelsetState {
     pub omega: f64,
     /// IRW-wheelsets: the right wheel's spin rate, rad/s (solid axle: unused).
     pub omega_right: f64,
+    /// Lift of each wheel (left, right): the roll θ about the other wheel's contact point that
+    /// takes this wheel off its rail (see [`Lift`]), rad; exactly 0 while both wheels touch.
+    pub lift: [f64; 2],
+    /// θ̇ of each wheel's lift, rad/s; exactly 0 while both wheels touch.
+    pub lift_rate: [f64; 2],
+}
+
+impl WheelsetState {
+    /// States one wheelset takes in a state vector: [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, (Ω_r: IRW-wheelsets),
+    /// θ_l, θ_r, θ̇_l, θ̇_r] — 11 (solid axle) or 12 (IRW-wheelset).
+    pub fn slot_size(irw: bool) -> usize {
+        Self::lift_index(irw) + 4
+    }
+
+    /// Index of θ_l in the slot (θ_r, θ̇_l, θ̇_r follow).
+    pub fn lift_index(irw: bool) -> usize {
+        if irw {
+            8
+        } else {
+            7
+        }
+    }
+
+    /// The state from its slot.
+    pub fn read(x: &[f64], irw: bool) -> WheelsetState {
+        let l = Self::lift_index(irw);
+        WheelsetState {
+            x: x[0],
+            y: x[1],
+            psi: x[2],
+            x_dot: x[3],
+            y_dot: x[4],
+            psi_dot: x[5],
+            omega: x[6],
+            omega_right: if irw { x[7] } else { x[6] },
+            lift: [x[l], x[l + 1]],
+            lift_rate: [x[l + 2], x[l + 3]],
+        }
+    }
+
+    /// Writes the state into its slot.
+    pub fn write(&self, x: &mut [f64], irw: bool) {
+        let l = Self::lift_index(irw);
+        x[..7].copy_from_slice(&[
+            self.x,
+            self.y,
+            self.psi,
+            self.x_dot,
+            self.y_dot,
+            self.psi_dot,
+            self.omega,
+        ]);
+        if irw {
+            x[7] = self.omega_right;
+        }
+        x[l..l + 4].copy_from_slice(&[self.lift[0], self.lift[1], self.lift_rate[0], self.lift_rate[1]]);
+    }
+
+    /// The slot's time derivative from the state's slot `x` and the evaluation's accelerations.
+    pub fn write_rates(x: &[f64], d: &mut [f64], dynamics: &WheelsetDynamics, irw: bool) {
+        let l = Self::lift_index(irw);
+        let a = dynamics.accel;
+        d[..7].copy_from_slice(&[x[3], x[4], x[5], a[0], a[1], a[4], a[5]]);
+        if irw {
+            d[7] = dynamics.spin_accel_right;
+        }
+        d[l..l + 4].copy_from_slice(&[x[l + 2], x[l + 3], dynamics.lift_accel[0], dynamics.lift_accel[1]]);
+    }
 }
 
 /// Applied force and moment about the wheelset centre (suspension, loads), track components.
@@ -121,13 +189,29 @@ pub struct WheelsetDynamics {
     /// |Φ(λ) − λ| of the normal forces returned: the residual of the creep/normal-force
     /// iteration (≤ 1e-12 relative), N.
     pub lambda_change: f64,
+    /// θ̈ of each wheel's lift (0 for a wheel on its rail), rad/s².
+    pub lift_accel: [f64; 2],
+    /// Each wheel's gap to its rail along the rail normal (0 on the rail), m.
+    pub lift_gap: [f64; 2],
 }
 
 /// Dynamics failures.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum WheelsetError {
-    #[error("{side} wheel lifts: normal force {normal:.1} N ≤ 0 (the constraint contact model cannot follow a lifting wheel)")]
-    Lift { side: &'static str, normal: f64 },
+    #[error("{side} wheel lifts: normal force {normal:.1} N ≤ 0, but released it would not rise (θ̈ = {lift_accel:.3e} rad/s²: the creep forces hold it down)")]
+    Lift {
+        side: &'static str,
+        normal: f64,
+        lift_accel: f64,
+    },
+    #[error("both wheels leave the rails ({side} wheel lifted {gap_mm:.3} mm, the other's normal force {normal:.1} N ≤ 0): the wheelset jumps off the track")]
+    Flight {
+        side: &'static str,
+        gap_mm: f64,
+        normal: f64,
+    },
+    #[error("{side} wheel lifts at a contact where rolling about the other wheel does not open a gap (∂gap/∂θ = {gain:.3} m/rad)")]
+    LiftGeometry { side: &'static str, gain: f64 },
     #[error("{side} contact: {message}")]
     Contact { side: &'static str, message: String },
     #[error("singular wheelset equations")]
@@ -142,132 +226,204 @@ pub enum WheelsetError {
 const MAX_PASSES: usize = 30;
 const LAMBDA_TOLERANCE: f64 = 1e-12;
 
-/// Evaluates the wheelset's accelerations and normal forces. `lambda_guess` seeds the creep
-/// forces' first pass (e.g. the previous evaluation's normal forces).
-#[allow(clippy::too_many_arguments)]
-pub fn evaluate(
-    inertia: &WheelsetInertia,
+/// The smallest ∂gap/∂θ accepted for a lift, m/rad: rolling 1 mrad about the other wheel must open
+/// at least 0.02 mm (a wheel flange at ~80° against the rail opens less: no lift there).
+const MIN_LIFT_GAIN: f64 = 0.02;
+
+/// A wheel off its rail (departure from the paper, which keeps both KEC constraints always:
+/// issue 14). While one wheel is lifted the wheelset keeps one contact constraint, at the other
+/// wheel (the pivot p), and gains one coordinate, the roll θ about that contact point. Linearised
+/// about the two-point configuration at the same y (z₀ = Z(y), φ₀ = Φ(y), both contacts touching):
+///
+/// ```text
+/// φ = φ₀ + σ θ,   z = z₀ + k σ θ,   σ = +1 (left wheel lifted), −1 (right)
+/// k = −(u_pY − (n_pY / n_pZ) u_pZ)          (the pivot's normal velocity stays zero)
+/// gap_i = G θ,   G = σ (n_iZ (k + u_iY) − n_iY u_iZ)
+/// ```
+///
+/// with u the contact points relative to the centre and n the rail normals (Y, Z): a rotation
+/// δφ moves a wheel point by δφ x × u, and the centre by δz; the pivot's point then moves along
+/// its rail's tangent (its lateral sliding is the creep forces' business, y stays independent),
+/// the lifted wheel's point leaves its rail at G θ̇. θ ≥ 0 while lifted; a lifted wheel lands
+/// where θ returns to 0 (an event of the integrator: [`land`]). Valid for lifts small against
+/// the wheel's radius (millimetres), the physical ones short of a derailment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lift {
+    /// The lifted wheel: 0 left, 1 right.
+    pub side: usize,
+    /// +1 left, −1 right.
+    pub sigma: f64,
+    /// ∂z/∂(σθ), m/rad.
+    pub k: f64,
+    /// ∂gap/∂θ of the lifted wheel, m/rad (> 0).
+    pub gain: f64,
+    pub theta: f64,
+    pub theta_dot: f64,
+}
+
+impl Lift {
+    /// The lift of wheel `side` at θ = θ̇ = 0 from the two-point configuration `kin` at lateral
+    /// displacement `y`.
+    pub fn at_rest(side: usize, y: f64, kin: &WheelsetKinematics) -> Result<Lift, WheelsetError> {
+        let sigma = if side == 0 { 1.0 } else { -1.0 };
+        let u = |c: &crate::contact::ContactPoint| (c.position.0 - y, c.position.1 - kin.z);
+        let pivot = &kin.contacts[1 - side];
+        let lifted = &kin.contacts[side];
+        let (u_py, u_pz) = u(pivot);
+        let (n_py, n_pz) = pivot.normal;
+        let k = -(u_py - n_py / n_pz * u_pz);
+        let (u_iy, u_iz) = u(lifted);
+        let (n_iy, n_iz) = lifted.normal;
+        let gain = sigma * (n_iz * (k + u_iy) - n_iy * u_iz);
+        if gain.is_nan() || gain < MIN_LIFT_GAIN {
+            return Err(WheelsetError::LiftGeometry {
+                side: Side::BOTH[side].name(),
+                gain,
+            });
+        }
+        Ok(Lift {
+            side,
+            sigma,
+            k,
+            gain,
+            theta: 0.0,
+            theta_dot: 0.0,
+        })
+    }
+
+    /// The lift the state carries, if a wheel is off its rail (θ or θ̇ not zero).
+    pub fn of(state: &WheelsetState, kin: &WheelsetKinematics) -> Result<Option<Lift>, WheelsetError> {
+        let off = |i: usize| state.lift[i] != 0.0 || state.lift_rate[i] != 0.0;
+        let side = match (off(0), off(1)) {
+            (false, false) => return Ok(None),
+            (true, false) => 0,
+            (false, true) => 1,
+            (true, true) => {
+                return Err(WheelsetError::Flight {
+                    side: "left",
+                    gap_mm: f64::NAN,
+                    normal: 0.0,
+                })
+            }
+        };
+        let mut l = Lift::at_rest(side, state.y, kin)?;
+        l.theta = state.lift[side];
+        l.theta_dot = state.lift_rate[side];
+        Ok(Some(l))
+    }
+
+    /// The lifted wheel's gap, m.
+    pub fn gap(&self) -> f64 {
+        self.gain * self.theta
+    }
+
+    /// The pose kinematics with the lift: z, φ and their rates moved by θ, θ̇ (the products
+    /// k̇ θ̇, k̈ θ of the small lift neglected, as the linearisation does).
+    pub fn apply(&self, kin: &WheelsetKinematics) -> WheelsetKinematics {
+        let mut k = *kin;
+        k.z += self.k * self.sigma * self.theta;
+        k.phi += self.sigma * self.theta;
+        k.z_dot += self.k * self.sigma * self.theta_dot;
+        k.phi_dot += self.sigma * self.theta_dot;
+        k
+    }
+}
+
+/// The kinematics of the wheelset's pose: the contact model's two-point configuration `kin`, moved
+/// by the state's lift if a wheel is off its rail.
+pub fn pose_kinematics(
     state: &WheelsetState,
     kin: &WheelsetKinematics,
-    frame: &FrameMotion,
-    load: &Load,
-    forces: &ContactForceSettings,
-    lambda_guess: [f64; 2],
-) -> Result<WheelsetDynamics, WheelsetError> {
+) -> Result<WheelsetKinematics, WheelsetError> {
+    Ok(match Lift::of(state, kin)? {
+        Some(l) => l.apply(kin),
+        None => *kin,
+    })
+}
+
+/// What a landing did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Landing {
+    /// The wheel that landed: 0 left, 1 right.
+    pub side: usize,
+    /// Closing speed along the rail normal just before the impact, m/s.
+    pub speed: f64,
+    /// Normal impulse on the landing wheel, N s.
+    pub impulse: f64,
+    /// Normal impulse on the other wheel, N s.
+    pub pivot_impulse: f64,
+}
+
+/// Points, normals and frames of one pose.
+struct Geometry {
+    centre: Vector3<f64>,
+    axle: Vector3<f64>,
+    arm: [Vector3<f64>; 2],
+    normal: [Vector3<f64>; 2],
+    frames: [ContactFrame; 2],
+}
+
+impl Geometry {
+    /// `kin`: the pose kinematics (lift applied).
+    fn new(state: &WheelsetState, kin: &WheelsetKinematics) -> Result<Geometry, WheelsetError> {
+        let centre = Vector3::new(state.x, state.y, kin.z);
+        let axle = Vector3::new(-state.psi, 1.0, kin.phi).normalize();
+        let mut arm = [Vector3::zeros(); 2];
+        let mut normal = [Vector3::zeros(); 2];
+        let mut frames = Vec::with_capacity(2);
+        for (i, c) in kin.contacts.iter().enumerate() {
+            // Longitudinal position on the yawed wheel: the wheel is a surface of revolution about
+            // the axle a, and the point where its normal equals the rail's normal n (n_x = 0) lies
+            // where n · (a × u) = 0 (n in the wheel's meridian plane): with u = (u_x, u_Y, u_Z),
+            // u_x = ψ (n_Z u_Y − n_Y u_Z) / (n_Y φ − n_Z) ≈ −ψ (u_Y + r n_Y / n_Z) — the yaw-induced
+            // contact shift. Without it the rolling wheel's normal force would do work of order
+            // λ Ω r ψ n_Y (see the energy test).
+            let (u_y, u_z) = (c.position.0 - state.y, c.position.1 - kin.z);
+            let (n_y, n_z) = c.normal;
+            let u_x = state.psi * (n_z * u_y - n_y * u_z) / (n_y * kin.phi - n_z);
+            let p = Vector3::new(state.x + u_x, c.position.0, c.position.1);
+            arm[i] = p - centre;
+            normal[i] = Vector3::new(0.0, c.normal.0, c.normal.1);
+            frames.push(ContactFrame::new(normal[i], axle, Vector3::x()).map_err(|e| {
+                WheelsetError::Contact {
+                    side: Side::BOTH[i].name(),
+                    message: e.to_string(),
+                }
+            })?);
+        }
+        let frames = [frames[0], frames[1]];
+        Ok(Geometry {
+            centre,
+            axle,
+            arm,
+            normal,
+            frames,
+        })
+    }
+}
+
+/// The 10×10 matrix of [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr θ̈_bridge Ω̇_r] (a lifted wheel: its λ column is its
+/// θ̈). It does not depend on the creep forces: factored once, the passes of the creep/normal-force
+/// iteration only change the right-hand side.
+///
+/// Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → about the axle a (Ω̇). With
+/// H = I_x φ̇ x + I_y Ω a + I_z ψ̇ z and ȧ = (−ψ̇, 0, φ̇): the x and z rows carry I_y Ω̇ a_x,
+/// I_y Ω̇ a_z; the spin row is the moment about the axle, a · M (not M_y: a normal force
+/// at a yawed wheel's contact has a large M_x whose axle component −ψ M_x cancels M_y).
+/// An IRW-wheelset has one spin row per wheel (its own contact's moment about the axle,
+/// rows 5 and 9); a solid axle ties Ω̇_r = Ω̇_l. Row 8 (θ̈ = 0) keeps a place for a bridge
+/// pitch degree of freedom, which neither model has: the suspension holds the bridge.
+/// Rows 6–7: the constraints z̈ − Z_y ÿ (− k σ θ̈) = c_z, φ̈ − Φ_y ÿ (− σ θ̈) = c_φ.
+fn matrix(
+    inertia: &WheelsetInertia,
+    geo: &Geometry,
+    kin: &WheelsetKinematics,
+    lift: Option<&Lift>,
+) -> SMatrix<f64, 10, 10> {
     let m = inertia.mass_kg;
-    let [ix, iy, iz] = inertia.inertia_kg_m2;
-    let centre = Vector3::new(state.x, state.y, kin.z);
-    let r_dot = Vector3::new(state.x_dot, state.y_dot, kin.z_dot);
-    let axle = Vector3::new(-state.psi, 1.0, kin.phi).normalize();
-    let w_t = Vector3::from(frame.omega);
-    // Angular velocity of the wheelset (ground, track components).
-    // Angular velocity of each wheel (ground, track components): the axle's or, on an
-    // IRW-wheelset, each wheel's own spin about the common axle.
-    let omega_wheel = [
-        state.omega,
-        if inertia.irw.is_some() {
-            state.omega_right
-        } else {
-            state.omega
-        },
-    ];
-    let w_axle = w_t + Vector3::new(kin.phi_dot, 0.0, state.psi_dot);
-    let w_wheel = [w_axle + axle * omega_wheel[0], w_axle + axle * omega_wheel[1]];
-    // Ground velocity of the centre: frame speed + relative (Coriolis of r dropped, see doc).
-    let v_c = Vector3::new(frame.speed, 0.0, 0.0) + r_dot + w_t.cross(&centre);
-    // Contact points (3D, the yawed wheel's lowest line) and normals.
-    let mut arm = [Vector3::zeros(); 2];
-    let mut normal = [Vector3::zeros(); 2];
-    let mut frames = [None; 2];
-    for (i, c) in kin.contacts.iter().enumerate() {
-        // Longitudinal position on the yawed wheel: the wheel is a surface of revolution about
-        // the axle a, and the point where its normal equals the rail's normal n (n_x = 0) lies
-        // where n · (a × u) = 0 (n in the wheel's meridian plane): with u = (u_x, u_Y, u_Z),
-        // u_x = ψ (n_Z u_Y − n_Y u_Z) / (n_Y φ − n_Z) ≈ −ψ (u_Y + r n_Y / n_Z) — the yaw-induced
-        // contact shift. Without it the rolling wheel's normal force would do work of order
-        // λ Ω r ψ n_Y (see the energy test).
-        let (u_y, u_z) = (c.position.0 - state.y, c.position.1 - kin.z);
-        let (n_y, n_z) = c.normal;
-        let u_x = state.psi * (n_z * u_y - n_y * u_z) / (n_y * kin.phi - n_z);
-        let p = Vector3::new(state.x + u_x, c.position.0, c.position.1);
-        arm[i] = p - centre;
-        normal[i] = Vector3::new(0.0, c.normal.0, c.normal.1);
-        let side = if i == 0 { "left" } else { "right" };
-        frames[i] =
-            Some(
-                ContactFrame::new(normal[i], axle, Vector3::x()).map_err(|e| WheelsetError::Contact {
-                    side,
-                    message: e.to_string(),
-                })?,
-            );
-    }
-    let mut creepage = [Creepage::default(); 2];
-    for i in 0..2 {
-        let f = frames[i].as_ref().ok_or(WheelsetError::Singular)?;
-        let v_w = v_c + w_wheel[i].cross(&arm[i]);
-        creepage[i] = Creepage::from_velocities(
-            f,
-            v_w,
-            Vector3::zeros(),
-            w_wheel[i],
-            Vector3::zeros(),
-            frame.speed,
-            crate::contact::forces::creepage::REGULARISATION_SPEED,
-        );
-    }
-    // Constant part of the right-hand side (no contact forces).
-    let g = Vector3::from(frame.gravity);
-    let a_t = Vector3::from(frame.accel);
-    let f_known = Vector3::from(load.force) + m * g - m * (a_t + 2.0 * w_t.cross(&r_dot));
-    // Spin inertia per wheel and the spin angular momentum about the axle, H_s a.
-    let i_spin = match inertia.irw {
-        Some(irw) => irw.wheel_spin_kg_m2,
-        None => iy,
-    };
-    let h_spin = match inertia.irw {
-        Some(irw) => irw.wheel_spin_kg_m2 * (state.omega + state.omega_right),
-        None => iy * state.omega,
-    };
-    // Frame and gyroscopic terms of the roll and yaw rows.
-    let gyro_x = -ix * frame.alpha[0] + h_spin * (state.psi_dot + frame.omega[2]);
-    let gyro_z = -iz * frame.alpha[2] - h_spin * (kin.phi_dot + frame.omega[0]);
-    // Applied loads reach the wheels through bearings, which transmit no moment about the axle:
-    // remove that component (else e.g. a yaw spring's moment would spin the wheels through the
-    // roll angle, φ M_z). On an IRW-wheelset it pitches the bridge instead.
-    let m_load = Vector3::from(load.moment);
-    let m_known = m_load - axle * axle.dot(&m_load);
-    // The ellipse shape depends on the curvatures only: solve Hertz once per wheel at the guessed
-    // load and scale it (a, b ∝ N^⅓) in every pass.
-    let mut hertz0 = [None; 2];
-    for i in 0..2 {
-        let side = if i == 0 { "left" } else { "right" };
-        let c = &kin.contacts[i];
-        let curv = RelativeCurvature::wheel_rail(
-            c.rolling_radius,
-            c.contact_angle - side_roll(i, kin.phi),
-            c.wheel_curvature,
-            c.rail_curvature,
-        );
-        hertz0[i] = Some(
-            HertzContact::solve(curv, lambda_guess[i].max(1.0), &forces.material, &forces.material).map_err(
-                |e| WheelsetError::Contact {
-                    side,
-                    message: e.to_string(),
-                },
-            )?,
-        );
-    }
-    // 10×10: [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr θ̈_bridge Ω̇_r]. The matrix does not depend on the creep
-    // forces: factored once, the passes of the creep/normal-force iteration only change the
-    // right-hand side.
-    //
-    // Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → about the axle a (Ω̇). With
-    // H = I_x φ̇ x + I_y Ω a + I_z ψ̇ z and ȧ = (−ψ̇, 0, φ̇): the x and z rows carry I_y Ω̇ a_x,
-    // I_y Ω̇ a_z; the spin row is the moment about the axle, a · M (not M_y: a normal force
-    // at a yawed wheel's contact has a large M_x whose axle component −ψ M_x cancels M_y).
-    // An IRW-wheelset has one spin row per wheel (its own contact's moment about the axle,
-    // rows 5 and 9); a solid axle ties Ω̇_r = Ω̇_l. Row 8 (θ̈ = 0) keeps a place for a bridge
-    // pitch degree of freedom, which neither model has: the suspension holds the bridge.
+    let [ix, _, iz] = inertia.inertia_kg_m2;
+    let i_spin = spin_inertia(inertia);
+    let (arm, normal, axle) = (&geo.arm, &geo.normal, &geo.axle);
     let mut a = SMatrix::<f64, 10, 10>::zeros();
     for k in 0..3 {
         a[(k, k)] = m;
@@ -303,12 +459,189 @@ pub fn evaluate(
             a[(8, 8)] = 1.0;
         }
     }
-    // Constraints.
     a[(6, 2)] = 1.0;
     a[(6, 1)] = -kin.z_y;
     a[(7, 3)] = 1.0;
     a[(7, 1)] = -kin.phi_y;
-    let lu = a.lu();
+    if let Some(l) = lift {
+        // The lifted wheel carries no force; its column becomes θ̈'s.
+        let c = 6 + l.side;
+        for r in 0..10 {
+            a[(r, c)] = 0.0;
+        }
+        a[(6, c)] = -l.k * l.sigma;
+        a[(7, c)] = -l.sigma;
+    }
+    a
+}
+
+fn spin_inertia(inertia: &WheelsetInertia) -> f64 {
+    match inertia.irw {
+        Some(irw) => irw.wheel_spin_kg_m2,
+        None => inertia.inertia_kg_m2[1],
+    }
+}
+
+/// Evaluates the wheelset's accelerations and normal forces. `kin` is the contact model's
+/// two-point configuration at the state's y; `lambda_guess` seeds the creep forces' first pass
+/// (e.g. the previous evaluation's normal forces).
+///
+/// A wheel whose normal force would be ≤ 0 is released ([`Lift`]): with θ = θ̇ = 0 the equations
+/// are solved again with that wheel free, and its θ̈ (≥ 0: the two solutions meet where λ = 0)
+/// returned; a lifted wheel (θ or θ̇ ≠ 0 in the state) stays free until it lands. Both wheels
+/// off their rails is a [`WheelsetError::Flight`].
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate(
+    inertia: &WheelsetInertia,
+    state: &WheelsetState,
+    kin: &WheelsetKinematics,
+    frame: &FrameMotion,
+    load: &Load,
+    forces: &ContactForceSettings,
+    lambda_guess: [f64; 2],
+) -> Result<WheelsetDynamics, WheelsetError> {
+    let lifted = |l: Lift, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
+        let r = solve(inertia, state, kin, frame, load, forces, guess, Some(&l))?;
+        let p = 1 - l.side;
+        if r.normal[p].is_nan() || r.normal[p] <= 0.0 {
+            return Err(WheelsetError::Flight {
+                side: Side::BOTH[l.side].name(),
+                gap_mm: l.gap() * 1e3,
+                normal: r.normal[p],
+            });
+        }
+        Ok(r)
+    };
+    if let Some(l) = Lift::of(state, kin)? {
+        let mut guess = lambda_guess;
+        guess[l.side] = 0.0;
+        return lifted(l, guess);
+    }
+    let r = solve(inertia, state, kin, frame, load, forces, lambda_guess, None)?;
+    if r.normal.iter().any(|v| v.is_nan()) {
+        return Err(WheelsetError::Singular);
+    }
+    let side = if r.normal[0] <= r.normal[1] { 0 } else { 1 };
+    if r.normal[side] > 0.0 {
+        return Ok(r);
+    }
+    if r.normal[1 - side] <= 0.0 {
+        return Err(WheelsetError::Flight {
+            side: Side::BOTH[side].name(),
+            gap_mm: 0.0,
+            normal: r.normal[1 - side],
+        });
+    }
+    // Lift-off: release the unloaded wheel.
+    let mut guess = r.normal;
+    guess[side] = 0.0;
+    let free = lifted(Lift::at_rest(side, state.y, kin)?, guess)?;
+    if free.lift_accel[side] < 0.0 {
+        return Err(WheelsetError::Lift {
+            side: Side::BOTH[side].name(),
+            normal: r.normal[side],
+            lift_accel: free.lift_accel[side],
+        });
+    }
+    Ok(free)
+}
+
+/// The equations at one contact state (both wheels on their rails, or `lift`'s wheel free).
+#[allow(clippy::too_many_arguments)]
+fn solve(
+    inertia: &WheelsetInertia,
+    state: &WheelsetState,
+    kin2: &WheelsetKinematics,
+    frame: &FrameMotion,
+    load: &Load,
+    forces: &ContactForceSettings,
+    lambda_guess: [f64; 2],
+    lift: Option<&Lift>,
+) -> Result<WheelsetDynamics, WheelsetError> {
+    let kin = match lift {
+        Some(l) => l.apply(kin2),
+        None => *kin2,
+    };
+    let m = inertia.mass_kg;
+    let [ix, _, iz] = inertia.inertia_kg_m2;
+    let geo = Geometry::new(state, &kin)?;
+    let (centre, axle, arm) = (geo.centre, geo.axle, geo.arm);
+    let r_dot = Vector3::new(state.x_dot, state.y_dot, kin.z_dot);
+    let w_t = Vector3::from(frame.omega);
+    // Angular velocity of each wheel (ground, track components): the axle's or, on an
+    // IRW-wheelset, each wheel's own spin about the common axle.
+    let omega_wheel = [
+        state.omega,
+        if inertia.irw.is_some() {
+            state.omega_right
+        } else {
+            state.omega
+        },
+    ];
+    let w_axle = w_t + Vector3::new(kin.phi_dot, 0.0, state.psi_dot);
+    let w_wheel = [w_axle + axle * omega_wheel[0], w_axle + axle * omega_wheel[1]];
+    // Ground velocity of the centre: frame speed + relative (Coriolis of r dropped, see doc).
+    let v_c = Vector3::new(frame.speed, 0.0, 0.0) + r_dot + w_t.cross(&centre);
+    let on_rail = |i: usize| lift.is_none_or(|l| l.side != i);
+    let mut creepage = [Creepage::default(); 2];
+    for i in 0..2 {
+        let v_w = v_c + w_wheel[i].cross(&arm[i]);
+        creepage[i] = Creepage::from_velocities(
+            &geo.frames[i],
+            v_w,
+            Vector3::zeros(),
+            w_wheel[i],
+            Vector3::zeros(),
+            frame.speed,
+            crate::contact::forces::creepage::REGULARISATION_SPEED,
+        );
+    }
+    // Constant part of the right-hand side (no contact forces).
+    let g = Vector3::from(frame.gravity);
+    let a_t = Vector3::from(frame.accel);
+    let f_known = Vector3::from(load.force) + m * g - m * (a_t + 2.0 * w_t.cross(&r_dot));
+    // Spin angular momentum about the axle, H_s a.
+    let h_spin = match inertia.irw {
+        Some(irw) => irw.wheel_spin_kg_m2 * (state.omega + state.omega_right),
+        None => inertia.inertia_kg_m2[1] * state.omega,
+    };
+    // Frame and gyroscopic terms of the roll and yaw rows.
+    let gyro_x = -ix * frame.alpha[0] + h_spin * (state.psi_dot + frame.omega[2]);
+    let gyro_z = -iz * frame.alpha[2] - h_spin * (kin.phi_dot + frame.omega[0]);
+    // Applied loads reach the wheels through bearings, which transmit no moment about the axle:
+    // remove that component (else e.g. a yaw spring's moment would spin the wheels through the
+    // roll angle, φ M_z). On an IRW-wheelset it pitches the bridge instead.
+    let m_load = Vector3::from(load.moment);
+    let m_known = m_load - axle * axle.dot(&m_load);
+    // The ellipse shape depends on the curvatures only: solve Hertz once per wheel at the guessed
+    // load and scale it (a, b ∝ N^⅓) in every pass.
+    let mut hertz0 = [None; 2];
+    for i in (0..2).filter(|&i| on_rail(i)) {
+        let side = Side::BOTH[i].name();
+        let c = &kin.contacts[i];
+        let curv = RelativeCurvature::wheel_rail(
+            c.rolling_radius,
+            c.contact_angle - side_roll(i, kin.phi),
+            c.wheel_curvature,
+            c.rail_curvature,
+        );
+        hertz0[i] = Some(
+            HertzContact::solve(curv, lambda_guess[i].max(1.0), &forces.material, &forces.material).map_err(
+                |e| WheelsetError::Contact {
+                    side,
+                    message: e.to_string(),
+                },
+            )?,
+        );
+    }
+    let lu = matrix(inertia, &geo, &kin, lift).lu();
+    let lift_gap = {
+        let mut g = [0.0; 2];
+        if let Some(l) = lift {
+            g[l.side] = l.gap();
+        }
+        g
+    };
     // One pass: the creep forces at the normal forces `lambda`, then the accelerations and the
     // normal forces they give, Φ(λ).
     let pass = |lambda: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
@@ -317,8 +650,8 @@ pub fn evaluate(
         // Moments of each wheel's creep forces about the centre.
         let mut mo_wheel = [Vector3::zeros(); 2];
         let mut creep = [CreepForce::default(); 2];
-        for i in 0..2 {
-            let side = if i == 0 { "left" } else { "right" };
+        for i in (0..2).filter(|&i| on_rail(i)) {
+            let side = Side::BOTH[i].name();
             let n_force = lambda[i].max(1.0);
             let hertz = hertz0[i].as_ref().ok_or(WheelsetError::Singular)?.scaled(n_force);
             let patch = ContactPatch::from_hertz(&hertz, &forces.material, forces.friction, &forces.kalker)
@@ -333,7 +666,7 @@ pub fn evaluate(
                     side,
                     message: e.to_string(),
                 })?;
-            let fr = frames[i].as_ref().ok_or(WheelsetError::Singular)?;
+            let fr = &geo.frames[i];
             let fc = fr.force_to_global(creep[i].fx, creep[i].fy, 0.0);
             f += fc;
             mo_wheel[i] = arm[i].cross(&fc) + fr.moment_to_global(creep[i].mz);
@@ -356,19 +689,34 @@ pub fn evaluate(
         b[6] = kin.c_z;
         b[7] = kin.c_phi;
         let sol = lu.solve(&b).ok_or(WheelsetError::Singular)?;
+        let mut normal = [sol[6], sol[7]];
+        let mut lift_accel = [0.0; 2];
+        if let Some(l) = lift {
+            lift_accel[l.side] = sol[6 + l.side];
+            normal[l.side] = 0.0;
+        }
         Ok(WheelsetDynamics {
             accel: [sol[0], sol[1], sol[2], sol[3], sol[4], sol[5]],
             spin_accel_right: sol[9],
-            normal: [sol[6], sol[7]],
+            normal,
             creep,
             creepage,
             lambda_change: 0.0,
+            lift_accel,
+            lift_gap,
         })
     };
     // Solve G(λ) = Φ(λ) − λ = 0 by Broyden's method, started as the plain fixed point (B₀ = −I:
     // the first step is λ₁ = Φ(λ₀)); the secant updates make it superlinear where the plain
-    // iteration converges linearly (its factor reaches ~0.3 in flange contact).
-    let mut lambda = lambda_guess;
+    // iteration converges linearly (its factor reaches ~0.3 in flange contact). A lifted wheel's
+    // λ stays 0.
+    let pin = |mut l: [f64; 2]| {
+        if let Some(lf) = lift {
+            l[lf.side] = 0.0;
+        }
+        l
+    };
+    let mut lambda = pin(lambda_guess);
     let mut result = pass(lambda)?;
     let mut g = Vector2::new(result.normal[0] - lambda[0], result.normal[1] - lambda[1]);
     let mut jac = -Matrix2::<f64>::identity();
@@ -382,7 +730,8 @@ pub fn evaluate(
             Some(s) if s.iter().all(|v| v.is_finite()) => s,
             _ => g,
         };
-        let next = [lambda[0] + step[0], lambda[1] + step[1]];
+        let next = pin([lambda[0] + step[0], lambda[1] + step[1]]);
+        let step = Vector2::new(next[0] - lambda[0], next[1] - lambda[1]);
         let r = pass(next)?;
         let g_next = Vector2::new(r.normal[0] - next[0], r.normal[1] - next[1]);
         let dg = g_next - g;
@@ -396,14 +745,6 @@ pub fn evaluate(
         converged = g.amax() <= tolerance(&result);
     }
     result.lambda_change = g.amax();
-    for (i, side) in Side::BOTH.iter().enumerate() {
-        if result.normal[i].is_nan() || result.normal[i] <= 0.0 {
-            return Err(WheelsetError::Lift {
-                side: side.name(),
-                normal: result.normal[i],
-            });
-        }
-    }
     if !converged {
         return Err(WheelsetError::NormalForces {
             change: result.lambda_change,
@@ -411,6 +752,46 @@ pub fn evaluate(
         });
     }
     Ok(result)
+}
+
+/// The landing of a lifted wheel (an event of the integrator where its θ returns to 0): a
+/// perfectly plastic impact. The impulses P_l, P_r at both contacts (along the rail normals, at
+/// the real points) change the velocities so that both constraints hold again:
+///
+/// ```text
+/// M Δv = Σ P_i n_i (the rows of [`evaluate`]'s system with the impulses for the forces)
+/// Δż − Z_y Δẏ = −k σ θ̇,   Δφ̇ − Φ_y Δẏ = −σ θ̇     (θ̇ → 0)
+/// ```
+///
+/// `kin` is the two-point configuration at the state's y. On return the state has θ = θ̇ = 0 and
+/// the velocities after the impact.
+pub fn land(
+    inertia: &WheelsetInertia,
+    state: &mut WheelsetState,
+    kin: &WheelsetKinematics,
+) -> Result<Option<Landing>, WheelsetError> {
+    let Some(l) = Lift::of(state, kin)? else {
+        return Ok(None);
+    };
+    let geo = Geometry::new(state, &l.apply(kin))?;
+    let a = matrix(inertia, &geo, kin, None);
+    let mut b = SVector::<f64, 10>::zeros();
+    b[6] = -l.k * l.sigma * l.theta_dot;
+    b[7] = -l.sigma * l.theta_dot;
+    let sol = a.lu().solve(&b).ok_or(WheelsetError::Singular)?;
+    state.x_dot += sol[0];
+    state.y_dot += sol[1];
+    state.psi_dot += sol[4];
+    state.omega += sol[5];
+    state.omega_right += if inertia.irw.is_some() { sol[9] } else { sol[5] };
+    state.lift[l.side] = 0.0;
+    state.lift_rate[l.side] = 0.0;
+    Ok(Some(Landing {
+        side: l.side,
+        speed: -l.gain * l.theta_dot,
+        impulse: sol[6 + l.side],
+        pivot_impulse: sol[7 - l.side],
+    }))
 }
 
 /// The contact angle relative to the wheel's radial direction: the track-frame angle minus the

@@ -85,12 +85,25 @@ impl RelativeCurvature {
         wheel_curvature: f64,
         rail_curvature: f64,
     ) -> Self {
+        let a = 0.5 * contact_angle.cos().abs() / rolling_radius;
+        let b = 0.5 * (wheel_curvature + rail_curvature);
+        // Conformal contact (a wheel throat hugging the rail's gauge corner: B → 0): Hertz's
+        // ellipse would grow without bound across a band where the profiles are only nearly
+        // conformal. The ratio of the curvatures is held to MAX_CURVATURE_RATIO (semi-axes ratio
+        // ≈ 10, where Kalker's tables end) — a stated limit, not Hertz. Concave-on-concave (B < 0
+        // by more than the limit would lift) stays an error.
+        let b = if b > -a { b.max(a / MAX_CURVATURE_RATIO) } else { b };
         RelativeCurvature {
-            a: 0.5 * contact_angle.cos().abs() / rolling_radius,
-            b: 0.5 * (wheel_curvature + rail_curvature),
+            a: a.max(b / MAX_CURVATURE_RATIO),
+            b,
         }
     }
 }
+
+/// The largest ratio of the two relative curvatures a wheel–rail contact is given (see
+/// [`RelativeCurvature::wheel_rail`]): 31.6 = 10^1.5, where Johnson's g ≈ (A/B)^(2/3) reaches
+/// b/a = 0.1, the end of Kalker's tables.
+pub const MAX_CURVATURE_RATIO: f64 = 31.6;
 
 impl RelativeCurvature {
     /// At a real contact point of the contact geometry. Its contact angle is measured in the track

@@ -1,0 +1,264 @@
+//! Lift and landing of a wheel with the constraint contact models (issue 14, item 2; the defect
+//! of issue 13: "wheels that unload end the run").
+//!
+//! Checked against what does not share the code: the real profiles' gap (the online geometry's
+//! global search) for the lift's linearised geometry; the two solutions of the unilateral contact
+//! meeting where the normal force vanishes (the complementarity of lift-off); a ballistic flight
+//! without friction against its closed form (time of flight, landing speed); and the MS vehicle's
+//! whole kilometre, which used to stop at a flange impact whose inner wheel unloaded.
+
+mod common;
+use common::scene;
+
+use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};
+use kecsim::contact::geometry::ContactGeometry;
+use kecsim::contact::{ContactModel, ContactModelSpec, WarmStart, WheelsetKinematics};
+use kecsim::dynamics::integrator::{integrate, Flow, Method, Settings};
+use kecsim::dynamics::reference::G;
+use kecsim::dynamics::single_wheelset::{SingleWheelset, Tie};
+use kecsim::dynamics::system::{Evaluator, InitialDisturbance, VehicleModel};
+use kecsim::dynamics::wheelset::{
+    evaluate, FrameMotion, Lift, Load, WheelsetError, WheelsetInertia, WheelsetState,
+};
+use kecsim::dynamics::{Reference, SpeedProfile};
+use kecsim::profile::placement::WheelRailPair;
+use kecsim::profile::{Side, StandardProfile};
+use kecsim::scenario::RunOptions;
+use kecsim::track::{RailMotion, RailOffsets};
+use std::sync::Arc;
+
+fn pair() -> WheelRailPair {
+    WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail54E1, "1:20").unwrap()
+}
+
+fn kec(pair: &WheelRailPair) -> Arc<dyn ContactModel> {
+    ContactModelSpec::default_for("kec").unwrap().build(pair).unwrap()
+}
+
+const INERTIA: WheelsetInertia = WheelsetInertia {
+    mass_kg: 1500.0,
+    inertia_kg_m2: [800.0, 100.0, 800.0],
+    irw: None,
+};
+
+/// The lift's geometry (k, ∂gap/∂θ), linearised, against the real profiles: rolled by ε about the
+/// pivot wheel's contact, the pivot keeps touching (to second order) and the lifted wheel's real
+/// vertical gap is G ε / n_Z — on the tread and in flange contact, both sides.
+#[test]
+fn lift_geometry_matches_the_real_profiles() {
+    let pair = pair();
+    let online = ContactGeometry::with_defaults(pair.clone());
+    let off = RailOffsets::default();
+    let eps = 2e-4;
+    for y in [0.0, 3e-3, -3e-3, 6.2e-3, -6.2e-3] {
+        let sol = online.solve(y, &off).unwrap();
+        let kin = WheelsetKinematics {
+            z: sol.z,
+            phi: sol.phi,
+            contacts: [sol.left, sol.right],
+            ..WheelsetKinematics::default()
+        };
+        for side in 0..2 {
+            let lift = match Lift::at_rest(side, y, &kin) {
+                Ok(l) => l,
+                // A flange at ~70° on the lifted side: rolling about the other wheel barely opens it.
+                Err(e) => {
+                    assert!(kin.contacts[side].contact_angle.abs() > 1.0, "y = {y}: {e}");
+                    continue;
+                }
+            };
+            let mut l = lift;
+            l.theta = eps;
+            let moved = l.apply(&kin);
+            let sides = [Side::Left, Side::Right];
+            let gap = |s: usize| {
+                online
+                    .vertical_gap(sides[s], &off, y, moved.z, moved.phi)
+                    .unwrap()
+            };
+            let lifted = gap(side) * kin.contacts[side].normal.1;
+            let pivot = gap(1 - side);
+            println!(
+                "y = {:5.1} mm, {} wheel lifted: k = {:.4} m, G = {:.4} m/rad; gap {:.4e} m (linear {:.4e}), pivot {:.2e} m",
+                y * 1e3,
+                sides[side].name(),
+                lift.k,
+                lift.gain,
+                lifted,
+                lift.gain * eps,
+                pivot
+            );
+            assert!(
+                (lifted - lift.gain * eps).abs() < 0.02 * lift.gain * eps,
+                "lifted gap {lifted} vs {}",
+                lift.gain * eps
+            );
+            assert!(pivot.abs() < 0.01 * lift.gain * eps, "pivot gap {pivot}");
+        }
+    }
+}
+
+fn forces(friction: f64) -> ContactForceSettings {
+    ContactForceSettings::new(CreepModel::by_name("polach").unwrap(), friction, Material::STEEL).unwrap()
+}
+
+/// Lift-off is the complementarity of a unilateral contact: below the roll moment where the left
+/// normal force vanishes the wheel stays on (θ̈ = 0, λ > 0), above it the wheel rises (λ = 0,
+/// θ̈ > 0), and the two solutions meet at the threshold (both linear in the moment without
+/// friction: their zeros agree). Both wheels unloaded is a flight, reported.
+#[test]
+fn lift_off_is_continuous_at_zero_normal_force() {
+    let pair = pair();
+    let model = kec(&pair);
+    let kin = model
+        .kinematics(0.0, 0.0, &RailMotion::default(), &mut WarmStart::default())
+        .unwrap();
+    let state = WheelsetState {
+        omega: 10.0 / 0.46,
+        ..WheelsetState::default()
+    };
+    let frame = FrameMotion::tangent(10.0);
+    let weight = 100e3;
+    let f = forces(0.0);
+    let at = |m_x: f64| {
+        let load = Load {
+            force: [0.0, 0.0, -weight],
+            moment: [m_x, 0.0, 0.0],
+        };
+        evaluate(&INERTIA, &state, &kin, &frame, &load, &f, [5e4, 5e4])
+    };
+    // Moments (N m) well below and well above the threshold ≈ W_total · 0.75 m.
+    let (m1, m2, m3, m4) = (20e3, 40e3, 110e3, 130e3);
+    let (r1, r2, r3, r4) = (at(m1).unwrap(), at(m2).unwrap(), at(m3).unwrap(), at(m4).unwrap());
+    for r in [&r1, &r2] {
+        assert!(r.normal[0] > 0.0 && r.lift_accel == [0.0, 0.0], "{:?}", r.normal);
+    }
+    for r in [&r3, &r4] {
+        assert!(r.normal[0] == 0.0 && r.normal[1] > 0.0, "{:?}", r.normal);
+        assert!(r.lift_accel[0] > 0.0 && r.lift_accel[1] == 0.0);
+    }
+    // Where λ_l(M) reaches 0 on the rail and where θ̈(M) leaves 0 in the air.
+    let zero = |(ma, a): (f64, f64), (mb, b): (f64, f64)| ma - a * (mb - ma) / (b - a);
+    let m_contact = zero((m1, r1.normal[0]), (m2, r2.normal[0]));
+    let m_lift = zero((m3, r3.lift_accel[0]), (m4, r4.lift_accel[0]));
+    println!("threshold: λ_l = 0 at {m_contact:.2} N m, θ̈ = 0 at {m_lift:.2} N m");
+    assert!(
+        (m_contact - m_lift).abs() < 1e-6 * m_contact,
+        "{m_contact} vs {m_lift}"
+    );
+    // Lifting the wheelset off both rails.
+    let load = Load {
+        force: [0.0, 0.0, 2.0 * INERTIA.mass_kg * G],
+        moment: [0.0; 3],
+    };
+    let err = evaluate(&INERTIA, &state, &kin, &frame, &load, &f, [5e4, 5e4]).unwrap_err();
+    assert!(matches!(err, WheelsetError::Flight { .. }), "{err}");
+}
+
+/// A wheel thrown up without friction flies a parabola in θ: θ̈ = −(W + m g) k / (I_x + m k²)
+/// (the only generalised force of the lift is the weight's, through z = k θ); it lands after
+/// 2 θ̇₀ / |θ̈| at the closing speed G θ̇₀, where the integrator's event stops the step and the
+/// plastic impact puts the wheel back on its rail.
+#[test]
+fn a_thrown_wheel_lands_after_its_ballistic_flight() {
+    let pair = pair();
+    let contact = kec(&pair);
+    let r0 = pair.wheelset.nominal_radius_m;
+    let axle_load = 100e3;
+    let model = SingleWheelset {
+        name: "w".into(),
+        inertia: INERTIA,
+        tie: Tie {
+            longitudinal_stiffness_n_per_m: 2e5,
+            lateral_stiffness_n_per_m: 3e5,
+            longitudinal_damping_n_s_per_m: 0.0,
+            lateral_damping_n_s_per_m: 0.0,
+            half_spacing_m: 1.0,
+        },
+        axle_load_n: axle_load,
+        contact: contact.clone(),
+        forces: forces(0.0),
+        r0,
+        reference: Reference {
+            track: None,
+            s0: 0.0,
+            speed: SpeedProfile {
+                initial_m_s: 10.0,
+                ramp_m_s2: 0.0,
+            },
+        },
+    };
+    let kin = contact
+        .kinematics(0.0, 0.0, &RailMotion::default(), &mut WarmStart::default())
+        .unwrap();
+    let lift = Lift::at_rest(0, 0.0, &kin).unwrap();
+    let theta_dot0 = 0.2;
+    let alpha = (axle_load + INERTIA.mass_kg * G) * lift.k
+        / (INERTIA.inertia_kg_m2[0] + INERTIA.mass_kg * lift.k.powi(2));
+    let flight = 2.0 * theta_dot0 / alpha;
+    let mut x0 = model.initial_state(&InitialDisturbance::default());
+    let l = WheelsetState::lift_index(false);
+    x0[l + 2] = theta_dot0;
+    let mut sys = Evaluator::new(&model);
+    let mut peak: f64 = 0.0;
+    let mut last = x0.clone();
+    let stats = integrate(
+        &mut sys,
+        0.0,
+        &x0,
+        2.0 * flight,
+        flight / 200.0,
+        &Settings::new(Method::Dopri5, 1e-8, 1e-10),
+        &mut |_, x: &[f64]| {
+            peak = peak.max(x[l]);
+            last = x.to_vec();
+            Ok(Flow::Continue)
+        },
+    )
+    .unwrap();
+    let landings = &sys.data.landings;
+    assert_eq!(stats.events, 1);
+    assert_eq!(landings.len(), 1, "{landings:?}");
+    let landing = landings[0];
+    println!(
+        "flight {:.6} s (closed form {flight:.6} s), peak θ {peak:.4e} rad (closed form {:.4e}); landing at {:.4} m/s (G θ̇₀ = {:.4} m/s), impulse {:.2} N s",
+        landing.t,
+        theta_dot0.powi(2) / (2.0 * alpha),
+        landing.landing.speed,
+        lift.gain * theta_dot0,
+        landing.landing.impulse
+    );
+    assert!(
+        (landing.t / flight - 1.0).abs() < 0.01,
+        "{} vs {flight}",
+        landing.t
+    );
+    assert!((peak / (theta_dot0.powi(2) / (2.0 * alpha)) - 1.0).abs() < 0.01);
+    assert!((landing.landing.speed / (lift.gain * theta_dot0) - 1.0).abs() < 0.02);
+    assert!(landing.landing.impulse > 0.0);
+    // Back on the rail: both wheels loaded at the end.
+    assert_eq!(&last[l..l + 4], &[0.0; 4]);
+    let end = sys.sample(2.0 * flight, &last).unwrap();
+    assert!(end.wheelsets[0].dynamics.normal.iter().all(|&n| n > 0.0));
+}
+
+/// The MS vehicle over the whole kilometre with KEC: a flange impact at 26.5 s unloaded the
+/// inner wheel of the leading wheelset and ended the run; it completes now, the wheel's lifts and
+/// landings reported.
+#[test]
+fn ms_vehicle_completes_the_kilometre_with_kec() {
+    let sc = scene("ms_vehicle_tab6.toml");
+    let built = sc
+        .build_run(&RunOptions {
+            contact: Some("kec".into()),
+            speed_m_s: None,
+        })
+        .unwrap();
+    let out = built.run(&mut []);
+    let s = &out.summary;
+    println!("{s}");
+    assert_eq!(s.outcome, "completed", "{:?}", s.error);
+    assert!(s.simulated_s >= 51.0 - 1e-9);
+    assert!(s.landings == out.landings.len());
+    assert!(s.max_lift_mm < 1.0, "{}", s.max_lift_mm);
+}
