@@ -429,8 +429,8 @@ fn irregularity_csv_round_trips_and_the_track_csv_reads_back_as_one() {
 #[test]
 fn a_scenario_file_with_a_track_table_works() {
     let dir = tmpdir("scenario");
-    // The default scenario's [track] table replaced by the Tab. 6 track file's.
-    let default = include_str!("../assets/default.toml");
+    // The bogie scene's [track] table replaced by the Tab. 6 track file's.
+    let default = include_str!("../assets/scenes/bogie_tab6_curve.toml");
     let sections = TAB6_TRACK.split("[track]").nth(1).unwrap();
     let (from, to) = (
         default.find("[track]").unwrap(),

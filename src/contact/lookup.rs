@@ -294,6 +294,37 @@ pub(crate) fn hermite(y0: f64, y1: f64, v0: f64, v1: f64, d0: f64, d1: f64, y: f
     (v, d)
 }
 
+/// Weights of the Catmull–Rom interpolant at `x` in [x0, x1] on the values at (x_m, x0, x1, x2)
+/// (x_m, x2 optional: one-sided slopes without them), and of its derivative: cubic Hermite with
+/// the slopes d0 = (v1 − v_m)/(x1 − x_m), d1 = (v2 − v0)/(x2 − x0) (else (v1 − v0)/(x1 − x0)).
+pub(crate) fn catmull_rom_weights(
+    xm: Option<f64>,
+    x0: f64,
+    x1: f64,
+    x2: Option<f64>,
+    x: f64,
+) -> ([f64; 4], [f64; 4]) {
+    let h = x1 - x0;
+    // Slopes as weights on (v_m, v0, v1, v2).
+    let d0 = match xm {
+        Some(xm) => [-1.0 / (x1 - xm), 0.0, 1.0 / (x1 - xm), 0.0],
+        None => [0.0, -1.0 / h, 1.0 / h, 0.0],
+    };
+    let d1 = match x2 {
+        Some(x2) => [0.0, -1.0 / (x2 - x0), 0.0, 1.0 / (x2 - x0)],
+        None => [0.0, -1.0 / h, 1.0 / h, 0.0],
+    };
+    let mut w = [0.0; 4];
+    let mut dw = [0.0; 4];
+    for k in 0..4 {
+        let e = |i: usize| if i == k { 1.0 } else { 0.0 };
+        let (v, d) = hermite(x0, x1, e(1), e(2), d0[k], d1[k], x);
+        w[k] = v;
+        dw[k] = d;
+    }
+    (w, dw)
+}
+
 /// Fritsch–Carlson PCHIP slopes of `v` over `y` (one piece, no jumps inside).
 pub(crate) fn pchip_slopes(y: &[f64], v: &[f64]) -> Vec<f64> {
     let n = y.len();
@@ -668,10 +699,18 @@ impl LookupTable2 {
         self.columns.iter().map(|c| c.gv).collect()
     }
 
-    /// Interpolated configuration at (y, gv): 1-entry look-ups in the two neighbouring columns,
-    /// then cubic Hermite across gv with the stored gv-slopes (linear for the other quantities).
+    /// Interpolated configuration at (y, gv): 1-entry look-ups in the neighbouring columns, then
+    /// cubic Hermite across gv with slopes from the columns' values themselves (centred
+    /// differences over the neighbouring columns, one-sided at the range's ends: Catmull–Rom).
+    /// z, φ and the surface parameters are then one fixed linear combination of up to four
+    /// columns' values at y, so they are as continuous in y as the columns are (kinks at each
+    /// column's jumps, never steps), and the y-slopes are the same combination of the columns'
+    /// — the interpolant's own derivative. (The stored dx/dgv slopes are not used for it: they
+    /// step where a column's contact jumps, which made z step in y between columns — issue 13.)
+    /// The other quantities (contact positions, angles, radii, curvatures) are linear in gv.
     pub fn lookup(&self, y: f64, gv: f64) -> Result<TableRow, TableError> {
-        let (g0, g1) = (self.columns[0].gv, self.columns[self.columns.len() - 1].gv);
+        let n = self.columns.len();
+        let (g0, g1) = (self.columns[0].gv, self.columns[n - 1].gv);
         if !(g0..=g1).contains(&gv) {
             return Err(TableError::OutOfRange {
                 what: "gv",
@@ -680,20 +719,43 @@ impl LookupTable2 {
                 max_mm: g1 * 1e3,
             });
         }
-        let j = self
-            .columns
-            .partition_point(|c| c.gv <= gv)
-            .clamp(1, self.columns.len() - 1)
-            - 1;
-        let (ca, cb) = (&self.columns[j], &self.columns[j + 1]);
-        let (a, b) = (ca.lookup(y)?, cb.lookup(y)?);
-        let t = (gv - ca.gv) / (cb.gv - ca.gv);
+        let j = self.columns.partition_point(|c| c.gv <= gv).clamp(1, n - 1) - 1;
+        let g = |i: usize| self.columns[i].gv;
+        let (w, dw) = catmull_rom_weights(
+            (j > 0).then(|| g(j - 1)),
+            g(j),
+            g(j + 1),
+            (j + 2 < n).then(|| g(j + 2)),
+            gv,
+        );
+        // Columns j−1 … j+2 (those that exist) at y.
+        let (a, b) = (self.columns[j].lookup(y)?, self.columns[j + 1].lookup(y)?);
+        let before = if j > 0 {
+            Some(self.columns[j - 1].lookup(y)?)
+        } else {
+            None
+        };
+        let after = if j + 2 < n {
+            Some(self.columns[j + 2].lookup(y)?)
+        } else {
+            None
+        };
+        let rows = [before, Some(a), Some(b), after];
+        let t = (gv - g(j)) / (g(j + 1) - g(j));
         let mut out = a;
         out.gv = gv;
         for c in 0..6 {
-            out.x[c] = hermite(ca.gv, cb.gv, a.x[c], b.x[c], a.dx_dgv[c], b.dx_dgv[c], gv).0;
-            out.dx_dy[c] = a.dx_dy[c] + t * (b.dx_dy[c] - a.dx_dy[c]);
-            out.dx_dgv[c] = a.dx_dgv[c] + t * (b.dx_dgv[c] - a.dx_dgv[c]);
+            let (mut x, mut xy, mut xg) = (0.0, 0.0, 0.0);
+            for (k, r) in rows.iter().enumerate() {
+                if let Some(r) = r {
+                    x += w[k] * r.x[c];
+                    xy += w[k] * r.dx_dy[c];
+                    xg += dw[k] * r.x[c];
+                }
+            }
+            out.x[c] = x;
+            out.dx_dy[c] = xy;
+            out.dx_dgv[c] = xg;
         }
         let (oa, ob) = (a.other(), b.other());
         let o: [f64; N_OTHER] = std::array::from_fn(|c| oa[c] + t * (ob[c] - oa[c]));
@@ -1001,6 +1063,51 @@ mod tests {
         }
         assert!(worst_z < 1e-6, "z interpolation error {worst_z}");
         assert!(t.lookup(0.0071).is_err());
+    }
+
+    /// Issue 13, the 2-entry table's defect: between two gv columns the interpolation used each
+    /// column's dz/dgv, which steps where that column's contact jumps: z(y) at a fixed gv between
+    /// columns then stepped too (tens of µm), and the dynamics' second differences of z turned the
+    /// steps into spikes of vertical acceleration that unloaded the wheels (the Manchester and MS
+    /// vehicles lifted and stopped within 2–5 s). z and φ must be continuous in y at every gv —
+    /// Lipschitz with the steepest flange slopes — and their y-slopes the interpolant's own.
+    #[test]
+    fn two_entry_table_is_continuous_in_y_between_its_columns() {
+        let g = geometry();
+        let gvs = [-2e-3, -1e-3, 0.0, 1e-3, 2e-3];
+        let t = LookupTable2::build(&g, 6e-3, &gvs, &TableSettings::default()).unwrap();
+        let dy = 1e-6;
+        for gv in [-1.5e-3, -0.3e-3, 0.5e-3, 1.7e-3] {
+            let (mut worst_z, mut worst_phi, mut worst_slope): (f64, f64, f64) = (0.0, 0.0, 0.0);
+            let n = 11_000;
+            let mut prev = t.lookup(-5.5e-3, gv).unwrap();
+            for k in 1..=n {
+                let y = -5.5e-3 + k as f64 * dy;
+                let r = t.lookup(y, gv).unwrap();
+                worst_z = worst_z.max((r.z() - prev.z()).abs() / dy);
+                worst_phi = worst_phi.max((r.phi() - prev.phi()).abs() / dy);
+                // The stored slope is the interpolant's: its mean over the step matches the
+                // difference (away from the kinks, where the two one-sided slopes differ).
+                let fd = (r.z() - prev.z()) / dy;
+                let mean = 0.5 * (r.dx_dy[0] + prev.dx_dy[0]);
+                if (r.dx_dy[0] - prev.dx_dy[0]).abs() < 1e-4 {
+                    worst_slope = worst_slope.max((fd - mean).abs());
+                }
+                prev = r;
+            }
+            println!(
+                "gv {:.1} mm: max |dz/dy| {worst_z:.3}, max |dφ/dy| {worst_phi:.3} 1/m, slope mismatch {worst_slope:.2e}",
+                gv * 1e3
+            );
+            // The steepest columns (flange contact, ~80°) reach |dz/dy| ≈ 7; a step of 20 µm
+            // or more within 1 µm is a discontinuity (the defect gave 683).
+            assert!(worst_z < 20.0, "z steps at gv = {gv}: {worst_z}");
+            assert!(worst_phi < 30.0, "φ steps at gv = {gv}: {worst_phi}");
+            assert!(
+                worst_slope < 1e-4,
+                "dz/dy not the interpolant's slope: {worst_slope}"
+            );
+        }
     }
 
     #[test]

@@ -63,6 +63,15 @@ pub trait OdeSystem {
     fn jump(&mut self, _t: f64, _event: usize, _x: &mut [f64]) -> Result<(), Self::Error> {
         Ok(())
     }
+    /// For W-methods ([`Method::Ros34pw2`]): diagonal blocks (offset, size) that hold the stiff
+    /// couplings. W is then the Jacobian restricted to them (every other entry taken as zero),
+    /// factored block by block. Contract: a block's rows of f depend on no other block's states
+    /// (they may depend on states outside every block), so that one finite-difference evaluation
+    /// perturbs the same local column of every block at once — the Jacobian costs as many
+    /// evaluations as the largest block has columns. `None`: the full Jacobian.
+    fn jacobian_blocks(&self) -> Option<Vec<(usize, usize)>> {
+        None
+    }
     /// Whether state j is left out of finite-difference Jacobians at x (its column zero): for
     /// states where a perturbation switches the model rather than moves it.
     fn inactive(&self, _x: &[f64], _j: usize) -> bool {
@@ -355,6 +364,16 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
     .min(settings.h_max)
     .min((t_end - t0).max(f64::MIN_POSITIVE));
     let mut stepper = Stepper::new(n, settings.method);
+    if settings.method == Method::Ros34pw2 {
+        stepper.blocks = sys.jacobian_blocks();
+        if let Some(b) = &stepper.blocks {
+            if b.iter().any(|&(o, m)| o + m > n) {
+                return Err(IntegrationError::Settings(format!(
+                    "Jacobian blocks {b:?} reach beyond the {n} states"
+                )));
+            }
+        }
+    }
     let mut x1 = vec![0.0; n];
     let mut f1 = vec![0.0; n];
     let mut err_prev: f64 = 1e-4;
@@ -497,49 +516,132 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
 }
 
 /// The first event in a step from g0 (at its start) to g1 (at its end): the index and the step
-/// fraction s ∈ (0, 1] where it happens. Event k happens if g_k passes from > 0 to ≤ 0 (located
-/// by the Illinois method on `g_at(s)`, the events on the continuous extension, to 1e-10 of the
-/// step), or is < 0 at the end without having been > 0 (s = 1).
+/// fraction s ∈ (0, 1] where it happens. Event k happens where g_k passes from > 0 to ≤ 0: if it
+/// is ≤ 0 at the end, the bracket is [0, 1] when it was > 0 at the start, else (it started at 0,
+/// e.g. right after its own jump) from the first of 16 samples of the step where it is > 0; the
+/// root is located by the Illinois method on `g_at(s)` (the events on the continuous extension)
+/// to 1e-10 of the step. No sample > 0 and < 0 at the end: s = 1.
 fn first_event(g0: &[f64], g1: &[f64], mut g_at: impl FnMut(f64) -> Vec<f64>) -> Option<(usize, f64)> {
     let mut best: Option<(usize, f64)> = None;
     for k in 0..g0.len() {
-        let s = if g0[k] > 0.0 && g1[k] <= 0.0 {
-            let (mut a, mut b, mut ga, mut gb) = (0.0, 1.0, g0[k], g1[k]);
-            let mut side = 0i8;
-            for _ in 0..60 {
-                if b - a <= 1e-10 {
-                    break;
-                }
-                let c = (a * gb - b * ga) / (gb - ga);
-                let c = if c > a && c < b { c } else { 0.5 * (a + b) };
-                let gc = g_at(c)[k];
-                if gc > 0.0 {
-                    a = c;
-                    ga = gc;
-                    if side == -1 {
-                        gb *= 0.5;
-                    }
-                    side = -1;
-                } else {
-                    b = c;
-                    gb = gc;
-                    if side == 1 {
-                        ga *= 0.5;
-                    }
-                    side = 1;
-                }
-            }
-            b
-        } else if g1[k] < 0.0 && g0[k] <= 0.0 {
-            1.0
-        } else {
+        if g1[k] > 0.0 || (g1[k] == 0.0 && g0[k] <= 0.0) {
             continue;
+        }
+        let start = if g0[k] > 0.0 {
+            Some((0.0, g0[k]))
+        } else {
+            (1..16).map(|i| i as f64 / 16.0).find_map(|s| {
+                let g = g_at(s)[k];
+                (g > 0.0).then_some((s, g))
+            })
+        };
+        let s = match start {
+            Some((a, ga)) => {
+                let (mut a, mut b, mut ga, mut gb) = (a, 1.0, ga, g1[k]);
+                let mut side = 0i8;
+                for _ in 0..60 {
+                    if b - a <= 1e-10 {
+                        break;
+                    }
+                    let c = (a * gb - b * ga) / (gb - ga);
+                    let c = if c > a && c < b { c } else { 0.5 * (a + b) };
+                    let gc = g_at(c)[k];
+                    if gc > 0.0 {
+                        a = c;
+                        ga = gc;
+                        if side == -1 {
+                            gb *= 0.5;
+                        }
+                        side = -1;
+                    } else {
+                        b = c;
+                        gb = gc;
+                        if side == 1 {
+                            ga *= 0.5;
+                        }
+                        side = 1;
+                    }
+                }
+                b
+            }
+            None => 1.0,
         };
         if best.is_none_or(|(_, sb)| s < sb) {
             best = Some((k, s));
         }
     }
     best
+}
+
+/// The W-method's iteration matrix (1/(γh) I − W), factored: dense, or block by block where W is
+/// restricted to diagonal blocks (outside them it is 1/(γh) I).
+enum IterationMatrix<'a> {
+    Dense(nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
+    Blocks {
+        blocks: &'a [(usize, usize)],
+        lus: Vec<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+        gh: f64,
+    },
+}
+
+impl<'a> IterationMatrix<'a> {
+    fn factor(jac: &DMatrix<f64>, blocks: Option<&'a [(usize, usize)]>, gh: f64) -> IterationMatrix<'a> {
+        match blocks {
+            None => {
+                let mut g = -jac.clone();
+                for i in 0..g.nrows() {
+                    g[(i, i)] += 1.0 / gh;
+                }
+                IterationMatrix::Dense(g.lu())
+            }
+            Some(blocks) => IterationMatrix::Blocks {
+                blocks,
+                lus: blocks
+                    .iter()
+                    .map(|&(o, m)| {
+                        let mut g = -jac.view((o, o), (m, m)).into_owned();
+                        for i in 0..m {
+                            g[(i, i)] += 1.0 / gh;
+                        }
+                        g.lu()
+                    })
+                    .collect(),
+                gh,
+            },
+        }
+    }
+
+    /// W v.
+    fn w_times(&self, jac: &DMatrix<f64>, v: &[f64]) -> Vec<f64> {
+        let n = v.len();
+        match self {
+            IterationMatrix::Dense(_) => (0..n).map(|m| (0..n).map(|c| jac[(m, c)] * v[c]).sum()).collect(),
+            IterationMatrix::Blocks { blocks, .. } => {
+                let mut out = vec![0.0; n];
+                for &(o, m) in blocks.iter() {
+                    for r in 0..m {
+                        out[o + r] = (0..m).map(|c| jac[(o + r, o + c)] * v[o + c]).sum();
+                    }
+                }
+                out
+            }
+        }
+    }
+
+    fn solve(&self, rhs: &nalgebra::DVector<f64>) -> Option<nalgebra::DVector<f64>> {
+        match self {
+            IterationMatrix::Dense(lu) => lu.solve(rhs),
+            IterationMatrix::Blocks { blocks, lus, gh } => {
+                // Outside the blocks: (1/(γh)) k = r.
+                let mut k = rhs * *gh;
+                for (&(o, m), lu) in blocks.iter().zip(lus) {
+                    let part = lu.solve(&rhs.rows(o, m).into_owned())?;
+                    k.rows_mut(o, m).copy_from(&part);
+                }
+                Some(k)
+            }
+        }
+    }
 }
 
 fn all_finite(v: &[f64]) -> bool {
@@ -578,6 +680,8 @@ struct Stepper {
     ft: Vec<f64>,
     /// Accepted steps since the Jacobian was evaluated (None: none valid).
     jac_age: Option<usize>,
+    /// W-method: the system's diagonal blocks, W restricted to them ([`OdeSystem::jacobian_blocks`]).
+    blocks: Option<Vec<(usize, usize)>>,
 }
 
 impl Stepper {
@@ -589,6 +693,7 @@ impl Stepper {
             jac: DMatrix::zeros(n, n),
             ft: vec![0.0; n],
             jac_age: None,
+            blocks: None,
         }
     }
 
@@ -623,8 +728,53 @@ impl Stepper {
         stats: &mut Stats,
     ) -> Result<(), StepFailure<S::Error>> {
         let n = x.len();
-        match sys.jacobian(t, x, &mut self.jac) {
+        let analytic = if self.blocks.is_some() {
+            None
+        } else {
+            sys.jacobian(t, x, &mut self.jac)
+        };
+        match analytic {
             Some(r) => r.map_err(StepFailure::Model)?,
+            None if self.blocks.is_some() => {
+                let blocks = self.blocks.as_deref().unwrap_or_default();
+                let widest = blocks.iter().map(|b| b.1).max().unwrap_or(0);
+                let mut dxs = vec![0.0; blocks.len()];
+                for c in 0..widest {
+                    self.tmp.copy_from_slice(x);
+                    let mut any = false;
+                    for (b, &(o, m)) in blocks.iter().enumerate() {
+                        dxs[b] = 0.0;
+                        if c < m && !sys.inactive(x, o + c) {
+                            let j = o + c;
+                            dxs[b] = 1.5e-8 * x[j].abs().max(s.atol / s.rtol).max(1e-12);
+                            self.tmp[j] += dxs[b];
+                            any = true;
+                        }
+                    }
+                    if !any {
+                        for &(o, m) in blocks.iter().filter(|b| c < b.1) {
+                            for i in 0..m {
+                                self.jac[(o + i, o + c)] = 0.0;
+                            }
+                        }
+                        continue;
+                    }
+                    let col = &mut self.k[6];
+                    sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
+                    stats.rhs_evaluations += 1;
+                    for (b, &(o, m)) in blocks.iter().enumerate() {
+                        if c < m {
+                            for i in 0..m {
+                                self.jac[(o + i, o + c)] = if dxs[b] > 0.0 {
+                                    (col[o + i] - f0[o + i]) / dxs[b]
+                                } else {
+                                    0.0
+                                };
+                            }
+                        }
+                    }
+                }
+            }
             None => {
                 for j in 0..n {
                     if sys.inactive(x, j) {
@@ -817,11 +967,7 @@ impl Stepper {
         }
         // (I − γ h W) k = r  ⇔  (1/(γ h) I − W) k = r / (γ h).
         let gh = W_GAMMA * h;
-        let mut g = -self.jac.clone();
-        for i in 0..n {
-            g[(i, i)] += 1.0 / gh;
-        }
-        let lu = g.lu();
+        let iteration = IterationMatrix::factor(&self.jac, self.blocks.as_deref(), gh);
         let mut fs = vec![0.0; n];
         let mut v = vec![0.0; n];
         let mut rhs = nalgebra::DVector::zeros(n);
@@ -843,11 +989,11 @@ impl Stepper {
                 *vm = (0..i).map(|j| W_G[i][j] * self.k[j][m]).sum::<f64>();
             }
             let gamma_i = W_GAMMA + W_G[i].iter().sum::<f64>();
+            let wv = iteration.w_times(&self.jac, &v);
             for m in 0..n {
-                let wv: f64 = (0..n).map(|c| self.jac[(m, c)] * v[c]).sum();
-                rhs[m] = (h * (fs[m] + wv) + gamma_i * h * h * self.ft[m]) / gh;
+                rhs[m] = (h * (fs[m] + wv[m]) + gamma_i * h * h * self.ft[m]) / gh;
             }
-            let k = lu.solve(&rhs).ok_or(StepFailure::Singular)?;
+            let k = iteration.solve(&rhs).ok_or(StepFailure::Singular)?;
             self.k[i].copy_from_slice(k.as_slice());
         }
         let mut sum = 0.0;

@@ -805,6 +805,12 @@ impl VehicleModel for Multibody {
         self.evaluate(data, t, x, None)
     }
 
+    fn wheelset_slots(&self) -> Vec<(usize, usize)> {
+        (0..self.wheelsets.len())
+            .map(|j| (self.wheelset_offset(j), self.wheelset_size(j)))
+            .collect()
+    }
+
     fn lift_offsets(&self) -> Vec<usize> {
         (0..self.wheelsets.len())
             .map(|j| self.wheelset_offset(j) + WheelsetState::lift_index(self.is_irw(j)))

@@ -179,6 +179,10 @@ impl VehicleModel for SingleWheelset {
         })
     }
 
+    fn wheelset_slots(&self) -> Vec<(usize, usize)> {
+        vec![(0, self.dim())]
+    }
+
     fn lift_offsets(&self) -> Vec<usize> {
         vec![WheelsetState::lift_index(false)]
     }

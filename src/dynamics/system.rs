@@ -151,6 +151,8 @@ pub trait VehicleModel: Send + Sync {
     fn settling(&self) -> Option<&Settling> {
         None
     }
+    /// Per wheelset: its states (offset, count; see [`WheelsetState::read`]).
+    fn wheelset_slots(&self) -> Vec<(usize, usize)>;
     /// Per wheelset: the index of its θ_l in the state (θ_r, θ̇_l, θ̇_r follow; see
     /// [`WheelsetState::read`]).
     fn lift_offsets(&self) -> Vec<usize>;
@@ -204,6 +206,13 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
 
     fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError> {
         self.model.rhs(&mut self.data, t, x, dxdt)
+    }
+
+    /// The W-method's blocks: each wheelset's states (the creep forces' stiff modes are the
+    /// wheelsets' own; a wheelset's accelerations depend on its own states and the bodies', never
+    /// on another wheelset's).
+    fn jacobian_blocks(&self) -> Option<Vec<(usize, usize)>> {
+        Some(self.model.wheelset_slots())
     }
 
     /// Two per wheelset: each wheel's lift θ (a lifted wheel lands where it passes zero).

@@ -27,8 +27,9 @@ use crate::vehicle::VehicleSpec;
 pub use crate::SCHEMA_VERSION;
 pub use simulation::{BuildError, BuiltRun, RunOptions, SimulationSpec};
 
-/// The default scenario, embedded in the binary.
-pub const DEFAULT_SCENARIO: &str = include_str!("../../assets/default.toml");
+/// The default scenario, embedded in the binary: the paper's case (§8), the MS vehicle on the
+/// Tab. 6 track with irregularities at 19 m/s (`assets/scenes/ms_vehicle_tab6.toml`).
+pub const DEFAULT_SCENARIO: &str = include_str!("../../assets/scenes/ms_vehicle_tab6.toml");
 
 /// A scenario file as written.
 #[derive(Debug, Clone, Deserialize)]
@@ -356,12 +357,16 @@ fn resolve_path(spec: &str, base: &Path) -> String {
 mod tests {
     use super::*;
 
+    /// The bogie scene (S1002 on 60E1 at 1:40, r0 = 0.46 m), whose lines the tests below edit.
+    const BOGIE: &str = include_str!("../../assets/scenes/bogie_tab6_curve.toml");
+
     #[test]
     fn default_scenario_compiles() {
         let s = Scenario::parse(DEFAULT_SCENARIO, "<default>").unwrap();
         let scene = s.compile("<default>", Path::new(".")).unwrap();
         assert_eq!(scene.pair.wheel.name, "s1002");
-        assert_eq!(scene.pair.rail.name, "60e1");
+        assert_eq!(scene.pair.rail.name, "54e1");
+        assert!(scene.simulation.is_some() && scene.track.is_some());
         assert_eq!(scene.contact_forces.model.name(), "polach");
         assert_eq!(scene.contact_forces.friction, 0.3);
     }
@@ -369,7 +374,7 @@ mod tests {
     #[test]
     fn contact_forces_table_is_read_and_validated() {
         // The default scenario without its own [contact_forces] tables.
-        let base = &DEFAULT_SCENARIO[..DEFAULT_SCENARIO.find("[contact_forces]").unwrap()];
+        let base = &BOGIE[..BOGIE.find("[contact_forces]").unwrap()];
         let text = format!(
             "{base}\n[contact_forces]\nfriction = 0.35\n[contact_forces.creep]\nmodel = \"fastsim\"\nstrips = 30\n"
         );
@@ -399,7 +404,7 @@ mod tests {
 
     #[test]
     fn unknown_key_is_reported_with_line_and_column() {
-        let text = DEFAULT_SCENARIO.replace("gauge_m = 1.435", "gauge_m = 1.435\ngauge_mm = 1435");
+        let text = BOGIE.replace("gauge_m = 1.435", "gauge_m = 1.435\ngauge_mm = 1435");
         let line = 1 + text[..text.find("gauge_mm").unwrap()].matches('\n').count();
         let e = Scenario::parse(&text, "s.toml").unwrap_err().to_string();
         assert!(e.starts_with("s.toml: "), "{e}");
@@ -411,11 +416,14 @@ mod tests {
 
     #[test]
     fn validation_collects_every_problem() {
-        let text = DEFAULT_SCENARIO
+        let text = BOGIE
             .replace("schema_version = 1", "schema_version = 7")
             .replace("\"1:40\"", "\"1/40\"")
             .replace("rail = \"60e1\"", "rail = \"no_such_rail.csv\"")
-            .replace("nominal_radius_m = 0.460", "nominal_radius_m = -1.0");
+            .replace(
+                "[contact_forces]",
+                "[wheelset]\nnominal_radius_m = -1.0\n\n[contact_forces]",
+            );
         let s = Scenario::parse(&text, "s.toml").unwrap();
         let e = s.compile("s.toml", Path::new("/tmp")).unwrap_err().to_string();
         for needle in [

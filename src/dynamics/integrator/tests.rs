@@ -422,3 +422,144 @@ fn ros34pw2_tableau_satisfies_the_order_conditions() {
     }
     assert!((W_B[3] - g).abs() < 1e-15);
 }
+
+/// Three stiff blocks (Prothero–Robinson pairs, a' = −λ (a − cos t) − sin t, b' = −λ (b − a) −
+/// sin t: exact a = b = cos t) beside a non-stiff oscillator outside every block: the W-method
+/// with W restricted to the blocks keeps the stiff components stable at the steps the full
+/// Jacobian allows, and its Jacobian costs (widest block + 1) evaluations instead of (n + 1):
+/// rhs = 1 + 4 (accepted + rejected) + jacobians (columns + 1), counted.
+#[test]
+fn w_method_on_diagonal_blocks() {
+    struct Blocks {
+        lambda: f64,
+        w: f64,
+        blocks: bool,
+    }
+    impl OdeSystem for Blocks {
+        type Error = String;
+        fn dim(&self) -> usize {
+            8
+        }
+        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            d[0] = x[1];
+            d[1] = -self.w * self.w * x[0];
+            for k in 0..3 {
+                let (a, b) = (x[2 + 2 * k], x[3 + 2 * k]);
+                d[2 + 2 * k] = -self.lambda * (a - t.cos()) - t.sin();
+                d[3 + 2 * k] = -self.lambda * (b - a) - t.sin();
+            }
+            Ok(())
+        }
+        fn jacobian_blocks(&self) -> Option<Vec<(usize, usize)>> {
+            self.blocks.then(|| vec![(2, 2), (4, 2), (6, 2)])
+        }
+    }
+    let s = Settings::new(Method::Ros34pw2, 1e-6, 1e-8);
+    let x0 = [1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0];
+    let mut counts = Vec::new();
+    for blocks in [true, false] {
+        let mut sys = Blocks {
+            lambda: 1e5,
+            w: 2.0,
+            blocks,
+        };
+        let (out, st) = run(&mut sys, &x0, 5.0, 0.25, &s);
+        let err = out
+            .iter()
+            .map(|(t, x)| {
+                (2..8)
+                    .map(|i| (x[i] - t.cos()).abs())
+                    .fold((x[0] - (2.0 * t).cos()).abs(), f64::max)
+            })
+            .fold(0.0, f64::max);
+        let columns = if blocks { 2 } else { 8 };
+        println!(
+            "blocks {blocks}: {} steps ({} rejected), {} Jacobians, {} rhs, error {err:.2e}",
+            st.accepted, st.rejected, st.jacobians, st.rhs_evaluations
+        );
+        assert!(err < 1e-4, "error {err}");
+        assert_eq!(
+            st.rhs_evaluations,
+            1 + 4 * (st.accepted + st.rejected) + st.jacobians * (columns + 1)
+        );
+        counts.push(st.accepted);
+    }
+    assert!(counts[0] <= counts[1] * 6 / 5, "{counts:?}");
+    let (_, dop) = run(
+        &mut Blocks {
+            lambda: 1e5,
+            w: 2.0,
+            blocks: true,
+        },
+        &x0,
+        5.0,
+        0.25,
+        &Settings::new(Method::Dopri5, 1e-6, 1e-8),
+    );
+    assert!(
+        counts[0] * 20 < dop.accepted,
+        "{counts:?} vs DOPRI5 {}",
+        dop.accepted
+    );
+}
+
+/// Events: a ball dropped from 1 m bounces with restitution 0.5. The impacts are located on the
+/// continuous extension at the closed-form times t₁ = √(2/g), t_{k+1} = t_k + 2 e^k v₁ / g, the
+/// jumps reverse the velocity, and the output between impacts follows the parabolas.
+#[test]
+fn events_locate_impacts_and_jump() {
+    struct Ball;
+    const GRAV: f64 = 9.81;
+    impl OdeSystem for Ball {
+        type Error = String;
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, _x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            d[0] = _x[1];
+            d[1] = -GRAV;
+            Ok(())
+        }
+        fn event_count(&self) -> usize {
+            1
+        }
+        fn events(&self, x: &[f64], g: &mut [f64]) {
+            g[0] = x[0];
+        }
+        fn jump(&mut self, _t: f64, _event: usize, x: &mut [f64]) -> Result<(), String> {
+            x[0] = 0.0;
+            x[1] *= -0.5;
+            Ok(())
+        }
+    }
+    let mut impacts = Vec::new();
+    let mut prev_v = 0.0;
+    let s = Settings::new(Method::Dopri5, 1e-9, 1e-12);
+    // The bounces accumulate at t = 3 √(2/g) = 1.355 s (Zeno): stop before.
+    let stats = integrate(&mut Ball, 0.0, &[1.0, 0.0], 1.25, 1e-3, &s, &mut |t, x| {
+        if x[1] > 0.0 && prev_v <= 0.0 && t > 0.0 {
+            impacts.push(t);
+        }
+        prev_v = x[1];
+        assert!(x[0] >= -1e-9, "below ground at {t}: {}", x[0]);
+        Ok(Flow::Continue)
+    })
+    .unwrap();
+    let v1 = (2.0 * GRAV).sqrt();
+    let mut t_k = (2.0 / GRAV).sqrt();
+    let mut exact = vec![t_k];
+    for k in 1..4 {
+        t_k += 2.0 * 0.5f64.powi(k) * v1 / GRAV;
+        exact.push(t_k);
+    }
+    assert_eq!(stats.events, exact.iter().filter(|&&t| t < 1.25).count());
+    assert_eq!(impacts.len(), stats.events);
+    for (i, t) in impacts.iter().enumerate() {
+        // Output is every 1 ms: the first sample after each impact.
+        assert!(
+            *t >= exact[i] && *t < exact[i] + 1e-3 + 1e-9,
+            "impact {i}: {t} vs {}",
+            exact[i]
+        );
+    }
+}
