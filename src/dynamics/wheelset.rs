@@ -689,6 +689,9 @@ fn solve(
         b[6] = kin.c_z;
         b[7] = kin.c_phi;
         let sol = lu.solve(&b).ok_or(WheelsetError::Singular)?;
+        if !sol.iter().all(|v| v.is_finite()) {
+            return Err(WheelsetError::Singular);
+        }
         let mut normal = [sol[6], sol[7]];
         let mut lift_accel = [0.0; 2];
         if let Some(l) = lift {
