@@ -694,8 +694,9 @@ fn ms_vehicle_settles_and_runs() {
     assert_eq!(sys.wheelsets.len(), 6);
     assert_eq!(sys.joints.len(), 4);
     // Positions and rates of the 8 x 6 body and 6 x 3 wheelset coordinates, the 12 wheel spins'
-    // rates (their angles enter no force), each wheel's lift θ and θ̇ (0 on the rail).
-    assert_eq!(sys.dim(), 2 * (8 * 6 + 6 * 3) + 6 * 2 + 6 * 4);
+    // rates (their angles enter no force), each wheel's lift θ and θ̇ (0 on the rail), the
+    // track's lateral shift under each wheelset and its rate.
+    assert_eq!(sys.dim(), 2 * (8 * 6 + 6 * 3) + 6 * 2 + 6 * 4 + 6 * 2);
     let carbodies = 10380.0 + 12080.0 + 7160.0 + 11580.0 + 10280.0;
     let total = (carbodies + 2.0 * 2200.0 + 1300.0 + 6.0 * 680.0) * G;
     let axles: f64 = sys.settling.axle_loads.iter().sum();

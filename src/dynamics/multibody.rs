@@ -214,7 +214,7 @@ impl Multibody {
         let f = self.frame_at(s, v, v_dot)?;
         let kin = self
             .contact
-            .kinematics(st.y, st.y_dot, &f.rails, &mut data.warm[j])
+            .kinematics(st.y, st.y_dot, &st.shifted_rails(&f.rails), &mut data.warm[j])
             .map_err(|source| DynamicsError::Contact {
                 wheelset: self.wheelsets[j].name.clone(),
                 y_mm: st.y * 1e3,
@@ -454,6 +454,7 @@ impl Multibody {
                 &load,
                 &self.forces,
                 data.lambda[j],
+                self.reference.lateral_flexibility().as_ref(),
             )
             .map_err(|source| DynamicsError::Wheelset {
                 wheelset: self.wheelsets[j].name.clone(),
@@ -829,12 +830,17 @@ impl VehicleModel for Multibody {
         let mut st = WheelsetState::read(&x[o..], irw);
         let (v, v_dot) = self.reference.speed_at(t);
         let (kin, _, _) = self.wheelset_kinematics(data, j, &st, self.reference.s_ref(t), v, v_dot)?;
-        let landing =
-            land(&self.wheelsets[j].inertia, &mut st, &kin).map_err(|source| DynamicsError::Wheelset {
-                wheelset: self.wheelsets[j].name.clone(),
-                y_mm: st.y * 1e3,
-                source,
-            })?;
+        let landing = land(
+            &self.wheelsets[j].inertia,
+            &mut st,
+            &kin,
+            self.reference.lateral_flexibility().as_ref(),
+        )
+        .map_err(|source| DynamicsError::Wheelset {
+            wheelset: self.wheelsets[j].name.clone(),
+            y_mm: st.y * 1e3,
+            source,
+        })?;
         st.write(&mut x[o..], irw);
         Ok(landing)
     }

@@ -41,6 +41,8 @@ pub struct Sample {
     pub rails: [f64; 4],
     /// Each wheel's gap to its rail (0 on the rail; a lifted wheel's lift), m.
     pub lift: [f64; 2],
+    /// Lateral shift of the track under the wheelset (0 on a rigid track), m.
+    pub track_shift: f64,
 }
 
 impl Sample {
@@ -76,6 +78,7 @@ impl Sample {
             s_knife: s.kin.s_knife,
             rails: s.rails,
             lift: d.lift_gap,
+            track_shift: s.state.track_shift,
         }
     }
 
@@ -224,7 +227,7 @@ pub trait RunObserver {
 }
 
 /// The CSV columns of a wheelset (`--csv DIR` writes `DIR/NAME.csv`; a documented interface).
-pub const CSV_COLUMNS: [&str; 27] = [
+pub const CSV_COLUMNS: [&str; 28] = [
     "t_s",
     "s_m",
     "speed_m_s",
@@ -252,10 +255,11 @@ pub const CSV_COLUMNS: [&str; 27] = [
     "rail_z_right_mm",
     "lift_left_mm",
     "lift_right_mm",
+    "track_shift_mm",
 ];
 
 /// One CSV row of a sample (the [`CSV_COLUMNS`], SI converted to the columns' units).
-fn csv_row(s: &Sample) -> [f64; 27] {
+fn csv_row(s: &Sample) -> [f64; 28] {
     [
         s.t,
         s.s,
@@ -284,6 +288,7 @@ fn csv_row(s: &Sample) -> [f64; 27] {
         s.rails[3] * 1e3,
         s.lift[0] * 1e3,
         s.lift[1] * 1e3,
+        s.track_shift * 1e3,
     ]
 }
 

@@ -52,6 +52,11 @@ pub struct Reference {
 }
 
 impl Reference {
+    /// The track's lateral flexibility, if it has one.
+    pub fn lateral_flexibility(&self) -> Option<crate::track::LateralFlexibility> {
+        self.track.as_ref().and_then(|t| t.lateral_flexibility)
+    }
+
     /// V(t) and V̇(t) (no deceleration below standstill).
     pub fn speed_at(&self, t: f64) -> (f64, f64) {
         let v = self.speed.at(t);

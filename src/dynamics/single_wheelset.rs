@@ -65,7 +65,7 @@ impl SingleWheelset {
             .map_err(|source| DynamicsError::Track { s, source })?;
         let kin = self
             .contact
-            .kinematics(st.y, st.y_dot, &frame.rails, &mut data.warm[0])
+            .kinematics(st.y, st.y_dot, &st.shifted_rails(&frame.rails), &mut data.warm[0])
             .map_err(|source| DynamicsError::Contact {
                 wheelset: self.name.clone(),
                 y_mm: st.y * 1e3,
@@ -111,6 +111,7 @@ impl SingleWheelset {
             &load,
             &self.forces,
             data.lambda[0],
+            self.reference.lateral_flexibility().as_ref(),
         )
         .map_err(|source| DynamicsError::Wheelset {
             wheelset: self.name.clone(),
@@ -197,7 +198,13 @@ impl VehicleModel for SingleWheelset {
         debug_assert_eq!(wheelset, 0);
         let mut st = Self::unpack(x);
         let (kin, _) = self.kinematics(data, t, &st)?;
-        let landing = land(&self.inertia, &mut st, &kin).map_err(|source| DynamicsError::Wheelset {
+        let landing = land(
+            &self.inertia,
+            &mut st,
+            &kin,
+            self.reference.lateral_flexibility().as_ref(),
+        )
+        .map_err(|source| DynamicsError::Wheelset {
             wheelset: self.name.clone(),
             y_mm: st.y * 1e3,
             source,

@@ -38,6 +38,7 @@ use crate::contact::forces::{
 };
 use crate::contact::WheelsetKinematics;
 use crate::profile::Side;
+use crate::track::{LateralFlexibility, RailMotion};
 
 /// Mass and inertia of a wheelset.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,13 +102,17 @@ pub struct WheelsetState {
     pub lift: [f64; 2],
     /// θ̇ of each wheel's lift, rad/s; exactly 0 while both wheels touch.
     pub lift_rate: [f64; 2],
+    /// Lateral shift d of the track under the wheelset ([`LateralFlexibility`]; 0 on a rigid
+    /// track), m, and its rate ḋ, m/s.
+    pub track_shift: f64,
+    pub track_shift_rate: f64,
 }
 
 impl WheelsetState {
     /// States one wheelset takes in a state vector: [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, (Ω_r: IRW-wheelsets),
-    /// θ_l, θ_r, θ̇_l, θ̇_r] — 11 (solid axle) or 12 (IRW-wheelset).
+    /// θ_l, θ_r, θ̇_l, θ̇_r, d, ḋ] — 13 (solid axle) or 14 (IRW-wheelset).
     pub fn slot_size(irw: bool) -> usize {
-        Self::lift_index(irw) + 4
+        Self::lift_index(irw) + 6
     }
 
     /// Index of θ_l in the slot (θ_r, θ̇_l, θ̇_r follow).
@@ -133,6 +138,8 @@ impl WheelsetState {
             omega_right: if irw { x[7] } else { x[6] },
             lift: [x[l], x[l + 1]],
             lift_rate: [x[l + 2], x[l + 3]],
+            track_shift: x[l + 4],
+            track_shift_rate: x[l + 5],
         }
     }
 
@@ -151,7 +158,26 @@ impl WheelsetState {
         if irw {
             x[7] = self.omega_right;
         }
-        x[l..l + 4].copy_from_slice(&[self.lift[0], self.lift[1], self.lift_rate[0], self.lift_rate[1]]);
+        x[l..l + 6].copy_from_slice(&[
+            self.lift[0],
+            self.lift[1],
+            self.lift_rate[0],
+            self.lift_rate[1],
+            self.track_shift,
+            self.track_shift_rate,
+        ]);
+    }
+
+    /// The rails under the wheelset as its contact sees them: the track's irregularities `rails`
+    /// with the lateral shift d (both rails) and its rate added. The shift's acceleration is an
+    /// unknown of [`evaluate`], not part of these.
+    pub fn shifted_rails(&self, rails: &RailMotion) -> RailMotion {
+        let mut r = *rails;
+        for k in [0, 2] {
+            r.q[k] += self.track_shift;
+            r.q_dot[k] += self.track_shift_rate;
+        }
+        r
     }
 
     /// The slot's time derivative from the state's slot `x` and the evaluation's accelerations.
@@ -162,7 +188,14 @@ impl WheelsetState {
         if irw {
             d[7] = dynamics.spin_accel_right;
         }
-        d[l..l + 4].copy_from_slice(&[x[l + 2], x[l + 3], dynamics.lift_accel[0], dynamics.lift_accel[1]]);
+        d[l..l + 6].copy_from_slice(&[
+            x[l + 2],
+            x[l + 3],
+            dynamics.lift_accel[0],
+            dynamics.lift_accel[1],
+            x[l + 5],
+            dynamics.track_accel,
+        ]);
     }
 }
 
@@ -193,6 +226,8 @@ pub struct WheelsetDynamics {
     pub lift_accel: [f64; 2],
     /// Each wheel's gap to its rail along the rail normal (0 on the rail), m.
     pub lift_gap: [f64; 2],
+    /// d̈ of the track's lateral shift (0 on a rigid track), m/s².
+    pub track_accel: f64,
 }
 
 /// Dynamics failures.
@@ -402,8 +437,8 @@ impl Geometry {
     }
 }
 
-/// The 10×10 matrix of [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr θ̈_bridge Ω̇_r] (a lifted wheel: its λ column is its
-/// θ̈). It does not depend on the creep forces: factored once, the passes of the creep/normal-force
+/// The 10×10 matrix of [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr d̈ Ω̇_r] (a lifted wheel: its λ column is its θ̈;
+/// d̈ the track's lateral shift, 0 on a rigid track). It does not depend on the creep forces: factored once, the passes of the creep/normal-force
 /// iteration only change the right-hand side.
 ///
 /// Rotational rows: 3 → x (φ̈), 4 → z (ψ̈), 5 → about the axle a (Ω̇). With
@@ -411,14 +446,15 @@ impl Geometry {
 /// I_y Ω̇ a_z; the spin row is the moment about the axle, a · M (not M_y: a normal force
 /// at a yawed wheel's contact has a large M_x whose axle component −ψ M_x cancels M_y).
 /// An IRW-wheelset has one spin row per wheel (its own contact's moment about the axle,
-/// rows 5 and 9); a solid axle ties Ω̇_r = Ω̇_l. Row 8 (θ̈ = 0) keeps a place for a bridge
-/// pitch degree of freedom, which neither model has: the suspension holds the bridge.
+/// rows 5 and 9); a solid axle ties Ω̇_r = Ω̇_l. Row 8: the track's lateral shift
+/// ([`LateralFlexibility`]; on a rigid track d̈ = 0).
 /// Rows 6–7: the constraints z̈ − Z_y ÿ (− k σ θ̈) = c_z, φ̈ − Φ_y ÿ (− σ θ̈) = c_φ.
 fn matrix(
     inertia: &WheelsetInertia,
     geo: &Geometry,
     kin: &WheelsetKinematics,
     lift: Option<&Lift>,
+    track: Option<&LateralFlexibility>,
 ) -> SMatrix<f64, 10, 10> {
     let m = inertia.mass_kg;
     let [ix, _, iz] = inertia.inertia_kg_m2;
@@ -463,6 +499,17 @@ fn matrix(
     a[(6, 1)] = -kin.z_y;
     a[(7, 3)] = 1.0;
     a[(7, 1)] = -kin.phi_y;
+    if let Some(t) = track {
+        // Row and column 8: the track's lateral shift, m_t d̈ + Σ λ_i n_iY = −c_t ḋ − k_t d − Σ F_cY
+        // (the wheels push the rails with −λ n − F_c); the contact depends on y − d, so the
+        // constraints gain + Z_y d̈, + Φ_y d̈.
+        a[(8, 8)] = t.mass_kg;
+        for i in 0..2 {
+            a[(8, 6 + i)] = normal[i].y;
+        }
+        a[(6, 8)] = kin.z_y;
+        a[(7, 8)] = kin.phi_y;
+    }
     if let Some(l) = lift {
         // The lifted wheel carries no force; its column becomes θ̈'s.
         let c = 6 + l.side;
@@ -499,9 +546,10 @@ pub fn evaluate(
     load: &Load,
     forces: &ContactForceSettings,
     lambda_guess: [f64; 2],
+    track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
     let lifted = |l: Lift, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
-        let r = solve(inertia, state, kin, frame, load, forces, guess, Some(&l))?;
+        let r = solve(inertia, state, kin, frame, load, forces, guess, Some(&l), track)?;
         let p = 1 - l.side;
         if r.normal[p].is_nan() || r.normal[p] <= 0.0 {
             return Err(WheelsetError::Flight {
@@ -517,7 +565,17 @@ pub fn evaluate(
         guess[l.side] = 0.0;
         return lifted(l, guess);
     }
-    let r = solve(inertia, state, kin, frame, load, forces, lambda_guess, None)?;
+    let r = solve(
+        inertia,
+        state,
+        kin,
+        frame,
+        load,
+        forces,
+        lambda_guess,
+        None,
+        track,
+    )?;
     if r.normal.iter().any(|v| v.is_nan()) {
         return Err(WheelsetError::Singular);
     }
@@ -557,6 +615,7 @@ fn solve(
     forces: &ContactForceSettings,
     lambda_guess: [f64; 2],
     lift: Option<&Lift>,
+    track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
     let kin = match lift {
         Some(l) => l.apply(kin2),
@@ -634,7 +693,7 @@ fn solve(
             )?,
         );
     }
-    let lu = matrix(inertia, &geo, &kin, lift).lu();
+    let lu = matrix(inertia, &geo, &kin, lift, track).lu();
     let lift_gap = {
         let mut g = [0.0; 2];
         if let Some(l) = lift {
@@ -647,6 +706,7 @@ fn solve(
     let pass = |lambda: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
         let mut f = f_known;
         let mut mo = m_known;
+        let mut creep_y = 0.0;
         // Moments of each wheel's creep forces about the centre.
         let mut mo_wheel = [Vector3::zeros(); 2];
         let mut creep = [CreepForce::default(); 2];
@@ -669,6 +729,7 @@ fn solve(
             let fr = &geo.frames[i];
             let fc = fr.force_to_global(creep[i].fx, creep[i].fy, 0.0);
             f += fc;
+            creep_y += fc.y;
             mo_wheel[i] = arm[i].cross(&fc) + fr.moment_to_global(creep[i].mz);
             mo += mo_wheel[i];
         }
@@ -688,6 +749,11 @@ fn solve(
         }
         b[6] = kin.c_z;
         b[7] = kin.c_phi;
+        if let Some(t) = track {
+            b[8] = -t.damping_n_s_per_m * state.track_shift_rate
+                - t.stiffness_n_per_m * state.track_shift
+                - creep_y;
+        }
         let sol = lu.solve(&b).ok_or(WheelsetError::Singular)?;
         if !sol.iter().all(|v| v.is_finite()) {
             return Err(WheelsetError::Singular);
@@ -707,6 +773,7 @@ fn solve(
             lambda_change: 0.0,
             lift_accel,
             lift_gap,
+            track_accel: if track.is_some() { sol[8] } else { 0.0 },
         })
     };
     // Solve G(λ) = Φ(λ) − λ = 0 by Broyden's method, started as the plain fixed point (B₀ = −I:
@@ -772,12 +839,13 @@ pub fn land(
     inertia: &WheelsetInertia,
     state: &mut WheelsetState,
     kin: &WheelsetKinematics,
+    track: Option<&LateralFlexibility>,
 ) -> Result<Option<Landing>, WheelsetError> {
     let Some(l) = Lift::of(state, kin)? else {
         return Ok(None);
     };
     let geo = Geometry::new(state, &l.apply(kin))?;
-    let a = matrix(inertia, &geo, kin, None);
+    let a = matrix(inertia, &geo, kin, None, track);
     let mut b = SVector::<f64, 10>::zeros();
     b[6] = -l.k * l.sigma * l.theta_dot;
     b[7] = -l.sigma * l.theta_dot;
@@ -787,6 +855,9 @@ pub fn land(
     state.psi_dot += sol[4];
     state.omega += sol[5];
     state.omega_right += if inertia.irw.is_some() { sol[9] } else { sol[5] };
+    if track.is_some() {
+        state.track_shift_rate += sol[8];
+    }
     state.lift[l.side] = 0.0;
     state.lift_rate[l.side] = 0.0;
     Ok(Some(Landing {

@@ -23,6 +23,10 @@
 //! wavelength_min_m = 1.0             # optional (default: the PSD's usual band)
 //! wavelength_max_m = 80.0
 //! # ... or a measured file: file = "irregularities.csv" (relative to this file)
+//! [track.lateral_flexibility]        # optional (rigid rails without it): the track under each
+//! stiffness_n_per_m = 40e6           # wheelset shifts laterally as a mass on a spring–damper
+//! damping_n_s_per_m = 1.0e5          # (crate::track::LateralFlexibility)
+//! mass_kg = 150
 //! ```
 //!
 //! Radii are signed (> 0: left curve, ρ_h = 1/R); a transition's omitted start or end radius is
@@ -63,6 +67,9 @@ pub struct TrackSpec {
     pub vertical: Vec<Spanned<VerticalSpec>>,
     #[serde(default)]
     pub irregularities: Option<Spanned<IrregularitySpec>>,
+    /// `[track.lateral_flexibility]`: optional (rigid rails without it).
+    #[serde(default)]
+    pub lateral_flexibility: Option<Spanned<super::LateralFlexibility>>,
 }
 
 impl Default for TrackSpec {
@@ -74,6 +81,7 @@ impl Default for TrackSpec {
             horizontal: Vec::new(),
             vertical: Vec::new(),
             irregularities: None,
+            lateral_flexibility: None,
         }
     }
 }
@@ -429,6 +437,11 @@ impl TrackSpec {
             .irregularities
             .as_ref()
             .and_then(|s| s.get_ref().plan(&mut loc, s.span().start, base));
+        if let Some(f) = &self.lateral_flexibility {
+            for p in f.get_ref().problems() {
+                loc.at(f.span().start, p);
+            }
+        }
         if !loc.problems.is_empty() {
             return Err(TrackError::Invalid {
                 path: origin.to_string(),
@@ -497,6 +510,7 @@ impl TrackSpec {
                 gauge_m: self.gauge_m,
                 measuring_depth_m: self.gauge_measuring_depth_m,
             },
+            lateral_flexibility: self.lateral_flexibility.as_ref().map(|f| *f.get_ref()),
         })
     }
 }

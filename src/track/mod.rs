@@ -58,13 +58,52 @@ pub enum TrackError {
     OutOfRange { s: f64, from: f64, to: f64 },
 }
 
-/// A track: centreline, optional irregularities, cross-section gauge.
+/// A track: centreline, optional irregularities, cross-section gauge, optional lateral
+/// flexibility.
 #[derive(Debug, Clone)]
 pub struct Track {
     pub name: String,
     pub centreline: Centreline,
     pub irregularities: Option<Irregularities>,
     pub gauge: TrackGauge,
+    /// `None`: rigid rails (the paper's).
+    pub lateral_flexibility: Option<LateralFlexibility>,
+}
+
+/// The track's lateral flexibility under each wheelset (a departure from the paper's rigid
+/// track): both rails, with the sleepers and ballast they carry along, shift laterally by d as
+/// one mass on a spring–damper that travels with the wheelset (a "moving track" model),
+/// m_t d̈ + c_t ḋ + k_t d = −Σ F_Y (the wheels' lateral forces on the rails). The contact sees the
+/// shift as an alignment: its geometry depends on y − d. It takes up the wheelset's flange
+/// impacts, which on rigid rails meet the flange's geometric stiffness alone.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LateralFlexibility {
+    /// k_t, N/m.
+    pub stiffness_n_per_m: f64,
+    /// c_t, N s/m.
+    pub damping_n_s_per_m: f64,
+    /// m_t, kg.
+    pub mass_kg: f64,
+}
+
+impl LateralFlexibility {
+    /// What is wrong with the values (each names its key).
+    pub fn problems(&self) -> Vec<String> {
+        let mut p = Vec::new();
+        for (key, v, lo, hi) in [
+            ("stiffness_n_per_m", self.stiffness_n_per_m, 1e5, 1e10),
+            ("damping_n_s_per_m", self.damping_n_s_per_m, 0.0, 1e8),
+            ("mass_kg", self.mass_kg, 1.0, 1e5),
+        ] {
+            if !(v.is_finite() && v >= lo && v <= hi) || (key != "damping_n_s_per_m" && v <= 0.0) {
+                p.push(format!(
+                    "track.lateral_flexibility.{key} = {v}: expected a value in [{lo:e}, {hi:e}]"
+                ));
+            }
+        }
+        p
+    }
 }
 
 impl Track {
