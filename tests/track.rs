@@ -434,7 +434,7 @@ fn a_scenario_file_with_a_track_table_works() {
     let sections = TAB6_TRACK.split("[track]").nth(1).unwrap();
     let (from, to) = (
         default.find("[track]").unwrap(),
-        default.find("[wheelset]").unwrap(),
+        default.find("[simulation]").unwrap(),
     );
     let scenario = format!("{}[track]{sections}\n{}", &default[..from], &default[to..]);
     assert_ne!(scenario, default);

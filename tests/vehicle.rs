@@ -532,7 +532,7 @@ fn spherical_joint_between_carbody_halves() {
 /// A hard case for the numerics: the bogie through the whole Tab. 6 curve and out of it (32 s,
 /// 90 → 700 m). With the paper's rigid kinks, a wheelset whose equilibrium lies on a contact jump
 /// (the trailing wheelset at the flange root in the curve, both at the curve exit) slides along
-/// the kink: the right-hand side jumps at every crossing and most steps are rejected. With the
+/// the kink: the right-hand side jumps at every crossing and many steps are rejected. With the
 /// two-point transitions (the default) the same run is smooth — and the quasi-static curving it
 /// settles into is the same (the transitions change only what happens inside them).
 #[test]
@@ -559,17 +559,22 @@ fn two_point_transition_removes_the_sliding_mode() {
         assert!(o.summary.error.is_none(), "{label}: {:?}", o.summary.error);
         assert!((o.summary.simulated_s - 32.0).abs() < 1e-9);
     }
+    // The kinks' rejections (measured: 2902 of 18394 steps, against 168 of 15445; before the
+    // KEC profiles merged each jump's two nodes into one kink — two nodes 40 nm apart had made
+    // a 40 nm cubic of f'' ~ 10⁸ 1/m — more than half the rigid run's steps were rejected).
     assert!(
-        rigid.summary.rejected_steps * 2 > rigid.summary.steps,
-        "the rigid kinks' sliding mode (this test must be able to tell)"
+        rigid.summary.rejected_steps > 10 * smooth.summary.rejected_steps.max(1),
+        "the rigid kinks' rejections (this test must be able to tell): {} vs {}",
+        rigid.summary.rejected_steps,
+        smooth.summary.rejected_steps
     );
     assert!(
-        smooth.summary.rejected_steps * 4 < smooth.summary.steps,
+        smooth.summary.rejected_steps * 10 < smooth.summary.steps,
         "smooth: {} of {} rejected",
         smooth.summary.rejected_steps,
         smooth.summary.steps
     );
-    assert!(smooth.summary.rhs_evaluations * 2 < rigid.summary.rhs_evaluations);
+    assert!(smooth.summary.rhs_evaluations * 5 < rigid.summary.rhs_evaluations * 4);
     // Quasi-static in the curve (t = 20 s, s = 470 m): the same offsets and yaw angles.
     for ((name, a), (_, b)) in rigid.wheelsets.iter().zip(&smooth.wheelsets) {
         let at = |v: &[Sample]| *v.iter().find(|p| (p.t - 20.0).abs() < 1e-9).unwrap();

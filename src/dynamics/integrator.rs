@@ -29,7 +29,8 @@
 //! x₁ = x + Σ m_i K_i,   err = Σ e_i K_i
 //! ```
 //!
-//! Error norm (both methods): RMS over the components of err_i / (atol + rtol max(|x₀ᵢ|, |x₁ᵢ|)).
+//! Error norm (both methods): RMS over the components of err_i / (atol + rtol max(|x₀ᵢ|, |x₁ᵢ|)),
+//! idle components (exactly 0 at both ends, no error) left out.
 //! A step is accepted when the norm ≤ 1. Failures are reported, never hidden: the step size
 //! collapsing below `h_min` (with the time and the last error norm), too many steps, and a
 //! right-hand side that fails or returns non-finite values at every step size tried.
@@ -644,6 +645,30 @@ impl<'a> IterationMatrix<'a> {
     }
 }
 
+/// The error norm: RMS of err_i / (atol + rtol max(|x₀ᵢ|, |x₁ᵢ|)) over the states that moved —
+/// a state exactly 0 at both ends with no error estimate (a wheel's lift while it is on its rail,
+/// the shift of a rigid track) is not counted, so that such idle states do not dilute the norm.
+#[derive(Default)]
+struct ErrorNorm {
+    sum: f64,
+    count: usize,
+}
+
+impl ErrorNorm {
+    fn add(&mut self, x0: f64, x1: f64, e: f64, s: &Settings) {
+        if x0 == 0.0 && x1 == 0.0 && e == 0.0 {
+            return;
+        }
+        let sc = s.atol + s.rtol * x0.abs().max(x1.abs());
+        self.sum += (e / sc).powi(2);
+        self.count += 1;
+    }
+
+    fn value(&self) -> f64 {
+        (self.sum / self.count.max(1) as f64).sqrt()
+    }
+}
+
 fn all_finite(v: &[f64]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
@@ -870,7 +895,7 @@ impl Stepper {
         }
         sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
         stats.rhs_evaluations += 1;
-        let mut sum = 0.0;
+        let mut norm = ErrorNorm::default();
         for i in 0..n {
             let e = h
                 * (E1 * self.k[0][i]
@@ -879,10 +904,9 @@ impl Stepper {
                     + E5 * self.k[4][i]
                     + E6 * self.k[5][i]
                     + E7 * f1[i]);
-            let sc = s.atol + s.rtol * x[i].abs().max(x1[i].abs());
-            sum += (e / sc).powi(2);
+            norm.add(x[i], x1[i], e, s);
         }
-        Ok((sum / n.max(1) as f64).sqrt())
+        Ok(norm.value())
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -935,16 +959,15 @@ impl Stepper {
             .map(|i| f2[i] + (R_C31 * k1[i] + R_C32 * k2[i]) / h + h * R_GAMMAS[2] * ft[i])
             .collect();
         solve(&lu, &mut k3)?;
-        let mut sum = 0.0;
+        let mut norm = ErrorNorm::default();
         for i in 0..n {
             x1[i] = x[i] + R_M[0] * k1[i] + R_M[1] * k2[i] + R_M[2] * k3[i];
             let e = R_E[0] * k1[i] + R_E[1] * k2[i] + R_E[2] * k3[i];
-            let sc = s.atol + s.rtol * x[i].abs().max(x1[i].abs());
-            sum += (e / sc).powi(2);
+            norm.add(x[i], x1[i], e, s);
         }
         sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
         stats.rhs_evaluations += 1;
-        Ok((sum / n.max(1) as f64).sqrt())
+        Ok(norm.value())
     }
 
     /// One ROS34PW2 step with the stored Jacobian (evaluated here only when none is valid).
@@ -996,16 +1019,15 @@ impl Stepper {
             let k = iteration.solve(&rhs).ok_or(StepFailure::Singular)?;
             self.k[i].copy_from_slice(k.as_slice());
         }
-        let mut sum = 0.0;
+        let mut norm = ErrorNorm::default();
         for m in 0..n {
             x1[m] = x[m] + (0..4).map(|j| W_B[j] * self.k[j][m]).sum::<f64>();
             let e: f64 = (0..4).map(|j| (W_B[j] - W_BHAT[j]) * self.k[j][m]).sum();
-            let sc = s.atol + s.rtol * x[m].abs().max(x1[m].abs());
-            sum += (e / sc).powi(2);
+            norm.add(x[m], x1[m], e, s);
         }
         sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
         stats.rhs_evaluations += 1;
-        Ok((sum / n.max(1) as f64).sqrt())
+        Ok(norm.value())
     }
 
     /// The state at t + s h (0 ≤ s ≤ 1) within the last step.
