@@ -790,7 +790,8 @@ fn solve(
     let mut result = pass(lambda)?;
     let mut g = Vector2::new(result.normal[0] - lambda[0], result.normal[1] - lambda[1]);
     let mut jac = -Matrix2::<f64>::identity();
-    let tolerance = |r: &WheelsetDynamics| LAMBDA_TOLERANCE * (1.0 + r.normal[0].abs() + r.normal[1].abs());
+    // Relative, with an absolute floor of 1 nN (a wheelset about to leave both rails has λ → 0).
+    let tolerance = |r: &WheelsetDynamics| LAMBDA_TOLERANCE * (r.normal[0].abs() + r.normal[1].abs()) + 1e-9;
     let mut converged = g.amax() <= tolerance(&result);
     for _ in 0..MAX_PASSES {
         if converged {
