@@ -34,7 +34,7 @@
 
 use nalgebra::{Matrix4, Vector4};
 
-use super::lookup::{hermite, pchip_slopes, LookupTable1, TableRow};
+use super::lookup::{hermite, pchip_slopes, quintic, LookupTable1, TableRow};
 use crate::profile::Side;
 
 /// Largest width of a two-point transition (fillet) in s^k, m — see
@@ -156,34 +156,6 @@ struct Node {
 
 /// Cubic pieces a two-point transition (fillet) is stored in.
 const FILLET_PIECES: usize = 8;
-
-/// Quintic Hermite interpolation on [s0, s1] of (value, slope, curvature) at both ends: the value
-/// and slope at s.
-fn quintic_hermite(s0: f64, s1: f64, e0: (f64, f64, f64), e1: (f64, f64, f64), s: f64) -> (f64, f64) {
-    let h = s1 - s0;
-    let t = (s - s0) / h;
-    let (t2, t3, t4, t5) = (t * t, t * t * t, t.powi(4), t.powi(5));
-    let w = [
-        1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5,
-        t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5,
-        0.5 * t2 - 1.5 * t3 + 1.5 * t4 - 0.5 * t5,
-        0.5 * t3 - t4 + 0.5 * t5,
-        -4.0 * t3 + 7.0 * t4 - 3.0 * t5,
-        10.0 * t3 - 15.0 * t4 + 6.0 * t5,
-    ];
-    let dw = [
-        -30.0 * t2 + 60.0 * t3 - 30.0 * t4,
-        1.0 - 18.0 * t2 + 32.0 * t3 - 15.0 * t4,
-        t - 4.5 * t2 + 6.0 * t3 - 2.5 * t4,
-        1.5 * t2 - 4.0 * t3 + 2.5 * t4,
-        -12.0 * t2 + 28.0 * t3 - 15.0 * t4,
-        30.0 * t2 - 60.0 * t3 + 30.0 * t4,
-    ];
-    let c = [e0.0, h * e0.1, h * h * e0.2, h * h * e1.2, h * e1.1, e1.0];
-    let v = (0..6).map(|i| w[i] * c[i]).sum();
-    let d = (0..6).map(|i| dw[i] * c[i]).sum::<f64>() / h;
-    (v, d)
-}
 
 fn cubic_hermite(s0: f64, s1: f64, v0: f64, v1: f64, d0: f64, d1: f64, s: f64) -> (f64, f64, f64) {
     let h = s1 - s0;
@@ -458,7 +430,7 @@ impl EquivalentProfile {
             // velocity terms f'' ẏ²); the real-contact maps as before, Hermite between the ends.
             for i in 1..FILLET_PIECES {
                 let sq = n0.s + (n1.s - n0.s) * i as f64 / FILLET_PIECES as f64;
-                let (f, df) = quintic_hermite(n0.s, n1.s, (n0.f, n0.df, c0), (n1.f, n1.df, c1), sq);
+                let (f, df) = quintic(n0.s, n1.s, (n0.f, n0.df, c0), (n1.f, n1.df, c1), sq);
                 let h = |v0: f64, v1: f64, d0: f64, d1: f64| hermite(n0.s, n1.s, v0, v1, d0, d1, sq);
                 let (sw, dsw) = h(n0.sw, n1.sw, n0.dsw, n1.dsw);
                 let (sr, dsr) = h(n0.sr, n1.sr, n0.dsr, n1.dsr);

@@ -273,6 +273,37 @@ pub fn flange_contact_limit(
     }
 }
 
+/// Rows a table's two-point transition is stored in (pieces).
+const TRANSITION_PIECES: usize = 8;
+
+/// Quintic Hermite interpolation on [y0, y1] of (value, slope, curvature) at both ends: the value
+/// and slope at y.
+pub(crate) fn quintic(y0: f64, y1: f64, e0: (f64, f64, f64), e1: (f64, f64, f64), y: f64) -> (f64, f64) {
+    let h = y1 - y0;
+    let t = (y - y0) / h;
+    let (t2, t3, t4, t5) = (t * t, t * t * t, t.powi(4), t.powi(5));
+    let w = [
+        1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5,
+        t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5,
+        0.5 * t2 - 1.5 * t3 + 1.5 * t4 - 0.5 * t5,
+        0.5 * t3 - t4 + 0.5 * t5,
+        -4.0 * t3 + 7.0 * t4 - 3.0 * t5,
+        10.0 * t3 - 15.0 * t4 + 6.0 * t5,
+    ];
+    let dw = [
+        -30.0 * t2 + 60.0 * t3 - 30.0 * t4,
+        1.0 - 18.0 * t2 + 32.0 * t3 - 15.0 * t4,
+        t - 4.5 * t2 + 6.0 * t3 - 2.5 * t4,
+        1.5 * t2 - 4.0 * t3 + 2.5 * t4,
+        -12.0 * t2 + 28.0 * t3 - 15.0 * t4,
+        30.0 * t2 - 60.0 * t3 + 30.0 * t4,
+    ];
+    let c = [e0.0, h * e0.1, h * h * e0.2, h * h * e1.2, h * e1.1, e1.0];
+    let v = (0..6).map(|i| w[i] * c[i]).sum();
+    let d = (0..6).map(|i| dw[i] * c[i]).sum::<f64>() / h;
+    (v, d)
+}
+
 pub(crate) fn hermite(y0: f64, y1: f64, v0: f64, v1: f64, d0: f64, d1: f64, y: f64) -> (f64, f64) {
     let h = y1 - y0;
     let t = (y - y0) / h;
@@ -588,6 +619,117 @@ impl LookupTable1 {
         }
     }
 
+    /// Rounds each contact jump of the table over the lateral range in which, elastically, the
+    /// load passes from one contact point to the other — the same departure from the paper as
+    /// KEC's two-point transitions ([`crate::contact::kec::KecModel::with_two_point_transition`]),
+    /// so that the tables and KEC model the same physics. Half-width a = ½ δ / |Δ tan γ| (δ the
+    /// approach, Δ tan γ the jumping side's), at most ½ `max_width_m` and 0.45 of the distance to
+    /// the next jump or the table's end. Inside, z and φ follow the quintic matching values,
+    /// slopes and curvatures of both sides (C²: the rigid table's corner made the directional
+    /// differences' velocity terms an impulse — an impact at every crossing), the surface
+    /// parameters pass by Hermite between the sides' values and slopes, the other quantities
+    /// linearly (then PCHIP over the new rows). `approach_m` = 0 keeps the rigid jumps.
+    pub fn with_two_point_transition(self, approach_m: f64, max_width_m: f64) -> Self {
+        if approach_m <= 0.0 || max_width_m <= 0.0 {
+            return self;
+        }
+        let jumps_at: Vec<usize> = (0..self.rows.len().saturating_sub(1))
+            .filter(|&k| self.rows[k].y == self.rows[k + 1].y)
+            .collect();
+        if jumps_at.is_empty() {
+            return self;
+        }
+        let (lo, hi) = self.range();
+        let ys: Vec<f64> = jumps_at.iter().map(|&k| self.rows[k].y).collect();
+        let mut fillets: Vec<(f64, f64)> = Vec::new();
+        for (j, &k) in jumps_at.iter().enumerate() {
+            let (a, b) = (&self.rows[k], &self.rows[k + 1]);
+            let dtan = (0..2)
+                .map(|i| (b.contact_angle[i].tan() - a.contact_angle[i].tan()).abs())
+                .fold(1e-6, f64::max);
+            let room = ys
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| i != j)
+                .map(|(_, y)| (y - ys[j]).abs())
+                .chain([ys[j] - lo, hi - ys[j]])
+                .fold(f64::INFINITY, f64::min);
+            let half = (0.5 * approach_m / dtan).min(0.5 * max_width_m).min(0.45 * room);
+            if half > 1e-9 {
+                fillets.push((ys[j], half));
+            }
+        }
+        let inside = |y: f64| {
+            fillets
+                .iter()
+                .any(|&(c, a)| y > c - a - 1e-12 && y < c + a + 1e-12)
+        };
+        let mut rows: Vec<TableRow> = self.rows.iter().filter(|r| !inside(r.y)).copied().collect();
+        for &(c, a) in &fillets {
+            let (Ok(r0), Ok(r1)) = (self.lookup(c - a), self.lookup(c + a)) else {
+                continue;
+            };
+            let curv = |y: f64, comp: usize| self.curvature(y, comp);
+            let ends = |comp: usize, r: &TableRow, y: f64| (r.x[comp], r.dx_dy[comp], curv(y, comp));
+            for i in 0..=TRANSITION_PIECES {
+                let t = i as f64 / TRANSITION_PIECES as f64;
+                let y = c - a + 2.0 * a * t;
+                let mut row = if t < 0.5 { r0 } else { r1 };
+                row.y = y;
+                for comp in 0..6 {
+                    let (v, d) = if comp < 2 {
+                        quintic(c - a, c + a, ends(comp, &r0, c - a), ends(comp, &r1, c + a), y)
+                    } else {
+                        hermite(
+                            c - a,
+                            c + a,
+                            r0.x[comp],
+                            r1.x[comp],
+                            r0.dx_dy[comp],
+                            r1.dx_dy[comp],
+                            y,
+                        )
+                    };
+                    row.x[comp] = v;
+                    row.dx_dy[comp] = d;
+                    row.dx_dgv[comp] = r0.dx_dgv[comp] + t * (r1.dx_dgv[comp] - r0.dx_dgv[comp]);
+                }
+                let (o0, o1) = (r0.other(), r1.other());
+                let o: [f64; N_OTHER] = std::array::from_fn(|m| o0[m] + t * (o1[m] - o0[m]));
+                row.set_other(&o);
+                rows.push(row);
+            }
+        }
+        rows.sort_by(|p, q| p.y.total_cmp(&q.y));
+        let jumps = self
+            .jumps
+            .iter()
+            .filter(|j| !fillets.iter().any(|&(c, _)| c == j.y))
+            .copied()
+            .collect();
+        Self::from_rows(self.gv, rows, jumps, self.r0, self.l_r)
+    }
+
+    /// The second derivative in y of z (`comp` 0) or φ (1) of the table's interpolant at y (the
+    /// cubic Hermite of the segment holding y).
+    fn curvature(&self, y: f64, comp: usize) -> f64 {
+        let k = match self.rows.partition_point(|r| r.y <= y) {
+            0 => 0,
+            p if p >= self.rows.len() => self.rows.len() - 2,
+            p => p - 1,
+        };
+        let k = if self.rows[k + 1].y == self.rows[k].y {
+            k.saturating_sub(1)
+        } else {
+            k
+        };
+        let (a, b) = (&self.rows[k], &self.rows[k + 1]);
+        let h = b.y - a.y;
+        let t = (y - a.y) / h;
+        let (v0, v1, d0, d1) = (a.x[comp], b.x[comp], a.dx_dy[comp], b.dx_dy[comp]);
+        ((12.0 * t - 6.0) * (v0 - v1) / h + (6.0 * t - 4.0) * d0 + (6.0 * t - 2.0) * d1) / h
+    }
+
     /// Tabulated y range, m.
     pub fn range(&self) -> (f64, f64) {
         (self.rows[0].y, self.rows[self.rows.len() - 1].y)
@@ -692,6 +834,18 @@ impl LookupTable2 {
             .map(|&gv| LookupTable1::build_range(geom, gv, -y_max, y_max, settings))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(LookupTable2 { columns })
+    }
+
+    /// Every column with its two-point transitions
+    /// ([`LookupTable1::with_two_point_transition`]).
+    pub fn with_two_point_transition(self, approach_m: f64, max_width_m: f64) -> Self {
+        LookupTable2 {
+            columns: self
+                .columns
+                .into_iter()
+                .map(|c| c.with_two_point_transition(approach_m, max_width_m))
+                .collect(),
+        }
     }
 
     /// Gauge variations tabulated, m.
@@ -1107,6 +1261,69 @@ mod tests {
                 worst_slope < 1e-4,
                 "dz/dy not the interpolant's slope: {worst_slope}"
             );
+        }
+    }
+
+    /// The tables' two-point transitions: no jump left, the rigid table's rows outside the
+    /// transitions kept, z and φ meeting both sides with value, slope and curvature (C²), the
+    /// curvature inside bounded by the quintic's 1.875 Δslope / 2a.
+    #[test]
+    fn table_two_point_transitions_are_c2_and_local() {
+        let g = geometry();
+        let rigid = LookupTable1::build(&g, &TableSettings::default()).unwrap();
+        let (approach, width) = (5e-4, 5e-4);
+        let smooth = rigid.clone().with_two_point_transition(approach, width);
+        assert!(smooth.rows.windows(2).all(|w| w[1].y > w[0].y), "a jump is left");
+        let jumps: Vec<(f64, f64)> = rigid
+            .rows
+            .windows(2)
+            .filter(|w| w[0].y == w[1].y)
+            .map(|w| {
+                let dtan = (0..2)
+                    .map(|i| (w[1].contact_angle[i].tan() - w[0].contact_angle[i].tan()).abs())
+                    .fold(1e-6, f64::max);
+                (w[0].y, (0.5 * approach / dtan).min(0.5 * width))
+            })
+            .collect();
+        assert!(jumps.len() >= 4);
+        for r in &rigid.rows {
+            if jumps.iter().all(|&(c, a)| (r.y - c).abs() > a + 1e-9) {
+                let l = smooth.lookup(r.y).unwrap();
+                assert!((l.z() - r.z()).abs() < 1e-15 && (l.phi() - r.phi()).abs() < 1e-15);
+            }
+        }
+        for &(c, a0) in &jumps {
+            // The half-width actually used (limited by the neighbouring jumps too).
+            let (lo, hi) = rigid.range();
+            let room = jumps
+                .iter()
+                .filter(|j| j.0 != c)
+                .map(|j| (j.0 - c).abs())
+                .chain([c - lo, hi - c])
+                .fold(f64::INFINITY, f64::min);
+            let a = a0.min(0.45 * room);
+            let (r0, r1) = (rigid.lookup(c - a).unwrap(), rigid.lookup(c + a).unwrap());
+            for comp in 0..2 {
+                for (y, r, out) in [(c - a, &r0, -1e-9), (c + a, &r1, 1e-9)] {
+                    let l = smooth.lookup(y).unwrap();
+                    assert!((l.x[comp] - r.x[comp]).abs() < 1e-12, "value at {y}");
+                    assert!((l.dx_dy[comp] - r.dx_dy[comp]).abs() < 1e-6, "slope at {y}");
+                    let (inside, outside) = (smooth.curvature(y - out, comp), rigid.curvature(y + out, comp));
+                    let dslope = (r1.dx_dy[comp] - r0.dx_dy[comp]).abs();
+                    assert!(
+                        (inside - outside).abs() < 0.05 * (dslope / (2.0 * a) + outside.abs()) + 1e-6,
+                        "jump {c}: comp {comp} curvature {inside} vs {outside}"
+                    );
+                }
+                let dslope = (r1.dx_dy[comp] - r0.dx_dy[comp]).abs();
+                let worst = (0..=100)
+                    .map(|i| smooth.curvature(c - a + 2.0 * a * i as f64 / 100.0, comp).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    worst < 1.3 * 1.875 * dslope / (2.0 * a) + 50.0,
+                    "jump {c}: curvature {worst}"
+                );
+            }
         }
     }
 

@@ -1,13 +1,17 @@
 //! `model = "lookup"`: the 1-entry contact lookup table over y (paper §4.3, Eq. 43–46), built
 //! from the online constraints on the ideal track up to flange contact; the irregularities enter
 //! by Eq. (44)–(46), the gauge variation not at all. Velocity terms by the directional
-//! differences of [`crate::contact::model`]. No settings.
+//! differences of [`crate::contact::model`].
+//!
+//! Settings: `two_point_approach_m` (default 0: the paper's rigid jumps) and
+//! `two_point_max_width_m` (default 5e-5 m): the table's two-point transitions
+//! ([`LookupTable1::with_two_point_transition`]), the same departure as KEC's.
 
 use std::sync::Arc;
 
 use serde::Deserialize;
 
-use super::{ContactBuildError, ContactModelSettings};
+use super::{check_range, ContactBuildError, ContactModelSettings};
 use crate::contact::geometry::ContactGeometry;
 use crate::contact::lookup::{LookupTable1, TableRow, TableSettings};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
@@ -16,19 +20,48 @@ use crate::profile::placement::WheelRailPair;
 use crate::profile::Side;
 use crate::track::RailOffsets;
 
-/// `[simulation.contact] model = "lookup"` (no keys).
-#[derive(Debug, Clone, PartialEq, Default, Deserialize)]
+/// `[simulation.contact] model = "lookup"`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct LookupSettings {}
+pub struct LookupSettings {
+    /// The elastic approach δ of the two-point transitions at the table's jumps, m (0: rigid).
+    #[serde(default)]
+    pub two_point_approach_m: f64,
+    /// The largest width of a two-point transition, m.
+    #[serde(default = "default_max_width")]
+    pub two_point_max_width_m: f64,
+}
+
+pub(super) fn default_max_width() -> f64 {
+    crate::contact::kec::TWO_POINT_MAX_WIDTH_M
+}
+
+impl Default for LookupSettings {
+    fn default() -> Self {
+        LookupSettings {
+            two_point_approach_m: 0.0,
+            two_point_max_width_m: default_max_width(),
+        }
+    }
+}
+
+/// The checks of the two-point keys (shared with the 2-entry table).
+pub(super) fn transition_problems(p: &mut Vec<String>, approach: f64, width: f64) {
+    check_range(p, "two_point_approach_m", approach, 0.0, 1e-3);
+    check_range(p, "two_point_max_width_m", width, 0.0, 2e-3);
+}
 
 impl ContactModelSettings for LookupSettings {
     fn problems(&self) -> Vec<String> {
-        Vec::new()
+        let mut p = Vec::new();
+        transition_problems(&mut p, self.two_point_approach_m, self.two_point_max_width_m);
+        p
     }
 
     fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let geometry = ContactGeometry::with_defaults(pair.clone());
-        let table = LookupTable1::build(&geometry, &TableSettings::default())?;
+        let table = LookupTable1::build(&geometry, &TableSettings::default())?
+            .with_two_point_transition(self.two_point_approach_m, self.two_point_max_width_m);
         Ok(Arc::new(LookupContact { table }))
     }
 }

@@ -2,8 +2,9 @@
 //! one 1-entry table per gauge variation over y up to flange contact of the centred gauge;
 //! velocity terms by the directional differences of [`crate::contact::model`].
 //!
-//! Settings: `gv_max_m` (the gauge variations −max … +max, default 0.010 m) and `gv_step_m`
-//! (default 0.001 m).
+//! Settings: `gv_max_m` (the gauge variations −max … +max, default 0.010 m), `gv_step_m`
+//! (default 0.001 m), and the two-point transitions of every column as for `lookup`
+//! (`two_point_approach_m`, default 0; `two_point_max_width_m`, default 5e-5 m).
 
 use std::sync::Arc;
 
@@ -26,6 +27,11 @@ pub struct Lookup2Settings {
     /// Gauge-variation step, m.
     #[serde(default = "default_gv_step")]
     pub gv_step_m: f64,
+    /// The two-point transitions of each column (see [`super::lookup::LookupSettings`]), m.
+    #[serde(default)]
+    pub two_point_approach_m: f64,
+    #[serde(default = "super::lookup::default_max_width")]
+    pub two_point_max_width_m: f64,
 }
 
 fn default_gv_max() -> f64 {
@@ -40,6 +46,8 @@ impl Default for Lookup2Settings {
         Lookup2Settings {
             gv_max_m: default_gv_max(),
             gv_step_m: default_gv_step(),
+            two_point_approach_m: 0.0,
+            two_point_max_width_m: super::lookup::default_max_width(),
         }
     }
 }
@@ -57,6 +65,7 @@ impl ContactModelSettings for Lookup2Settings {
         let mut p = Vec::new();
         check_range(&mut p, "gv_max_m", self.gv_max_m, 1e-4, 0.03);
         check_range(&mut p, "gv_step_m", self.gv_step_m, 1e-5, 0.01);
+        super::lookup::transition_problems(&mut p, self.two_point_approach_m, self.two_point_max_width_m);
         if p.is_empty() && self.gv_max_m / self.gv_step_m > 200.0 {
             p.push(format!(
                 "simulation.contact: gv_max_m / gv_step_m = {:.0}: at most 200 columns each side",
@@ -72,7 +81,8 @@ impl ContactModelSettings for Lookup2Settings {
         // y up to flange contact of the centred gauge (as `kecsim bench kec`).
         let t1 = LookupTable1::build(&geometry, &settings)?;
         let (lo, hi) = t1.range();
-        let table = LookupTable2::build(&geometry, lo.abs().min(hi), &self.gauge_variations(), &settings)?;
+        let table = LookupTable2::build(&geometry, lo.abs().min(hi), &self.gauge_variations(), &settings)?
+            .with_two_point_transition(self.two_point_approach_m, self.two_point_max_width_m);
         Ok(Arc::new(Lookup2Contact { table }))
     }
 }
