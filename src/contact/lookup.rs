@@ -713,21 +713,26 @@ impl LookupTable1 {
     /// The second derivative in y of z (`comp` 0) or φ (1) of the table's interpolant at y (the
     /// cubic Hermite of the segment holding y).
     fn curvature(&self, y: f64, comp: usize) -> f64 {
-        let k = match self.rows.partition_point(|r| r.y <= y) {
-            0 => 0,
-            p if p >= self.rows.len() => self.rows.len() - 2,
-            p => p - 1,
-        };
-        let k = if self.rows[k + 1].y == self.rows[k].y {
-            k.saturating_sub(1)
-        } else {
-            k
-        };
+        let k = self.segment(y);
         let (a, b) = (&self.rows[k], &self.rows[k + 1]);
         let h = b.y - a.y;
         let t = (y - a.y) / h;
         let (v0, v1, d0, d1) = (a.x[comp], b.x[comp], a.dx_dy[comp], b.dx_dy[comp]);
         ((12.0 * t - 6.0) * (v0 - v1) / h + (6.0 * t - 4.0) * d0 + (6.0 * t - 2.0) * d1) / h
+    }
+
+    /// The segment k with rows[k].y <= y < rows[k+1].y (the right-hand limit at a jump).
+    fn segment(&self, y: f64) -> usize {
+        let k = match self.rows.partition_point(|r| r.y <= y) {
+            0 => 0,
+            p if p >= self.rows.len() => self.rows.len() - 2,
+            p => p - 1,
+        };
+        if self.rows[k + 1].y == self.rows[k].y {
+            k.saturating_sub(1)
+        } else {
+            k
+        }
     }
 
     /// Tabulated y range, m.
@@ -746,17 +751,7 @@ impl LookupTable1 {
                 max_mm: hi * 1e3,
             });
         }
-        // Segment k with rows[k].y <= y < rows[k+1].y (the right-hand limit at a jump).
-        let k = match self.rows.partition_point(|r| r.y <= y) {
-            0 => 0,
-            p if p >= self.rows.len() => self.rows.len() - 2,
-            p => p - 1,
-        };
-        let k = if self.rows[k + 1].y == self.rows[k].y {
-            k.saturating_sub(1)
-        } else {
-            k
-        };
+        let k = self.segment(y);
         let (a, b) = (&self.rows[k], &self.rows[k + 1]);
         let mut out = *a;
         out.y = y;

@@ -382,11 +382,8 @@ impl Multibody {
             let st = WheelsetState::read(&x[o..], self.is_irw(j));
             let (kin, f, s) = self.wheelset_kinematics(data, j, &st, s_ref, v, v_dot)?;
             // The pose: the two-point configuration moved by a lifted wheel's θ.
-            let pose = pose_kinematics(&st, &kin).map_err(|source| DynamicsError::Wheelset {
-                wheelset: self.wheelsets[j].name.clone(),
-                y_mm: st.y * 1e3,
-                source,
-            })?;
+            let pose =
+                pose_kinematics(&st, &kin).map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
             poses.push(Pose {
                 origin: f.origin,
                 rotation: f.rotation,
@@ -456,11 +453,7 @@ impl Multibody {
                 data.lambda[j],
                 self.reference.lateral_flexibility().as_ref(),
             )
-            .map_err(|source| DynamicsError::Wheelset {
-                wheelset: self.wheelsets[j].name.clone(),
-                y_mm: ws_states[j].y * 1e3,
-                source,
-            })?;
+            .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))?;
             data.lambda[j] = dynamics.normal;
             if let Some(d) = dxdt.as_deref_mut() {
                 let o = self.wheelset_offset(j);
@@ -836,11 +829,7 @@ impl VehicleModel for Multibody {
             &kin,
             self.reference.lateral_flexibility().as_ref(),
         )
-        .map_err(|source| DynamicsError::Wheelset {
-            wheelset: self.wheelsets[j].name.clone(),
-            y_mm: st.y * 1e3,
-            source,
-        })?;
+        .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
         st.write(&mut x[o..], irw);
         Ok(landing)
     }

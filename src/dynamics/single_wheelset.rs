@@ -113,17 +113,9 @@ impl SingleWheelset {
             data.lambda[0],
             self.reference.lateral_flexibility().as_ref(),
         )
-        .map_err(|source| DynamicsError::Wheelset {
-            wheelset: self.name.clone(),
-            y_mm: st.y * 1e3,
-            source,
-        })?;
+        .map_err(DynamicsError::wheelset(&self.name, st.y))?;
         data.lambda[0] = dynamics.normal;
-        let kin = pose_kinematics(&st, &kin).map_err(|source| DynamicsError::Wheelset {
-            wheelset: self.name.clone(),
-            y_mm: st.y * 1e3,
-            source,
-        })?;
+        let kin = pose_kinematics(&st, &kin).map_err(DynamicsError::wheelset(&self.name, st.y))?;
         Ok(WheelsetSample {
             state: st,
             kin,
@@ -204,11 +196,7 @@ impl VehicleModel for SingleWheelset {
             &kin,
             self.reference.lateral_flexibility().as_ref(),
         )
-        .map_err(|source| DynamicsError::Wheelset {
-            wheelset: self.name.clone(),
-            y_mm: st.y * 1e3,
-            source,
-        })?;
+        .map_err(DynamicsError::wheelset(&self.name, st.y))?;
         st.write(x, false);
         Ok(landing)
     }

@@ -45,6 +45,17 @@ pub enum DynamicsError {
     CentredContact(#[source] ContactModelError),
 }
 
+impl DynamicsError {
+    /// The map of a wheelset's failure to the vehicle's, naming the wheelset and its y.
+    pub fn wheelset(name: &str, y: f64) -> impl FnOnce(WheelsetError) -> DynamicsError + '_ {
+        move |source| DynamicsError::Wheelset {
+            wheelset: name.to_string(),
+            y_mm: y * 1e3,
+            source,
+        }
+    }
+}
+
 /// The disturbance every wheelset starts from.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct InitialDisturbance {
