@@ -159,10 +159,22 @@ mod tests {
                 ..kec::KecSettings::default()
             })
         );
-        let e = toml::from_str::<ContactModelSpec>("model = \"lookup\"\ntwo_point_approach_m = 0.0")
+        // The tables take the two-point keys too (default 0: rigid), not KEC's others.
+        let l: ContactModelSpec = toml::from_str("model = \"lookup\"\ntwo_point_approach_m = 5e-4").unwrap();
+        assert!(matches!(l, ContactModelSpec::Lookup(ref t) if t.two_point_approach_m == 5e-4));
+        let e = toml::from_str::<ContactModelSpec>("model = \"lookup\"\ngv_step_m = 0.001")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("two_point_approach_m"), "{e}");
+        assert!(e.contains("gv_step_m"), "{e}");
+        let bad: ContactModelSpec =
+            toml::from_str("model = \"lookup2\"\ntwo_point_approach_m = 0.5").unwrap();
+        assert!(
+            bad.problems()
+                .iter()
+                .any(|p| p.contains("simulation.contact.two_point_approach_m = 0.5")),
+            "{:?}",
+            bad.problems()
+        );
         let e = toml::from_str::<ContactModelSpec>("model = \"magic\"")
             .unwrap_err()
             .to_string();
