@@ -126,7 +126,12 @@ fn run_with_no_arguments_writes_kecsim_rrd() {
     let rec = read(&rrd);
     // The default scenario is the paper's case (the MS vehicle over the Tab. 6 kilometre): its
     // time series and summary are recorded, and the summary printed.
-    for e in ["/run/w1/y_mm", "/run/w6/normal_kn", "/run/summary"] {
+    for e in [
+        "/run/w1/y_mm",
+        "/run/w6/normal_kn",
+        "/run/w1/lift_mm",
+        "/run/summary",
+    ] {
         assert!(rec.contains_key(e), "missing {e}: {:?}", rec.keys());
     }
     assert!(stdout.contains("real-time factor"), "{stdout}");

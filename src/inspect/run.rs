@@ -18,6 +18,7 @@
 //! | `run/NAME/y_over_q` | Scalars (left, right) | lateral over vertical wheel–rail force |
 //! | `run/NAME/s_wheel_mm`, `s_rail_mm` | Scalars (left, right) | contact position on the real wheel and rail |
 //! | `run/NAME/s_knife_mm` | Scalars (left, right) | KEC only: contact on the equivalent profiles |
+//! | `run/NAME/lift_mm` | Scalars (left, right) | each wheel's gap to its rail (0 on it; a lifted wheel) |
 //!
 //! With more than one wheelset, every wheelset side by side (one series per wheelset, on `time`):
 //!
@@ -114,6 +115,7 @@ pub fn blueprint_for(wheelsets: usize) -> Blueprint {
             plot("contact on wheel s^w [mm]", &format!("{w}/s_wheel_mm")),
             plot("contact on rail s^r [mm]", &format!("{w}/s_rail_mm")),
             plot("KEC contact s^k [mm]", &format!("{w}/s_knife_mm")),
+            plot("wheel lift [mm]", &format!("{w}/lift_mm")),
             TextDocumentView::new("Summary")
                 .with_origin("/run/summary")
                 .into(),
@@ -157,7 +159,7 @@ fn lr_colors() -> Vec<Color> {
 type Series = (&'static str, &'static [&'static str], fn(&Sample) -> Vec<f64>);
 
 /// The per-wheelset series (kinematics, forces, contact positions; `s_knife_mm` apart: KEC only).
-const WHEELSET_SERIES: [Series; 10] = [
+const WHEELSET_SERIES: [Series; 11] = [
     ("y_mm", &["y"], |s| vec![s.y * 1e3]),
     ("yaw_mrad", &["yaw"], |s| vec![s.yaw * 1e3]),
     ("z_mm", &["z − r0"], |s| vec![s.z * 1e3]),
@@ -179,6 +181,9 @@ const WHEELSET_SERIES: [Series; 10] = [
     }),
     ("s_rail_mm", &["left", "right"], |s| {
         vec![s.s_rail[0] * 1e3, s.s_rail[1] * 1e3]
+    }),
+    ("lift_mm", &["left", "right"], |s| {
+        vec![s.lift[0] * 1e3, s.lift[1] * 1e3]
     }),
 ];
 
