@@ -262,3 +262,32 @@ fn ms_vehicle_completes_the_kilometre_with_kec() {
     assert!(s.landings == out.landings.len());
     assert!(s.max_lift_mm < 1.0, "{}", s.max_lift_mm);
 }
+
+/// Past the flange's largest contact angle the tables and the equivalent profiles end: a
+/// wheelset there climbs its flange. The run ends as a derailment (outcome `derailed`, the wheel
+/// named), not as a contact-model failure — here a wheelset put 8 mm to the left (the tables and
+/// profiles of S1002/60E1 1:40 end at ±6.4 … 7.3 mm).
+#[test]
+fn leaving_the_flange_range_is_a_derailment() {
+    for contact in ["kec", "lookup", "lookup2"] {
+        let mut sc = scene("wheelset_klingel.toml");
+        let sim = &mut sc.simulation.as_mut().unwrap().0;
+        sim.duration_s = 0.5;
+        sim.initial.lateral_m = 0.008;
+        let out = sc
+            .build_run(&RunOptions {
+                contact: Some(contact.into()),
+                speed_m_s: None,
+            })
+            .unwrap()
+            .run(&mut []);
+        let s = &out.summary;
+        println!("{contact}: {:?}", s.error);
+        assert_eq!(s.outcome, "derailed", "{contact}: {:?}", s.error);
+        let e = s.error.as_deref().unwrap();
+        assert!(
+            e.contains("wheelset_1 derails") && e.contains("the left wheel climbs its flange"),
+            "{e}"
+        );
+    }
+}

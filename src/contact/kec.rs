@@ -715,7 +715,37 @@ impl KecModel {
         let q = [y, rails[0], rails[1], rails[2], rails[3]];
         match self.newton(y, &q, start.unwrap_or_else(|| self.guess(y))) {
             Err(KecError::NoConvergence { .. } | KecError::OffProfile { .. }) => {
-                self.newton(y, &q, self.table_guess(y, rails))
+                let guess = self.table_guess(y, rails);
+                match self.newton(y, &q, guess) {
+                    // Beyond the table's flange contact on a side (its lateral distance to its
+                    // rail outside the profile's table rows), Newton has nothing to converge
+                    // to: say so.
+                    Err(e @ KecError::NoConvergence { .. }) => {
+                        for (side, rail_y, s) in [
+                            (Side::Left, rails[0], guess[2]),
+                            (Side::Right, rails[2], guess[3]),
+                        ] {
+                            let p = self.profile(side);
+                            let ys = p.node_y();
+                            let (lo_y, hi_y) =
+                                ys.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                                    (a.min(v), b.max(v))
+                                });
+                            if y - rail_y < lo_y || y - rail_y > hi_y {
+                                let (lo, hi) = p.domain();
+                                return Err(KecError::OffProfile {
+                                    y_mm: y * 1e3,
+                                    side: side.name(),
+                                    s_mm: s * 1e3,
+                                    lo_mm: lo * 1e3,
+                                    hi_mm: hi * 1e3,
+                                });
+                            }
+                        }
+                        Err(e)
+                    }
+                    other => other,
+                }
             }
             other => other,
         }

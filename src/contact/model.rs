@@ -47,6 +47,27 @@ pub enum ContactModelError {
     Other(Box<dyn std::error::Error + Send + Sync>),
 }
 
+impl ContactModelError {
+    /// Whether the wheelset has left the model's range beyond flange contact — the equivalent
+    /// profiles and the tables end where the flange's contact angle is largest (past it the
+    /// wheel climbs the flange): the wheel whose flange it is, `"left"` (the wheelset moved to
+    /// +y) or `"right"`. `None` for any other failure (and for the online model, which has no
+    /// such range).
+    pub fn flange_climb(&self) -> Option<&'static str> {
+        let side = |beyond_positive: bool| if beyond_positive { "left" } else { "right" };
+        match self {
+            ContactModelError::Kec(KecError::OffProfile { y_mm, .. }) => Some(side(*y_mm > 0.0)),
+            ContactModelError::Table(TableError::OutOfRange {
+                what: "y",
+                value_mm,
+                min_mm,
+                max_mm,
+            }) if *value_mm > *max_mm || *value_mm < *min_mm => Some(side(*value_mm > *max_mm)),
+            _ => None,
+        }
+    }
+}
+
 /// z, φ, their slopes in y and the real contact points at one configuration.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Configuration {

@@ -215,11 +215,7 @@ impl Multibody {
         let kin = self
             .contact
             .kinematics(st.y, st.y_dot, &st.shifted_rails(&f.rails), &mut data.warm[j])
-            .map_err(|source| DynamicsError::Contact {
-                wheelset: self.wheelsets[j].name.clone(),
-                y_mm: st.y * 1e3,
-                source,
-            })?;
+            .map_err(DynamicsError::contact(&self.wheelsets[j].name, st.y, s))?;
         data.contact_evaluations += 1;
         Ok((kin, f, s))
     }

@@ -136,6 +136,9 @@ pub struct RunSummary {
     pub max_landing_speed_m_s: f64,
     /// The largest normal impulse of a landing, N s.
     pub max_landing_impulse_n_s: f64,
+    /// A derailment (`outcome` = `derailed`): the derailing wheelset's largest |Y/Q| over its
+    /// last 2 m (EN 14363's window for Y/Q), its Y/Q history's end.
+    pub derailment_max_y_over_q_2m: Option<f64>,
 }
 
 impl fmt::Display for RunSummary {
@@ -185,6 +188,12 @@ impl fmt::Display for RunSummary {
         }
         if let Some(note) = &self.stopped {
             writeln!(f, "stopped: {note}")?;
+        }
+        if let Some(q) = self.derailment_max_y_over_q_2m {
+            writeln!(
+                f,
+                "derailed: the wheelset's largest |Y/Q| over its last 2 m: {q:.3}"
+            )?;
         }
         if let Some(e) = &self.error {
             writeln!(f, "the run stopped at t = {:.4} s: {e}", self.simulated_s)?;

@@ -98,6 +98,19 @@ pub enum RunFailure {
     Observer(ObserverError),
 }
 
+impl RunFailure {
+    /// The derailment that ended the run, if that is what did (the wheelset's name).
+    pub fn derailment(&self) -> Option<&str> {
+        match self {
+            RunFailure::Integration(IntegrationError::Model {
+                error: DynamicsError::Derailment { wheelset, .. },
+                ..
+            }) => Some(wheelset),
+            _ => None,
+        }
+    }
+}
+
 /// How a run ended.
 #[derive(Debug)]
 pub enum RunEnd {
@@ -316,6 +329,7 @@ fn summarise(
     let (error, stopped, outcome) = match end {
         RunEnd::Completed => (None, None, "completed"),
         RunEnd::Stopped(s) => (None, Some(s.to_string()), "stopped"),
+        RunEnd::Failed(e) if e.derailment().is_some() => (Some(e.to_string()), None, "derailed"),
         RunEnd::Failed(e) => (Some(e.to_string()), None, "failed"),
     };
     RunSummary {
@@ -348,5 +362,18 @@ fn summarise(
         landings: landings.len(),
         max_landing_speed_m_s: landings.iter().map(|l| l.landing.speed).fold(0.0, f64::max),
         max_landing_impulse_n_s: landings.iter().map(|l| l.landing.impulse).fold(0.0, f64::max),
+        derailment_max_y_over_q_2m: match end {
+            RunEnd::Failed(e) => e.derailment().and_then(|name| {
+                let w = &wheelsets.iter().find(|w| w.0 == name)?.1;
+                let s_end = w.last()?.s;
+                Some(
+                    w.iter()
+                        .filter(|p| p.s >= s_end - 2.0)
+                        .map(|p| p.max_abs_y_over_q())
+                        .fold(0.0, f64::max),
+                )
+            }),
+            _ => None,
+        },
     }
 }

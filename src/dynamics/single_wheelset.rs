@@ -66,11 +66,7 @@ impl SingleWheelset {
         let kin = self
             .contact
             .kinematics(st.y, st.y_dot, &st.shifted_rails(&frame.rails), &mut data.warm[0])
-            .map_err(|source| DynamicsError::Contact {
-                wheelset: self.name.clone(),
-                y_mm: st.y * 1e3,
-                source,
-            })?;
+            .map_err(DynamicsError::contact(&self.name, st.y, s))?;
         data.contact_evaluations += 1;
         Ok((kin, frame))
     }

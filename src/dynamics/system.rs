@@ -23,6 +23,16 @@ pub enum DynamicsError {
         #[source]
         source: TrackError,
     },
+    #[error("{wheelset} derails at s = {s:.2} m: the {side} wheel climbs its flange (y = {y_mm:.4} mm, past the flange's largest contact angle, where the contact model ends: {source})")]
+    Derailment {
+        wheelset: String,
+        side: &'static str,
+        y_mm: f64,
+        /// Arc length of the wheelset, m.
+        s: f64,
+        #[source]
+        source: Box<ContactModelError>,
+    },
     #[error("{wheelset}: contact model at y = {y_mm:.4} mm: {source}")]
     Contact {
         wheelset: String,
@@ -46,6 +56,25 @@ pub enum DynamicsError {
 }
 
 impl DynamicsError {
+    /// The map of a wheelset's contact-model failure to the vehicle's: a flange climb
+    /// ([`ContactModelError::flange_climb`]) is a derailment, anything else a contact failure.
+    pub fn contact(name: &str, y: f64, s: f64) -> impl FnOnce(ContactModelError) -> DynamicsError + '_ {
+        move |source| match source.flange_climb() {
+            Some(side) => DynamicsError::Derailment {
+                wheelset: name.to_string(),
+                side,
+                y_mm: y * 1e3,
+                s,
+                source: Box::new(source),
+            },
+            None => DynamicsError::Contact {
+                wheelset: name.to_string(),
+                y_mm: y * 1e3,
+                source,
+            },
+        }
+    }
+
     /// The map of a wheelset's failure to the vehicle's, naming the wheelset and its y.
     pub fn wheelset(name: &str, y: f64) -> impl FnOnce(WheelsetError) -> DynamicsError + '_ {
         move |source| DynamicsError::Wheelset {
