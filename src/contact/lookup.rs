@@ -877,18 +877,28 @@ impl LookupTable2 {
             (j + 2 < n).then(|| g(j + 2)),
             gv,
         );
-        // Columns j−1 … j+2 (those that exist) at y.
-        let (a, b) = (self.columns[j].lookup(y)?, self.columns[j + 1].lookup(y)?);
-        let before = if j > 0 {
-            Some(self.columns[j - 1].lookup(y)?)
-        } else {
-            None
+        // Columns j−1 … j+2 (those that exist) at y. Every column spans the centred gauge's
+        // flange contact, which on a widened gauge comes before that gauge's own: leaving the range
+        // here is the table's limit, not necessarily a flange climb (named so).
+        let col = |i: usize| {
+            self.columns[i].lookup(y).map_err(|e| match e {
+                TableError::OutOfRange {
+                    what: "y",
+                    value_mm,
+                    min_mm,
+                    max_mm,
+                } => TableError::OutOfRange {
+                    what: "y (the 2-entry table spans the centred gauge's flange contact)",
+                    value_mm,
+                    min_mm,
+                    max_mm,
+                },
+                e => e,
+            })
         };
-        let after = if j + 2 < n {
-            Some(self.columns[j + 2].lookup(y)?)
-        } else {
-            None
-        };
+        let (a, b) = (col(j)?, col(j + 1)?);
+        let before = if j > 0 { Some(col(j - 1)?) } else { None };
+        let after = if j + 2 < n { Some(col(j + 2)?) } else { None };
         let rows = [before, Some(a), Some(b), after];
         let t = (gv - g(j)) / (g(j + 1) - g(j));
         let mut out = a;
