@@ -34,7 +34,9 @@
 
 use nalgebra::{Matrix4, Vector4};
 
-use super::lookup::{hermite, pchip_slopes, quintic, LookupTable1, TableRow};
+use super::lookup::{
+    cubic_hermite, hermite, pchip_slopes, quintic, transition_room, LookupTable1, TableRow, TRANSITION_PIECES,
+};
 use crate::profile::Side;
 
 /// Largest width of a two-point transition (fillet) in s^k, m — see
@@ -152,17 +154,6 @@ struct Node {
     y: f64,
     real: [f64; N_REAL],
     real_slopes: [f64; N_REAL],
-}
-
-/// Cubic pieces a two-point transition (fillet) is stored in.
-const FILLET_PIECES: usize = 8;
-
-fn cubic_hermite(s0: f64, s1: f64, v0: f64, v1: f64, d0: f64, d1: f64, s: f64) -> (f64, f64, f64) {
-    let h = s1 - s0;
-    let t = (s - s0) / h;
-    let (v, d) = hermite(s0, s1, v0, v1, d0, d1, s);
-    let dd = ((12.0 * t - 6.0) * (v0 - v1) / h + (6.0 * t - 4.0) * d0 + (6.0 * t - 2.0) * d1) / h;
-    (v, d, dd)
 }
 
 impl EquivalentProfile {
@@ -362,7 +353,7 @@ impl EquivalentProfile {
     /// Replaces the kink at each s_k of `fillets` (s_k, half-width a) by a fillet over
     /// [s_k − a, s_k + a]: the profile left of s_k − a and right of s_k + a is unchanged (the
     /// end nodes take the unfilleted curves' values and slopes there), in between the quintic that
-    /// also matches both curves' curvatures (a C² join; stored as `FILLET_PIECES` cubic pieces) —
+    /// also matches both curves' curvatures (a C² join; stored as `TRANSITION_PIECES` cubic pieces) —
     /// its curvature peaks at ≈ 1.9 Δslope / 2a in the middle. (A single cubic, C¹, made f'' step
     /// from the tread's ~200 1/m to ~2·10⁴ 1/m at the flange-root fillet's ends: a step of the
     /// constraint's vertical acceleration f'' ẏ² of several g at each flange contact.) The
@@ -428,8 +419,8 @@ impl EquivalentProfile {
             // Interior nodes on the quintic (values, slopes, curvatures of both ends matched: the
             // fillet joins C², so a wheelset entering it meets no step in the constraint's
             // velocity terms f'' ẏ²); the real-contact maps as before, Hermite between the ends.
-            for i in 1..FILLET_PIECES {
-                let sq = n0.s + (n1.s - n0.s) * i as f64 / FILLET_PIECES as f64;
+            for i in 1..TRANSITION_PIECES {
+                let sq = n0.s + (n1.s - n0.s) * i as f64 / TRANSITION_PIECES as f64;
                 let (f, df) = quintic(n0.s, n1.s, (n0.f, n0.df, c0), (n1.f, n1.df, c1), sq);
                 let h = |v0: f64, v1: f64, d0: f64, d1: f64| hermite(n0.s, n1.s, v0, v1, d0, d1, sq);
                 let (sw, dsw) = h(n0.sw, n1.sw, n0.dsw, n1.dsw);
@@ -448,7 +439,7 @@ impl EquivalentProfile {
                     dsw,
                     sr,
                     dsr,
-                    y: n0.y + (n1.y - n0.y) * i as f64 / FILLET_PIECES as f64,
+                    y: n0.y + (n1.y - n0.y) * i as f64 / TRANSITION_PIECES as f64,
                     real,
                     real_slopes,
                 });
@@ -614,17 +605,10 @@ impl KecModel {
                         .map(|h| (k.s_k, h.1))
                 })
                 .collect();
+            let at: Vec<f64> = centres.iter().map(|c| c.0).collect();
             let fillets: Vec<(f64, f64)> = centres
                 .iter()
-                .map(|&(c, a)| {
-                    let room = centres
-                        .iter()
-                        .filter(|o| o.0 != c)
-                        .map(|o| (o.0 - c).abs())
-                        .chain([c - lo, hi - c])
-                        .fold(f64::INFINITY, f64::min);
-                    (c, a.min(0.45 * room))
-                })
+                .map(|&(c, a)| (c, a.min(transition_room(c, &at, lo, hi))))
                 .filter(|&(_, a)| a > 1e-9)
                 .collect();
             profile.fillet(&fillets);

@@ -273,8 +273,20 @@ pub fn flange_contact_limit(
     }
 }
 
-/// Rows a table's two-point transition is stored in (pieces).
-const TRANSITION_PIECES: usize = 8;
+/// The largest half-width a two-point transition centred at `c` may take: 0.45 of the distance
+/// to the nearest other centre of `centres` or to an end of [lo, hi] (shared by the KEC profiles
+/// and the tables).
+pub(crate) fn transition_room(c: f64, centres: &[f64], lo: f64, hi: f64) -> f64 {
+    0.45 * centres
+        .iter()
+        .filter(|&&o| o != c)
+        .map(|o| (o - c).abs())
+        .chain([c - lo, hi - c])
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Cubic pieces a two-point transition is stored in (the tables' rows, the KEC profiles' nodes).
+pub(crate) const TRANSITION_PIECES: usize = 8;
 
 /// Quintic Hermite interpolation on [y0, y1] of (value, slope, curvature) at both ends: the value
 /// and slope at y.
@@ -302,6 +314,15 @@ pub(crate) fn quintic(y0: f64, y1: f64, e0: (f64, f64, f64), e1: (f64, f64, f64)
     let v = (0..6).map(|i| w[i] * c[i]).sum();
     let d = (0..6).map(|i| dw[i] * c[i]).sum::<f64>() / h;
     (v, d)
+}
+
+/// [`hermite`] with the second derivative.
+pub(crate) fn cubic_hermite(y0: f64, y1: f64, v0: f64, v1: f64, d0: f64, d1: f64, y: f64) -> (f64, f64, f64) {
+    let h = y1 - y0;
+    let t = (y - y0) / h;
+    let (v, d) = hermite(y0, y1, v0, v1, d0, d1, y);
+    let dd = ((12.0 * t - 6.0) * (v0 - v1) / h + (6.0 * t - 4.0) * d0 + (6.0 * t - 2.0) * d1) / h;
+    (v, d, dd)
 }
 
 pub(crate) fn hermite(y0: f64, y1: f64, v0: f64, v1: f64, d0: f64, d1: f64, y: f64) -> (f64, f64) {
@@ -647,14 +668,9 @@ impl LookupTable1 {
             let dtan = (0..2)
                 .map(|i| (b.contact_angle[i].tan() - a.contact_angle[i].tan()).abs())
                 .fold(1e-6, f64::max);
-            let room = ys
-                .iter()
-                .enumerate()
-                .filter(|&(i, _)| i != j)
-                .map(|(_, y)| (y - ys[j]).abs())
-                .chain([ys[j] - lo, hi - ys[j]])
-                .fold(f64::INFINITY, f64::min);
-            let half = (0.5 * approach_m / dtan).min(0.5 * max_width_m).min(0.45 * room);
+            let half = (0.5 * approach_m / dtan)
+                .min(0.5 * max_width_m)
+                .min(transition_room(ys[j], &ys, lo, hi));
             if half > 1e-9 {
                 fillets.push((ys[j], half));
             }
@@ -715,10 +731,7 @@ impl LookupTable1 {
     fn curvature(&self, y: f64, comp: usize) -> f64 {
         let k = self.segment(y);
         let (a, b) = (&self.rows[k], &self.rows[k + 1]);
-        let h = b.y - a.y;
-        let t = (y - a.y) / h;
-        let (v0, v1, d0, d1) = (a.x[comp], b.x[comp], a.dx_dy[comp], b.dx_dy[comp]);
-        ((12.0 * t - 6.0) * (v0 - v1) / h + (6.0 * t - 4.0) * d0 + (6.0 * t - 2.0) * d1) / h
+        cubic_hermite(a.y, b.y, a.x[comp], b.x[comp], a.dx_dy[comp], b.dx_dy[comp], y).2
     }
 
     /// The segment k with rows[k].y <= y < rows[k+1].y (the right-hand limit at a jump).

@@ -776,17 +776,12 @@ impl Stepper {
                             any = true;
                         }
                     }
-                    if !any {
-                        for &(o, m) in blocks.iter().filter(|b| c < b.1) {
-                            for i in 0..m {
-                                self.jac[(o + i, o + c)] = 0.0;
-                            }
-                        }
-                        continue;
-                    }
+                    // Nothing perturbed (every block's column idle): the columns are zero.
                     let col = &mut self.k[6];
-                    sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
-                    stats.rhs_evaluations += 1;
+                    if any {
+                        sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
+                        stats.rhs_evaluations += 1;
+                    }
                     for (b, &(o, m)) in blocks.iter().enumerate() {
                         if c < m {
                             for i in 0..m {

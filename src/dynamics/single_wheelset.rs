@@ -50,13 +50,13 @@ impl SingleWheelset {
         WheelsetState::read(x, false)
     }
 
-    /// The contact model's two-point kinematics of the state at (t, x).
+    /// The contact model's two-point kinematics of the state at (t, x), its frame and arc length.
     fn kinematics(
         &self,
         data: &mut VehicleData,
         t: f64,
         st: &WheelsetState,
-    ) -> Result<(WheelsetKinematics, FrameAt), DynamicsError> {
+    ) -> Result<(WheelsetKinematics, FrameAt, f64), DynamicsError> {
         let (v, v_dot) = self.reference.speed_at(t);
         let s = self.reference.s_ref(t) + st.x;
         let frame = self
@@ -68,7 +68,7 @@ impl SingleWheelset {
             .kinematics(st.y, st.y_dot, &st.shifted_rails(&frame.rails), &mut data.warm[0])
             .map_err(DynamicsError::contact(&self.name, st.y, s))?;
         data.contact_evaluations += 1;
-        Ok((kin, frame))
+        Ok((kin, frame, s))
     }
 
     /// Evaluates the model at (t, x).
@@ -79,9 +79,8 @@ impl SingleWheelset {
         x: &[f64],
     ) -> Result<WheelsetSample, DynamicsError> {
         let st = Self::unpack(x);
-        let (v, _) = self.reference.speed_at(t);
-        let s = self.reference.s_ref(t) + st.x;
-        let (kin, frame) = self.kinematics(data, t, &st)?;
+        let (kin, frame, s) = self.kinematics(data, t, &st)?;
+        let v = frame.motion.speed;
         let rails = frame.rails;
         let tie = &self.tie;
         let mut load = Load {
@@ -185,7 +184,7 @@ impl VehicleModel for SingleWheelset {
     ) -> Result<Option<Landing>, DynamicsError> {
         debug_assert_eq!(wheelset, 0);
         let mut st = Self::unpack(x);
-        let (kin, _) = self.kinematics(data, t, &st)?;
+        let (kin, ..) = self.kinematics(data, t, &st)?;
         let landing = land(
             &self.inertia,
             &mut st,

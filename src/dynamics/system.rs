@@ -220,6 +220,9 @@ pub struct LandingEvent {
 pub struct Evaluator<'a> {
     pub model: &'a dyn VehicleModel,
     pub data: VehicleData,
+    /// The model's [`VehicleModel::lift_offsets`] (constant; read at every accepted step and
+    /// every Jacobian column).
+    lift_offsets: Vec<usize>,
 }
 
 impl<'a> Evaluator<'a> {
@@ -227,6 +230,7 @@ impl<'a> Evaluator<'a> {
     pub fn new(model: &'a dyn VehicleModel) -> Evaluator<'a> {
         Evaluator {
             data: model.new_data(),
+            lift_offsets: model.lift_offsets(),
             model,
         }
     }
@@ -257,11 +261,11 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
 
     /// Two per wheelset: each wheel's lift θ (a lifted wheel lands where it passes zero).
     fn event_count(&self) -> usize {
-        2 * self.model.wheelset_names().len()
+        2 * self.lift_offsets.len()
     }
 
     fn events(&self, x: &[f64], g: &mut [f64]) {
-        for (j, o) in self.model.lift_offsets().into_iter().enumerate() {
+        for (j, &o) in self.lift_offsets.iter().enumerate() {
             g[2 * j] = x[o];
             g[2 * j + 1] = x[o + 1];
         }
@@ -270,7 +274,7 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
     /// The lift states of a wheel on its rail (θ = θ̇ = 0) are left out of finite-difference
     /// Jacobians: a perturbation there would release the wheel (a switch, not a derivative).
     fn inactive(&self, x: &[f64], j: usize) -> bool {
-        self.model.lift_offsets().into_iter().any(|o| {
+        self.lift_offsets.iter().any(|&o| {
             (o..o + 4).contains(&j) && {
                 let side = (j - o) % 2;
                 x[o + side] == 0.0 && x[o + 2 + side] == 0.0

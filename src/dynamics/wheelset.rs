@@ -405,7 +405,7 @@ impl Geometry {
         let axle = Vector3::new(-state.psi, 1.0, kin.phi).normalize();
         let mut arm = [Vector3::zeros(); 2];
         let mut normal = [Vector3::zeros(); 2];
-        let mut frames = Vec::with_capacity(2);
+        let mut frames = [None; 2];
         for (i, c) in kin.contacts.iter().enumerate() {
             // Longitudinal position on the yawed wheel: the wheel is a surface of revolution about
             // the axle a, and the point where its normal equals the rail's normal n (n_x = 0) lies
@@ -419,14 +419,17 @@ impl Geometry {
             let p = Vector3::new(state.x + u_x, c.position.0, c.position.1);
             arm[i] = p - centre;
             normal[i] = Vector3::new(0.0, c.normal.0, c.normal.1);
-            frames.push(ContactFrame::new(normal[i], axle, Vector3::x()).map_err(|e| {
+            frames[i] = Some(ContactFrame::new(normal[i], axle, Vector3::x()).map_err(|e| {
                 WheelsetError::Contact {
                     side: Side::BOTH[i].name(),
                     message: e.to_string(),
                 }
             })?);
         }
-        let frames = [frames[0], frames[1]];
+        let [Some(f0), Some(f1)] = frames else {
+            return Err(WheelsetError::Singular);
+        };
+        let frames = [f0, f1];
         Ok(Geometry {
             centre,
             axle,
@@ -551,7 +554,7 @@ pub fn evaluate(
     let lifted = |l: Lift, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
         let r = solve(inertia, state, kin, frame, load, forces, guess, Some(&l), track)?;
         let p = 1 - l.side;
-        if r.normal[p].is_nan() || r.normal[p] <= 0.0 {
+        if r.normal[p] <= 0.0 {
             return Err(WheelsetError::Flight {
                 side: Side::BOTH[l.side].name(),
                 gap_mm: l.gap() * 1e3,
@@ -576,9 +579,6 @@ pub fn evaluate(
         None,
         track,
     )?;
-    if r.normal.iter().any(|v| v.is_nan()) {
-        return Err(WheelsetError::Singular);
-    }
     let side = if r.normal[0] <= r.normal[1] { 0 } else { 1 };
     if r.normal[side] > 0.0 {
         return Ok(r);
