@@ -22,6 +22,8 @@ pub mod compare;
 pub mod contact;
 pub mod dynamics;
 pub mod inspect;
+pub mod interrupt;
+pub mod limits;
 pub mod profile;
 pub mod scenario;
 pub mod spline;

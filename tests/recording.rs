@@ -206,7 +206,10 @@ fn bad_input_exits_nonzero_with_file_line_and_problem() {
     )
     .unwrap();
     let cases: [(&[&str], &str); 8] = [
-        (&["contact", "--gauge", "1700"], "never touch"),
+        (
+            &["contact", "--gauge", "1700"],
+            "does not fit the 1700.0 mm gauge",
+        ),
         (&["contact", "--y-max", "80"], "y = -80.0000 mm"),
         (&["profiles", "--rail", "missing.csv"], "missing.csv: cannot read"),
         (

@@ -36,6 +36,11 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
     if cfg!(debug_assertions) {
         eprintln!("kecsim: warning: debug build, timings are not representative (use --release)");
     }
+    anyhow::ensure!(
+        a.calls >= 1,
+        "--calls {}: expected at least 1 call per measurement",
+        a.calls
+    );
     let calls = a.calls;
     match a.target {
         BenchTarget::Profiles => print!("{}", kecsim::bench::table(&kecsim::bench::profiles(calls))),

@@ -11,7 +11,7 @@ use kecsim::contact::ContactModelSpec;
 use kecsim::inspect;
 use kecsim::scenario::Scenario;
 
-use super::{describe, SinkArgs};
+use super::{check_sink, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct CompareArgs {
@@ -43,6 +43,8 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
             "--duration {d}: expected a positive time in s, at most 1e5"
         );
     }
+    let sink = a.sink.sink();
+    check_sink(&sink)?;
     let origin = a.scenario.display().to_string();
     let scene =
         Scenario::read(&a.scenario)?.compile(&origin, a.scenario.parent().unwrap_or(Path::new(".")))?;
@@ -50,13 +52,13 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
         scene.simulation.is_some(),
         "{origin}: this scenario has no [simulation] to compare"
     );
-    let sink = a.sink.sink();
     let c = kecsim::compare::compare(&scene, &models, a.duration)?;
-    {
+    let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, || inspect::compare::blueprint(&c))?;
         inspect::compare::record(&rec, &c)?;
-    }
+        inspect::finish_recording(&rec, &sink)
+    };
     print!("{}", c.markdown());
-    println!("{}", describe(&sink));
+    println!("{}", delivered);
     Ok(())
 }

@@ -11,7 +11,7 @@ use kecsim::contact::lookup::LookupTable2;
 use kecsim::contact::report::ContactReport;
 use kecsim::inspect;
 
-use super::{describe, positive_mm, title, PairArgs, SinkArgs, TableArgs};
+use super::{check_output_file, check_sink, positive_mm, title, PairArgs, SinkArgs, TableArgs};
 
 #[derive(Args)]
 pub(super) struct ContactArgs {
@@ -45,17 +45,42 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
         gv_step,
         sink,
     } = a;
+    let sink = sink.sink();
+    check_sink(&sink)?;
+    if let Some(path) = &csv {
+        check_output_file("--csv", path)?;
+    }
+    let gv_grid = match &table2_csv {
+        Some(path) => {
+            check_output_file("--table2-csv", path)?;
+            let (gv_max, gv_step) = (
+                positive_mm("--gv-max", gv_max)?,
+                positive_mm("--gv-step", gv_step)?,
+            );
+            let n = (gv_max / gv_step).round();
+            kecsim::limits::check(
+                "gauge variations of the 2-entry table (--gv-max / --gv-step)",
+                2.0 * n + 1.0,
+                1e3,
+                "use a coarser --gv-step",
+            )
+            .map_err(anyhow::Error::msg)?;
+            let n = n as i64;
+            Some((-n..=n).map(|k| k as f64 * gv_step).collect::<Vec<f64>>())
+        }
+        None => None,
+    };
     let pair = pair.pair()?;
     let title = title("contact", &pair);
     let geom = ContactGeometry::with_defaults(pair);
     let settings = table.settings()?;
     let report = ContactReport::new(&geom, &settings)?;
     let summary = report.summary(&title);
-    let sink = sink.sink();
-    {
+    let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::contact::blueprint)?;
         inspect::contact::record(&rec, &geom, &report.table, &summary)?;
-    }
+        inspect::finish_recording(&rec, &sink)
+    };
     print!("{summary}");
     if let Some(path) = csv {
         report
@@ -64,13 +89,7 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
             .with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {}", path.display());
     }
-    if let Some(path) = table2_csv {
-        let (gv_max, gv_step) = (
-            positive_mm("--gv-max", gv_max)?,
-            positive_mm("--gv-step", gv_step)?,
-        );
-        let n = (gv_max / gv_step).round() as i64;
-        let gvs: Vec<f64> = (-n..=n).map(|k| k as f64 * gv_step).collect();
+    if let (Some(path), Some(gvs)) = (table2_csv, gv_grid) {
         let (lo, hi) = report.table.range();
         let t = std::time::Instant::now();
         let table2 = LookupTable2::build(&geom, lo.abs().min(hi), &gvs, &settings)?;
@@ -84,6 +103,6 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
             t.elapsed().as_secs_f64()
         );
     }
-    println!("{}", describe(&sink));
+    println!("{}", delivered);
     Ok(())
 }

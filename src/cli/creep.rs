@@ -9,7 +9,7 @@ use kecsim::contact::forces::sweep::{self, SweepSettings};
 use kecsim::contact::forces::{ContactPatch, CreepModel, KalkerTable};
 use kecsim::inspect;
 
-use super::{describe, positive_mm, SinkArgs};
+use super::{check_sink, positive_mm, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct CreepArgs {
@@ -65,6 +65,8 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         csv,
         sink,
     } = a;
+    let sink = sink.sink();
+    check_sink(&sink)?;
     anyhow::ensure!(
         normal_force_n.is_finite() && normal_force_n > 0.0,
         "--normal-force-n {normal_force_n}: expected a positive force in N (a lifted wheel has no creep forces)"
@@ -116,11 +118,11 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         ..SweepSettings::default()
     };
     let summary = sweep::summary_markdown(&models, &patch, spin, &settings);
-    let sink = sink.sink();
-    {
+    let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::creep::blueprint)?;
         inspect::creep::record(&rec, &models, &patch, spin, &settings, &summary)?;
-    }
+        inspect::finish_recording(&rec, &sink)
+    };
     print!("{summary}");
     if let Some(path) = csv {
         let mut rows = Vec::new();
@@ -132,6 +134,6 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         sweep::write_csv(&path, &rows).with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {} ({} rows)", path.display(), rows.len());
     }
-    println!("{}", describe(&sink));
+    println!("{}", delivered);
     Ok(())
 }

@@ -11,7 +11,7 @@ use kecsim::contact::lookup::{LookupTable1, LookupTable2};
 use kecsim::contact::report::{kec_error_markdown, kec_irregularity_errors, kec_summary};
 use kecsim::inspect;
 
-use super::{describe, title, PairArgs, SinkArgs, TableArgs};
+use super::{check_sink, title, PairArgs, SinkArgs, TableArgs};
 
 #[derive(Args)]
 pub(super) struct KecArgs {
@@ -38,6 +38,8 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
         accuracy,
         sink,
     } = a;
+    let sink = sink.sink();
+    check_sink(&sink)?;
     let pair = pair.pair()?;
     let title = title("kec", &pair);
     let l_w = pair.wheelset.l_w();
@@ -62,11 +64,11 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
         summary += "\nWith irregularities (max error against the online approximate constraints, 41 y per case; 2-entry table gv step 1 mm; the 1-entry table sees only al, vp, cl through Eq. 44–46):\n\n";
         summary += &kec_error_markdown(&rows);
     }
-    let sink = sink.sink();
-    {
+    let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
         inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
-    }
+        inspect::finish_recording(&rec, &sink)
+    };
     print!("{summary}");
     if let Some(path) = csv {
         model
@@ -74,6 +76,6 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
             .with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {}", path.display());
     }
-    println!("{}", describe(&sink));
+    println!("{}", delivered);
     Ok(())
 }

@@ -12,9 +12,9 @@ mod progress;
 mod run;
 mod track;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 
 use kecsim::contact::lookup::TableSettings;
@@ -33,33 +33,51 @@ use kecsim::track::TrackGauge;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Lift the resource limits (grid points, samples, irregularity nodes, track length) that
+    /// guard against an input that would exhaust the machine (see the README).
+    #[arg(long, global = true)]
+    no_limits: bool,
 }
 
+/// Every command takes negative numbers as values (`--step -1` is then reported as a bad step,
+/// not as an unknown argument).
 #[derive(Subcommand)]
 enum Command {
     /// Run a scenario (the embedded default when none is given), streaming it to the recording.
+    #[command(allow_negative_numbers = true)]
     Run(run::RunArgs),
     /// The same scene with several contact models: differences of every wheelset (the paper's
     /// Fig. 18-19) and the cost of each, printed and recorded.
+    #[command(allow_negative_numbers = true)]
     Compare(compare::CompareArgs),
     /// Record the wheel and rail profiles of both sides placed on the track cross-section.
+    #[command(allow_negative_numbers = true)]
     Profiles(profiles::ProfilesArgs),
     /// Contact geometry sweep over y: lookup table, contact jumps, equivalent conicity (EN 15302).
+    #[command(allow_negative_numbers = true)]
     Contact(contact::ContactArgs),
     /// The KEC-method: knife-edge-equivalent profiles, their kinks, and their accuracy.
+    #[command(allow_negative_numbers = true)]
     Kec(kec::KecArgs),
     /// Creep-force curves (force vs creepage) of the creep-force models for one contact ellipse.
+    #[command(allow_negative_numbers = true)]
     Creep(creep::CreepArgs),
     /// The track: centreline from its sections, curvature, cant, twist, irregularities.
+    #[command(allow_negative_numbers = true)]
     Track(track::TrackArgs),
     /// Write the standard profiles (S1002, 60E1, 54E1) as CSV files, mm.
+    #[command(allow_negative_numbers = true)]
     GenerateProfiles(generate::GenerateArgs),
     /// Print measured speed and error of the building blocks (release builds).
+    #[command(allow_negative_numbers = true)]
     Bench(bench::BenchArgs),
 }
 
 /// Runs the command.
 pub fn run(cli: Cli) -> Result<()> {
+    if cli.no_limits {
+        kecsim::limits::lift();
+    }
     match cli.command {
         Command::Run(a) => run::run(a),
         Command::Compare(a) => compare::run(a),
@@ -160,11 +178,27 @@ struct SinkArgs {
 }
 
 impl SinkArgs {
+    /// The sink to use: a viewer that cannot be reached (`--connect` with nothing listening within
+    /// [`inspect::VIEWER_TIMEOUT`], `--spawn` without `rerun` on PATH) falls back to saving
+    /// `kecsim.rrd`, and says so — before any work, so that nothing waits on an absent viewer.
     fn sink(&self) -> Sink {
+        let fallback = |why: String| {
+            eprintln!(
+                "kecsim: {why}; saving the recording to {} instead",
+                inspect::DEFAULT_RRD
+            );
+            Sink::Save(PathBuf::from(inspect::DEFAULT_RRD))
+        };
         if self.spawn {
-            Sink::Spawn
+            match inspect::viewer_on_path() {
+                true => Sink::Spawn,
+                false => fallback("no Rerun viewer (`rerun`) on PATH to spawn".into()),
+            }
         } else if let Some(url) = &self.connect {
-            Sink::Connect(url.clone())
+            match inspect::probe_viewer(url, inspect::VIEWER_TIMEOUT) {
+                Ok(()) => Sink::Connect(url.clone()),
+                Err(why) => fallback(why),
+            }
         } else {
             Sink::Save(
                 self.save
@@ -172,15 +206,6 @@ impl SinkArgs {
                     .unwrap_or_else(|| PathBuf::from(inspect::DEFAULT_RRD)),
             )
         }
-    }
-}
-
-/// Where the recording went, for the last line of a command's output.
-fn describe(sink: &Sink) -> String {
-    match sink {
-        Sink::Save(p) => format!("saved {}", p.display()),
-        Sink::Spawn => "streamed to the spawned viewer".into(),
-        Sink::Connect(u) => format!("streamed to {u}"),
     }
 }
 
@@ -200,6 +225,57 @@ fn print_pair(pair: &WheelRailPair) {
             .replace("**", "")
             .replace('`', "")
     );
+}
+
+/// Checks, before any work, that `path` can be written as an output file (`flag` names the
+/// option): its directory exists and takes a new file, or the file exists and is writable. A file
+/// that did not exist is not left behind.
+fn check_output_file(flag: &str, path: &Path) -> Result<()> {
+    anyhow::ensure!(
+        !path.is_dir(),
+        "{flag} {}: is a directory; expected a file name",
+        path.display()
+    );
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    anyhow::ensure!(
+        dir.is_dir(),
+        "{flag} {}: the directory {} does not exist",
+        path.display(),
+        dir.display()
+    );
+    let existed = path.exists();
+    std::fs::OpenOptions::new()
+        .append(true)
+        .create(true)
+        .open(path)
+        .with_context(|| format!("{flag} {}: cannot write there", path.display()))?;
+    if !existed {
+        std::fs::remove_file(path).ok();
+    }
+    Ok(())
+}
+
+/// Checks, before any work, that files can be written into the directory `dir` (created if
+/// missing; `flag` names the option).
+fn check_output_dir(flag: &str, dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{flag} {}: cannot create the directory", dir.display()))?;
+    let probe = dir.join(format!(".kecsim-write-check-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .with_context(|| format!("{flag} {}: cannot write into this directory", dir.display()))?;
+    std::fs::remove_file(&probe).ok();
+    Ok(())
+}
+
+/// The sink's own output file, checked as [`check_output_file`] does.
+fn check_sink(sink: &Sink) -> Result<()> {
+    match sink {
+        Sink::Save(p) => check_output_file("--save", p),
+        _ => Ok(()),
+    }
 }
 
 /// A positive length option in mm, converted to m.

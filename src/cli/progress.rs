@@ -9,11 +9,19 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use kecsim::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
 use kecsim::dynamics::RunSummary;
 
-/// A progress bar over the simulated time, in ms, with the real-time factor and the ETA.
+/// A progress bar over the simulated time, in ms, with the real-time factor and the ETA; when
+/// stderr is not a terminal (a batch job, a log file), a progress line every
+/// [`PROGRESS_LINE_EVERY`] of wall time instead, so that a long run shows a sign of life.
 pub struct Progress {
     bar: ProgressBar,
     start: Instant,
+    duration_s: f64,
+    last_line: Instant,
+    every: Duration,
 }
+
+/// Interval of the progress lines written when stderr is not a terminal.
+pub const PROGRESS_LINE_EVERY: Duration = Duration::from_secs(10);
 
 impl Progress {
     /// Drawn on stderr when it is a terminal, hidden otherwise.
@@ -33,6 +41,14 @@ impl Progress {
         Progress {
             bar,
             start: Instant::now(),
+            duration_s: 0.0,
+            last_line: Instant::now(),
+            // KECSIM_PROGRESS_S overrides the interval (tests; batch systems with their own taste).
+            every: std::env::var("KECSIM_PROGRESS_S")
+                .ok()
+                .and_then(|v| v.parse::<f64>().ok())
+                .filter(|v| v.is_finite() && *v >= 0.0)
+                .map_or(PROGRESS_LINE_EVERY, Duration::from_secs_f64),
         }
     }
 }
@@ -41,6 +57,8 @@ impl RunObserver for Progress {
     fn start(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
         self.bar.set_length((run.duration_s * 1e3).round() as u64);
         self.start = Instant::now();
+        self.last_line = self.start;
+        self.duration_s = run.duration_s;
         Ok(())
     }
 
@@ -53,6 +71,19 @@ impl RunObserver for Progress {
                 sample.t,
                 if wall > 0.0 { sample.t / wall } else { 0.0 }
             ));
+        } else if sample.t > 0.0 && self.last_line.elapsed() >= self.every {
+            self.last_line = Instant::now();
+            let wall = self.start.elapsed().as_secs_f64();
+            let rate = sample.t / wall.max(1e-9);
+            eprintln!(
+                "kecsim: t = {:.2} s of {:.2} s simulated ({:.0} %), {:.0} s wall, {:.2}× real time, ETA {:.0} s",
+                sample.t,
+                self.duration_s,
+                100.0 * sample.t / self.duration_s.max(1e-12),
+                wall,
+                rate,
+                (self.duration_s - sample.t).max(0.0) / rate.max(1e-12)
+            );
         }
         Ok(())
     }

@@ -14,12 +14,12 @@ use kecsim::contact::kec::KecModel;
 use kecsim::contact::lookup::{LookupTable1, TableSettings};
 use kecsim::contact::report::kec_summary;
 use kecsim::dynamics::output::CsvWriter;
-use kecsim::dynamics::{RunEnd, RunObserver};
+use kecsim::dynamics::{RunEnd, RunObserver, Stop};
 use kecsim::inspect::{self, run::LiveRecorder};
 use kecsim::scenario::{RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
 
 use super::progress::{Pace, Progress};
-use super::{contact_model_names, describe, print_pair, SinkArgs};
+use super::{check_output_dir, check_output_file, check_sink, contact_model_names, print_pair, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct RunArgs {
@@ -61,6 +61,9 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
     let t = Instant::now();
     let scene = parsed.compile(&origin, &base)?;
     println!("scenario: {} ({origin})", scene.name);
+    for w in &scene.warnings {
+        eprintln!("kecsim: warning: {w}");
+    }
     print_pair(&scene.pair);
     let cf = &scene.contact_forces;
     println!(
@@ -86,15 +89,16 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
     let summary = kec_summary(&format!("kecsim run: {}", scene.name), &geom, &table, &model)
         .map_err(anyhow::Error::msg)?;
     let sink = a.sink.sink();
-    {
+    let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
         inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
-    }
+        inspect::finish_recording(&rec, &sink)
+    };
     print!("{summary}");
     println!(
         "scene preprocessed (profiles placed, contact table, KEC profiles) in {:.2} s wall; {}",
         t.elapsed().as_secs_f64(),
-        describe(&sink)
+        delivered
     );
     Ok(())
 }
@@ -109,6 +113,21 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
             "--pace {x}: expected a positive factor of real time"
         );
     }
+    if let Some(v) = a.speed {
+        anyhow::ensure!(
+            v.is_finite() && (0.0..=150.0).contains(&v),
+            "--speed {v}: expected a forward speed in 0..150 m/s"
+        );
+    }
+    // Every output before any work: a run must not be lost to an unwritable path at its end.
+    if let Some(path) = &a.json {
+        check_output_file("--json", path)?;
+    }
+    if let Some(dir) = &a.csv {
+        check_output_dir("--csv", dir)?;
+    }
+    let sink = a.sink.sink();
+    check_sink(&sink)?;
     let built = scene.build_run(&RunOptions {
         contact: a.contact.clone(),
         speed_m_s: a.speed,
@@ -144,8 +163,18 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         ),
         None => None,
     };
-    let sink = a.sink.sink();
     let mut recorder = LiveRecorder::open(&sink, scene, &names)?;
+    // Ctrl-C / SIGTERM: the run stops at its next output time and everything up to it is
+    // written (a second Ctrl-C ends the process at once).
+    kecsim::interrupt::clear();
+    ctrlc::set_handler(|| {
+        if kecsim::interrupt::request() {
+            eprintln!("\nkecsim: interrupted twice; exiting without finishing the outputs");
+            std::process::exit(130);
+        }
+        eprintln!("\nkecsim: interrupt: stopping at the next output time and writing what was recorded");
+    })
+    .ok();
     let mut progress = Progress::new();
     let mut pace = a.pace.map(Pace::new);
     let out = {
@@ -158,6 +187,7 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         }
         built.run(&mut observers)
     };
+    let delivered = recorder.finish_stream(&sink);
     // The stream's footer is written when the recorder (its last handle) is dropped.
     drop(recorder);
     let summary = &out.summary;
@@ -168,13 +198,18 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         }
     }
     if let Some(path) = &a.json {
-        let text = serde_json::to_string_pretty(summary)?;
+        let mut summary = summary.clone();
+        summary.warnings = scene.warnings.clone();
+        let text = serde_json::to_string_pretty(&summary)?;
         std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {}", path.display());
     }
-    println!("{}", describe(&sink));
+    println!("{}", delivered);
     if let RunEnd::Failed(e) = &out.end {
         anyhow::bail!("the run stopped at t = {:.4} s: {e}", summary.simulated_s);
+    }
+    if let RunEnd::Stopped(Stop::Interrupted { t }) = &out.end {
+        anyhow::bail!("interrupted at t = {t:.4} s; everything recorded up to it is written");
     }
     Ok(())
 }

@@ -7,7 +7,7 @@ use clap::Args;
 
 use kecsim::inspect;
 
-use super::{describe, SinkArgs};
+use super::{check_output_file, check_sink, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct TrackArgs {
@@ -31,6 +31,11 @@ pub(super) fn run(a: TrackArgs) -> Result<()> {
         csv,
         sink,
     } = a;
+    let sink = sink.sink();
+    check_sink(&sink)?;
+    if let Some(path) = &csv {
+        check_output_file("--csv", path)?;
+    }
     let t = std::time::Instant::now();
     let track = match &file {
         Some(path) => kecsim::track::file::read_track(path)?,
@@ -39,11 +44,11 @@ pub(super) fn run(a: TrackArgs) -> Result<()> {
     let build_s = t.elapsed().as_secs_f64();
     let samples = kecsim::track::report::sample(&track, step)?;
     let summary = kecsim::track::report::summary_markdown(&track, &samples);
-    let sink = sink.sink();
-    {
+    let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::track::blueprint)?;
         inspect::track::record(&rec, &track, &samples, &summary)?;
-    }
+        inspect::finish_recording(&rec, &sink)
+    };
     print!("{summary}");
     println!(
         "track built in {:.3} s; {} samples every {step} m",
@@ -54,6 +59,6 @@ pub(super) fn run(a: TrackArgs) -> Result<()> {
         kecsim::track::report::write_csv(&samples, &path)?;
         println!("wrote {}", path.display());
     }
-    println!("{}", describe(&sink));
+    println!("{}", delivered);
     Ok(())
 }

@@ -423,7 +423,23 @@ impl LookupTable1 {
         settings: &TableSettings,
     ) -> Result<Self, TableError> {
         let off = RailOffsets::gauge_variation(gv);
-        let n = ((y_max - y_min) / settings.step_m).round().max(1.0) as usize;
+        let nodes = (y_max - y_min) / settings.step_m;
+        if !(settings.step_m > 0.0 && nodes.is_finite() && nodes >= 0.0) {
+            return Err(TableError::Invalid(format!(
+                "table grid y = {:.4}..{:.4} mm every {} mm: expected a positive step and a finite range",
+                y_min * 1e3,
+                y_max * 1e3,
+                settings.step_m * 1e3
+            )));
+        }
+        crate::limits::check(
+            &format!("table grid points every {:.3e} mm", settings.step_m * 1e3),
+            nodes,
+            crate::limits::MAX_TABLE_NODES,
+            "use a coarser step (intervals are refined where the geometry needs it)",
+        )
+        .map_err(TableError::Invalid)?;
+        let n = (nodes.round().max(1.0)) as usize;
         let grid: Vec<f64> = (0..=n)
             .map(|k| y_min + (y_max - y_min) * k as f64 / n as f64)
             .collect();
@@ -837,6 +853,17 @@ impl LookupTable2 {
                 "a 2-entry table needs at least two increasing gauge variations".into(),
             ));
         }
+        crate::limits::check(
+            &format!(
+                "2-entry table nodes ({} gauge variations × grid points every {:.3e} mm)",
+                gvs.len(),
+                settings.step_m * 1e3
+            ),
+            gvs.len() as f64 * 2.0 * y_max / settings.step_m,
+            crate::limits::MAX_TABLE_NODES,
+            "use fewer gauge variations (a coarser gauge-variation step) or a coarser y step",
+        )
+        .map_err(TableError::Invalid)?;
         let columns = gvs
             .iter()
             .map(|&gv| LookupTable1::build_range(geom, gv, -y_max, y_max, settings))

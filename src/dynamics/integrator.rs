@@ -503,6 +503,15 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             h = (h * fac).min(settings.h_max);
         }
         rejections = 0;
+        // A stop asked for from outside (Ctrl-C, SIGTERM: `crate::interrupt`): end at this step,
+        // with an output here unless the grid just gave one.
+        if crate::interrupt::requested() && t < t_end {
+            let last_out = t0 + (out_index - 1) as f64 * dt_out;
+            if (t - last_out).abs() > 1e-12 * t.abs().max(1.0) {
+                output(t, &x).map_err(out_err(t))?;
+            }
+            return Ok(Completion::Stopped { t });
+        }
     }
     // The end point, if the output grid did not land on it.
     if (next_out - dt_out - t_end).abs() > 1e-9 * dt_out

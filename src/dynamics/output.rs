@@ -139,6 +139,8 @@ pub struct RunSummary {
     /// A derailment (`outcome` = `derailed`): the derailing wheelset's largest |Y/Q| over its
     /// last 2 m (EN 14363's window for Y/Q), its Y/Q history's end.
     pub derailment_max_y_over_q_2m: Option<f64>,
+    /// Physically doubtful input the run went on with (the scenario's warnings).
+    pub warnings: Vec<String>,
 }
 
 impl fmt::Display for RunSummary {

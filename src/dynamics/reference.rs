@@ -26,7 +26,17 @@ impl SpeedProfile {
     }
     /// Distance travelled by the reference, m.
     pub fn distance(&self, t: f64) -> f64 {
+        // A braking ramp stops the vehicle at t_stop = V0/|a| and holds it there (as `at` does).
+        let t = match self.stop_time() {
+            Some(ts) => t.min(ts),
+            None => t,
+        };
         self.initial_m_s * t + 0.5 * self.ramp_m_s2 * t * t
+    }
+
+    /// When a braking ramp brings the speed to zero (None: it never does).
+    pub fn stop_time(&self) -> Option<f64> {
+        (self.ramp_m_s2 < 0.0).then(|| self.initial_m_s / -self.ramp_m_s2)
     }
 }
 

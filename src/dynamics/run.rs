@@ -50,6 +50,8 @@ pub enum Stop {
         t: f64,
         speed_m_s: f64,
     },
+    /// Interrupted (Ctrl-C, SIGTERM: [`crate::interrupt`]) at the output time t.
+    Interrupted { t: f64 },
 }
 
 impl fmt::Display for Stop {
@@ -67,6 +69,7 @@ impl fmt::Display for Stop {
                 y_m.abs() * 1e3,
                 limit_m * 1e3
             ),
+            Stop::Interrupted { .. } => write!(f, "interrupted"),
         }
     }
 }
@@ -252,7 +255,11 @@ pub fn run(
                         return Ok(Flow::Stop);
                     }
                 }
-                stop = settings.stop.check(t, &names, &row);
+                stop = if crate::interrupt::requested() {
+                    Some(Stop::Interrupted { t })
+                } else {
+                    settings.stop.check(t, &names, &row)
+                };
                 Ok(if stop.is_some() {
                     Flow::Stop
                 } else {
@@ -267,6 +274,10 @@ pub fn run(
         (_, Some(e), _) => RunEnd::Failed(RunFailure::Observer(e)),
         (Err(e), None, _) => RunEnd::Failed(RunFailure::Integration(e)),
         (Ok(_), None, Some(s)) => RunEnd::Stopped(s),
+        // Interrupted between two output times (the integrator ends at its step).
+        (Ok(Completion::Stopped { t }), None, None) if crate::interrupt::requested() => {
+            RunEnd::Stopped(Stop::Interrupted { t })
+        }
         (Ok(_), None, None) => RunEnd::Completed,
     };
     let landings = std::mem::take(&mut sys.data.landings);
@@ -375,5 +386,6 @@ fn summarise(
             }),
             _ => None,
         },
+        warnings: Vec::new(),
     }
 }

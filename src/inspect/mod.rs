@@ -65,6 +65,68 @@ pub enum InspectError {
     },
 }
 
+/// How long `--connect` waits for a viewer to answer, and a stream's final flush for it to take
+/// the recording.
+pub const VIEWER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(3);
+
+/// Whether a `rerun` executable is on PATH (what `--spawn` starts).
+pub fn viewer_on_path() -> bool {
+    std::env::var_os("PATH").is_some_and(|paths| {
+        std::env::split_paths(&paths).any(|d| {
+            let p = d.join("rerun");
+            p.is_file() || p.with_extension("exe").is_file()
+        })
+    })
+}
+
+/// Checks that something listens at the viewer URL's host and port (`rerun+http://HOST:PORT/…`;
+/// port 9876 when none is given) within `timeout`; the error says what was tried.
+pub fn probe_viewer(url: &str, timeout: std::time::Duration) -> Result<(), String> {
+    use std::net::{TcpStream, ToSocketAddrs};
+    let rest = url.split_once("://").map_or(url, |(_, r)| r);
+    let authority = rest.split('/').next().unwrap_or("");
+    let hostport = if authority
+        .rsplit_once(':')
+        .is_some_and(|(_, p)| p.parse::<u16>().is_ok())
+    {
+        authority.to_string()
+    } else {
+        format!("{authority}:9876")
+    };
+    let addrs: Vec<_> = hostport
+        .to_socket_addrs()
+        .map_err(|e| format!("cannot resolve the viewer address {hostport} of {url}: {e}"))?
+        .collect();
+    for a in &addrs {
+        if TcpStream::connect_timeout(a, timeout).is_ok() {
+            return Ok(());
+        }
+    }
+    Err(format!(
+        "no Rerun viewer answers at {url} (tried {hostport} for {:.0} s; start one with `rerun`)",
+        timeout.as_secs_f64()
+    ))
+}
+
+/// Ends a recording: a stream to a viewer is flushed within [`VIEWER_TIMEOUT`]; the line to
+/// print says where the recording went, truthfully (a stream the viewer did not take is named
+/// as not delivered). Files are written when the stream's last handle drops.
+pub fn finish_recording(rec: &RecordingStream, sink: &Sink) -> String {
+    match sink {
+        Sink::Save(p) => format!("saved {}", p.display()),
+        Sink::Spawn | Sink::Connect(_) => {
+            let to = match sink {
+                Sink::Connect(u) => u.clone(),
+                _ => "the spawned viewer".into(),
+            };
+            match rec.flush_with_timeout(VIEWER_TIMEOUT) {
+                Ok(()) => format!("streamed to {to}"),
+                Err(e) => format!("NOT delivered: the viewer at {to} did not take the recording ({e})"),
+            }
+        }
+    }
+}
+
 /// Opens a recording stream on `sink` with the layout `blueprint()` builds. A `Spawn` that cannot
 /// start a viewer falls back to saving [`DEFAULT_RRD`] and says so on stderr.
 pub fn open_recording(

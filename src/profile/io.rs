@@ -28,6 +28,8 @@ use crate::spline::SplineError;
 pub const MAX_END_SLOPE: f64 = 50.0;
 /// Smallest lateral extent accepted, mm; less means the file is probably in metres.
 pub const MIN_EXTENT_MM: f64 = 1.0;
+/// Largest lateral or vertical extent accepted, mm; more means a wrong length unit.
+pub const MAX_EXTENT_MM: f64 = 400.0;
 
 /// A point as read, mm, with its 1-based line number.
 #[derive(Debug, Clone, Copy)]
@@ -44,15 +46,17 @@ pub fn read_profile(path: &Path, expected: ProfileKind) -> Result<Profile, Profi
         path: p.clone(),
         source,
     })?;
+    // A byte-order mark (editors on Windows write one) is not part of the first number.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
     let (points, mut notes) = match ext.as_str() {
-        "prw" | "prr" => read_simpack(&p, &text, expected)?,
-        "csv" => (read_csv(&p, &text)?, Vec::new()),
-        _ => (read_columns(&p, &text)?, Vec::new()),
+        "prw" | "prr" => read_simpack(&p, text, expected)?,
+        "csv" => (read_csv(&p, text)?, Vec::new()),
+        _ => (read_columns(&p, text)?, Vec::new()),
     };
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("profile");
     let CheckedPoints { s, z, notes: more } = check_points(&p, points, expected)?;
@@ -320,6 +324,20 @@ fn check_points(
             ),
         ));
     }
+    let (zmin, zmax) = pts
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.z), b.max(p.z)));
+    if ymax - ymin > MAX_EXTENT_MM || zmax - zmin > MAX_EXTENT_MM {
+        return Err(at(
+            path,
+            pts[0].line,
+            format!(
+                "the profile spans {:.1} mm laterally and {:.1} mm vertically: no wheel or rail profile is larger than {MAX_EXTENT_MM} mm, so the length unit looks wrong (profile files are in mm; SIMPACK files scale by units.len.f)",
+                ymax - ymin,
+                zmax - zmin
+            ),
+        ));
+    }
     if pts[pts.len() - 1].y < pts[0].y {
         pts.reverse();
     }
@@ -409,7 +427,73 @@ fn check_points(
             ));
         }
     }
+    if let Some(problem) = shape_problem(kind, &s, &z) {
+        return Err(ProfileError::InFile {
+            path: path.into(),
+            problem,
+        });
+    }
     Ok(CheckedPoints { s, z, notes })
+}
+
+/// Smallest flange height accepted on a wheel profile, m (S1002: 28 mm; worn and tram wheels
+/// 20–25 mm).
+pub const MIN_FLANGE_HEIGHT_M: f64 = 0.010;
+
+/// Whether the points have the shape of their kind (left-side orientation, s towards the field
+/// side, z up; a wheel's taping line at s = z = 0): a wheel has a flange — a point at least
+/// [`MIN_FLANGE_HEIGHT_M`] below the taping line on the inner side (s < 0) — and its field side
+/// (s > 0) does not fall away like a rail head's side; a rail head's highest point lies inside the
+/// profile, with the profile falling from it on both sides. A rail profile given as the wheel (or
+/// a wheel as the rail) is then named as such instead of giving nonsense results.
+pub fn shape_problem(kind: ProfileKind, s: &[f64], z: &[f64]) -> Option<String> {
+    let pts = || s.iter().zip(z);
+    match kind {
+        ProfileKind::Wheel => {
+            let flange = pts()
+                .filter(|(s, _)| **s < 0.0)
+                .map(|(_, z)| *z)
+                .fold(0.0, f64::min);
+            let field = pts()
+                .filter(|(s, _)| **s > 0.0)
+                .map(|(_, z)| *z)
+                .fold(0.0, f64::min);
+            if flange > -MIN_FLANGE_HEIGHT_M {
+                return Some(format!(
+                    "this does not look like a wheel profile: it has no flange (its lowest point on the inner side, y < 0, is {:.1} mm below the taping line; a flange is at least {:.0} mm) — is it a rail profile?",
+                    -flange * 1e3,
+                    MIN_FLANGE_HEIGHT_M * 1e3
+                ));
+            }
+            if field < -0.5 * MIN_FLANGE_HEIGHT_M {
+                return Some(format!(
+                    "this does not look like a wheel profile: its field side (y > 0) falls {:.1} mm below the taping line, as a rail head's side does (a wheel's tread rises towards the field side) — is it a rail profile?",
+                    -field * 1e3
+                ));
+            }
+            None
+        }
+        ProfileKind::Rail => {
+            let (k_top, z_top) =
+                pts().enumerate().fold(
+                    (0, f64::MIN),
+                    |best, (k, (_, z))| if *z > best.1 { (k, *z) } else { best },
+                );
+            let n = s.len();
+            let (w_in, w_out) = (s[k_top] - s[0], s[n - 1] - s[k_top]);
+            let (d_in, d_out) = (z_top - z[0], z_top - z[n - 1]);
+            if w_in < 0.005 || w_out < 0.005 || d_in < 0.001 || d_out < 0.001 {
+                return Some(format!(
+                    "this does not look like a rail profile: a rail head's highest point lies inside the profile with the head falling away on both sides, but here it is {:.1} mm from the inner end and {:.1} mm from the outer end, {:.1} and {:.1} mm above them — is it a wheel profile?",
+                    w_in * 1e3,
+                    w_out * 1e3,
+                    d_in * 1e3,
+                    d_out * 1e3
+                ));
+            }
+            None
+        }
+    }
 }
 
 /// Writes a profile as CSV (`y_mm,z_mm`, z up, left-side orientation) with `#` comment lines

@@ -65,6 +65,11 @@ impl fmt::Display for Inclination {
     }
 }
 
+/// Steepest rail inclination accepted, 1:N (rails are inclined 1:20 to 1:40; 1:1 is 45°).
+pub const MIN_INCLINATION_N: f64 = 5.0;
+/// Flattest rail inclination accepted, 1:N (flatter is `upright`).
+pub const MAX_INCLINATION_N: f64 = 1000.0;
+
 impl FromStr for Inclination {
     type Err = String;
     /// `1:40`, `1:20`, `upright` (or `0`, `none`).
@@ -79,8 +84,13 @@ impl FromStr for Inclination {
             one.trim().parse().map_err(|_| bad())?,
             n.trim().parse().map_err(|_| bad())?,
         );
-        if one != 1.0 || !n.is_finite() || n < 1.0 {
+        if one != 1.0 || !n.is_finite() {
             return Err(bad());
+        }
+        if !(MIN_INCLINATION_N..=MAX_INCLINATION_N).contains(&n) {
+            return Err(format!(
+                "inclination '{s}': 1:{n} is no rail cant (rails are inclined 1:20 to 1:40; accepted 1:{MIN_INCLINATION_N} to 1:{MAX_INCLINATION_N}, or 'upright')"
+            ));
         }
         Ok(Self::one_in(n))
     }
@@ -134,6 +144,61 @@ impl WheelsetGeometry {
 pub enum PlacementError {
     #[error("rail profile '{name}': {problem}")]
     Rail { name: String, problem: String },
+    /// Gauge and wheelset dimensions out of range or not fitting each other.
+    #[error("{0}")]
+    Dimensions(String),
+}
+
+/// Range of the track gauge accepted, m (narrow 600 mm … broad 1676 mm, with room).
+pub const GAUGE_RANGE_M: (f64, f64) = (0.5, 2.0);
+/// Range of the nominal wheel radius accepted, m (tram and freight wheels: 0.25 … 0.55 m).
+pub const NOMINAL_RADIUS_RANGE_M: (f64, f64) = (0.1, 1.0);
+/// Range of gauge − back-to-back accepted, m: the two flanges (about 32 mm each) and their play
+/// must fit between the rails (standard gauge: 1435 − 1360 = 75 mm).
+pub const FLANGEWAY_RANGE_M: (f64, f64) = (0.04, 0.13);
+
+/// Checks the gauge and the wheelset's dimensions against their ranges and against each other:
+/// every problem, one per line.
+pub fn dimension_problems(gauge: &TrackGauge, wheelset: &WheelsetGeometry) -> Vec<String> {
+    let mut p = Vec::new();
+    let mut range = |name: &str, v: f64, (lo, hi): (f64, f64)| {
+        if !(v.is_finite() && v >= lo && v <= hi) {
+            p.push(format!(
+                "{name} {:.1} mm: expected {:.0}..{:.0} mm",
+                v * 1e3,
+                lo * 1e3,
+                hi * 1e3
+            ));
+        }
+    };
+    range("gauge", gauge.gauge_m, GAUGE_RANGE_M);
+    range("gauge measuring depth", gauge.measuring_depth_m, (0.001, 0.03));
+    range(
+        "nominal wheel radius",
+        wheelset.nominal_radius_m,
+        NOMINAL_RADIUS_RANGE_M,
+    );
+    range(
+        "rolling circle from the flange back",
+        wheelset.rolling_circle_from_back_m,
+        (0.0, 0.2),
+    );
+    range("back-to-back", wheelset.back_to_back_m, (0.4, 2.0));
+    if p.is_empty() {
+        let play = gauge.gauge_m - wheelset.back_to_back_m;
+        let (lo, hi) = FLANGEWAY_RANGE_M;
+        if !(lo..=hi).contains(&play) {
+            p.push(format!(
+                "back-to-back {:.1} mm does not fit the {:.1} mm gauge: gauge − back-to-back = {:.1} mm, expected {:.0}..{:.0} mm (two flanges and their play; standard 1435 − 1360 = 75 mm)",
+                wheelset.back_to_back_m * 1e3,
+                gauge.gauge_m * 1e3,
+                play * 1e3,
+                lo * 1e3,
+                hi * 1e3
+            ));
+        }
+    }
+    p
 }
 
 /// Where a rail profile sits on the track cross-section (left side; the right is its mirror).
@@ -290,6 +355,10 @@ impl WheelRailPair {
                     wheel.kind, rail.kind
                 ),
             });
+        }
+        let problems = dimension_problems(&gauge, &wheelset);
+        if !problems.is_empty() {
+            return Err(PlacementError::Dimensions(problems.join("; ")));
         }
         let rail_placement = RailPlacement::new(&rail, inclination, gauge)?;
         Ok(WheelRailPair {

@@ -165,14 +165,22 @@ pub struct Scene {
     pub track: Option<Arc<crate::track::Track>>,
     /// The simulation and its vehicle, when the scenario has both.
     pub simulation: Option<(SimulationSpec, VehicleSpec)>,
+    /// Physically doubtful but possible values, each naming its key (the run goes on; the command
+    /// prints them and the JSON summary carries them).
+    pub warnings: Vec<String>,
 }
 
 impl Scenario {
     /// Parses scenario text; `origin` names it in errors (a path or `<embedded default>`).
     pub fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
+        // A byte-order mark (editors on Windows write one) is not TOML.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut s: Self = toml::from_str(text).map_err(|e| ScenarioError::Parse {
             path: origin.to_string(),
-            message: e.to_string().trim_end().to_string(),
+            message: match e.span().and_then(|span| relocate(text, span.start, e.message())) {
+                Some(better) => better,
+                None => e.to_string().trim_end().to_string(),
+            },
         })?;
         s.source = text.to_string();
         Ok(s)
@@ -192,6 +200,7 @@ impl Scenario {
     /// Collects all problems before failing.
     pub fn compile(&self, origin: &str, base: &Path) -> Result<Scene, ScenarioError> {
         let mut problems = Vec::new();
+        let mut warnings = Vec::new();
         if self.schema_version != SCHEMA_VERSION {
             problems.push(format!(
                 "schema_version = {}: this kecsim reads schema_version = {SCHEMA_VERSION}",
@@ -250,6 +259,12 @@ impl Scenario {
                 problems.extend(sim.problems());
                 problems.extend(
                     veh.problems()
+                        .into_iter()
+                        .chain(veh.spacing_problems(self.wheelset.nominal_radius_m))
+                        .map(|p| locate(origin, &self.source, &p)),
+                );
+                warnings.extend(
+                    veh.doubtful()
                         .into_iter()
                         .map(|p| locate(origin, &self.source, &p)),
                 );
@@ -318,8 +333,46 @@ impl Scenario {
             contact_forces,
             track,
             simulation,
+            warnings,
         })
     }
+}
+
+/// A TOML error inside a tagged table (`[vehicle]` with its `kind`, `[[vehicle.elements]]` with
+/// its `type`) is reported by the parser at the table's header, since serde reads such a table as
+/// a whole. This finds the line the message is about — the value or key it quotes in backticks
+/// or double quotes (`unknown variant \`w\``, `unknown field \`foo\``), searched from the header
+/// to the end of the file — and reports it: `line N: MESSAGE (LINE TEXT)`. None when the error is
+/// not at a header or nothing quoted is found.
+fn relocate(text: &str, at: usize, message: &str) -> Option<String> {
+    let header = text.get(at..)?.trim_start();
+    if !header.starts_with('[') {
+        return None;
+    }
+    let token = message
+        .split('`')
+        .nth(1)
+        .or_else(|| message.split('"').nth(1))
+        .filter(|t| !t.is_empty())?;
+    let rest = &text[at..];
+    let mut offset = at;
+    for line in rest.split_inclusive('\n') {
+        let body = line.split('#').next().unwrap_or("");
+        let as_value = body.contains(&format!("\"{token}\""));
+        let as_key = body.trim_start().starts_with(token)
+            && body.trim_start()[token.len()..].trim_start().starts_with('=');
+        let in_inline = body.contains(&format!("{token} =")) || body.contains(&format!("{token}="));
+        if as_value || as_key || in_inline {
+            return Some(format!(
+                "line {}: {} (`{}`)",
+                crate::track::file::line_of(text, offset),
+                message.trim_end(),
+                line.trim()
+            ));
+        }
+        offset += line.len();
+    }
+    None
 }
 
 /// A vehicle problem with the file and line of the entry it names (`vehicle.wheelsets[w1]…`: the

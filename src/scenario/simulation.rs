@@ -323,6 +323,59 @@ pub fn reference(
     }
 }
 
+/// What a run of `sim` on `reference` would do that it cannot: brake to a standstill (the
+/// creepages need a rolling speed), leave the track, or record more samples than
+/// [`crate::limits::MAX_RUN_SAMPLES`] — found before any work, with the value to change.
+pub fn run_extent_problems(
+    sim: &SimulationSpec,
+    vehicle: &VehicleSpec,
+    reference: &Reference,
+) -> Vec<String> {
+    let mut p = Vec::new();
+    let d = sim.duration_s;
+    let speed = reference.speed;
+    if speed.initial_m_s <= 0.0 && speed.ramp_m_s2 <= 0.0 {
+        p.push(format!(
+            "simulation: speed {} m/s with ramp {} m/s² never moves the vehicle (the creepages need a rolling speed)",
+            speed.initial_m_s, speed.ramp_m_s2
+        ));
+    } else if let Some(ts) = speed.stop_time().filter(|&ts| ts < d) {
+        p.push(format!(
+            "simulation: the speed ramp {} m/s² brings the vehicle from {} m/s to a standstill at t = {ts:.3} s, within duration_s = {d} s (the creepages need a rolling speed): end the run before it (duration_s < {ts:.3}) or brake less",
+            speed.ramp_m_s2, speed.initial_m_s
+        ));
+    }
+    if let Some(track) = &reference.track {
+        let (_, end) = track.centreline.range();
+        let front = reference.s0 + vehicle.front_offset_m();
+        let travel = speed.distance(d);
+        if front + travel > end {
+            // Time at which the front reaches the end: v t + a t²/2 = end − front.
+            let room = (end - front).max(0.0);
+            let (v, a) = (speed.initial_m_s, speed.ramp_m_s2);
+            let t_end = if a.abs() < 1e-12 {
+                room / v.max(1e-12)
+            } else {
+                (-v + (v * v + 2.0 * a * room).max(0.0).sqrt()) / a
+            };
+            p.push(format!(
+                "simulation: the vehicle's front reaches the end of the track (s = {end:.1} m) at t = {t_end:.3} s, within duration_s = {d} s: shorten duration_s to at most {:.3} s, or lengthen the track",
+                t_end
+            ));
+        }
+    }
+    let rows = d * sim.record_rate_hz * vehicle.wheelset_count() as f64;
+    if let Err(e) = crate::limits::check(
+        "output samples (duration_s × record_rate_hz × wheelsets)",
+        rows,
+        crate::limits::MAX_RUN_SAMPLES,
+        "lower record_rate_hz or duration_s",
+    ) {
+        p.push(format!("simulation: {e}"));
+    }
+    p
+}
+
 impl super::Scene {
     /// Builds the objects of the scene's run with `options` (contact model, vehicle system with
     /// its static settling, reference, settings) — the preprocessing, timed.
@@ -339,9 +392,13 @@ impl super::Scene {
                 "--speed {speed}: expected 0 ..= 200 m/s"
             )));
         }
+        let reference = reference(sim, vehicle, self.track.clone(), speed);
+        let problems = run_extent_problems(sim, vehicle, &reference);
+        if !problems.is_empty() {
+            return Err(BuildError::Options(problems.join("; ")));
+        }
         let t = Instant::now();
         let model = contact.build(&self.pair)?;
-        let reference = reference(sim, vehicle, self.track.clone(), speed);
         let vehicle = build_vehicle(
             vehicle,
             model,

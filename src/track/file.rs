@@ -525,6 +525,7 @@ fn parse_err(origin: &str, e: toml::de::Error) -> TrackError {
 /// Builds a track from the text of a track file or of a scenario file (recognised by its
 /// `[profiles]` table); `origin` names it, `base` is where relative paths start.
 pub fn track_from_text(text: &str, origin: &str, base: &Path) -> Result<Track, TrackError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let table: toml::Table = toml::from_str(text).map_err(|e| parse_err(origin, e))?;
     if table.contains_key("profiles") {
         let scenario: ScenarioTrack = toml::from_str(text).map_err(|e| parse_err(origin, e))?;

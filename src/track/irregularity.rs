@@ -231,11 +231,16 @@ impl SplitMix64 {
     }
 }
 
+/// The automatic number of cosines: the smallest with ΔΩ ≤ π/L, at least 500.
+fn cosine_count(g: &Generation, length_m: f64) -> usize {
+    let (w0, w1) = g.band();
+    ((length_m.max(1.0) * (w1 - w0) / std::f64::consts::PI).ceil() as usize).max(500)
+}
+
 /// The cosine series of each irregularity for a track of length `length_m` (see the module doc).
 pub fn cosine_sums(g: &Generation, length_m: f64) -> [CosineSum; 4] {
     let (w0, w1) = g.band();
-    let auto = ((length_m.max(1.0) * (w1 - w0) / std::f64::consts::PI).ceil() as usize).max(500);
-    let n = g.cosines.unwrap_or(auto);
+    let n = g.cosines.unwrap_or_else(|| cosine_count(g, length_m));
     let dw = (w1 - w0) / n as f64;
     Channel::ALL.map(|ch| {
         let mut rng = SplitMix64(g.seed ^ (0xA076_1D64_78BD_642F_u64.wrapping_mul(ch as u64 + 1)));
@@ -317,11 +322,45 @@ impl Irregularities {
             )));
         }
         let length = to_m - from_m;
-        let sums = cosine_sums(g, length);
         let step = g.step_m.unwrap_or(g.wavelength_min_m / 10.0);
+        let nodes_needed = length / step + 1.0;
+        let cosines_needed = g
+            .cosines
+            .map_or_else(|| cosine_count(g, length) as f64, |n| n as f64);
+        let limits = [
+            crate::limits::check(
+                &format!("irregularity nodes over {length:.0} m every {step:.3e} m"),
+                nodes_needed,
+                crate::limits::MAX_IRREGULARITY_NODES,
+                "raise step_m or wavelength_min_m (the default step is wavelength_min_m/10), or shorten the track",
+            ),
+            crate::limits::check(
+                &format!(
+                    "cosines per irregularity for {length:.0} m over {}..{} m wavelengths",
+                    g.wavelength_min_m, g.wavelength_max_m
+                ),
+                cosines_needed,
+                crate::limits::MAX_COSINES,
+                "raise wavelength_min_m, or set cosines",
+            ),
+            crate::limits::check(
+                "irregularity generation work (cosines × nodes × 4)",
+                4.0 * cosines_needed * nodes_needed,
+                crate::limits::MAX_GENERATION_WORK,
+                "raise wavelength_min_m or step_m, set fewer cosines, or shorten the track",
+            ),
+        ];
+        if let Some(Err(e)) = limits.into_iter().find(|r| r.is_err()) {
+            return Err(TrackError::Limit(e));
+        }
+        let sums = cosine_sums(g, length);
         let n = ((length / step).ceil() as usize).max(1) + 1;
         let h = length / (n - 1) as f64;
-        let s: Vec<f64> = (0..n).map(|j| from_m + j as f64 * h).collect();
+        // The last node exactly at the track's end (j h rounds below it: the track's last metre
+        // was then outside the irregularities by 1e-13 m, and `kecsim track` failed at its end).
+        let s: Vec<f64> = (0..n)
+            .map(|j| if j + 1 == n { to_m } else { from_m + j as f64 * h })
+            .collect();
         let mut nodes = vec![[[0.0; 4]; 3]; n];
         for (c, sum) in sums.iter().enumerate() {
             for k in 0..sum.omega.len() {
@@ -512,6 +551,30 @@ mod tests {
                 assert!(rel < tol, "channel {c} derivative {q}: relative error {rel:e}");
             }
         }
+    }
+
+    /// The generated range is exactly the track's: the last node is its end (with j·h it was
+    /// 1e-13 m short on the Tab. 6 kilometre, and evaluating the track's end failed).
+    #[test]
+    fn generated_irregularities_cover_the_whole_track() {
+        let g = Generation::new(Psd::GermanLow, 1);
+        for (a, b) in [(0.0, 1000.0), (10.0, 210.0), (0.3, 999.7)] {
+            let (irr, _) = Irregularities::generate(&g, a, b).unwrap();
+            assert_eq!(irr.range(), (a, b));
+            assert!(irr.eval(b).is_ok() && irr.eval(a).is_ok());
+        }
+    }
+
+    /// An oversized request is refused with the limit before anything is allocated.
+    #[test]
+    fn oversized_generation_is_refused_before_allocating() {
+        let mut g = Generation::new(Psd::GermanLow, 1);
+        g.step_m = Some(1e-9);
+        let e = Irregularities::generate(&g, 0.0, 1000.0)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("irregularity nodes") && e.contains("limit"), "{e}");
     }
 
     #[test]

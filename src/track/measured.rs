@@ -42,6 +42,7 @@ pub fn read_csv(path: &Path) -> Result<Irregularities, TrackError> {
 
 /// Parses irregularity CSV text; `origin` names it in errors.
 pub fn parse_csv(text: &str, origin: &str) -> Result<Irregularities, TrackError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
         .comment(Some(b'#'))
@@ -181,7 +182,7 @@ pub fn from_samples(s: Vec<f64>, values: &[[f64; 4]], origin: Origin) -> Result<
 
 /// Writes the irregularities at their nodes: `s_m`, `al_mm`, `vp_mm`, `gv_mm`, `cl_mm`.
 pub fn write_csv(irr: &Irregularities, path: &Path) -> Result<(), TrackError> {
-    let io = |source: std::io::Error| TrackError::Io {
+    let io = |source: std::io::Error| TrackError::Write {
         path: path.display().to_string(),
         source,
     };

@@ -35,6 +35,15 @@ pub enum TrackError {
         #[source]
         source: std::io::Error,
     },
+    /// A size the input implies is above a resource limit ([`crate::limits`]).
+    #[error("{0}")]
+    Limit(String),
+    #[error("{path}: cannot write: {source}")]
+    Write {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
     /// Syntax, unknown key, wrong type: the TOML message carries line and column.
     #[error("{path}: {message}")]
     Parse { path: String, message: String },

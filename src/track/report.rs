@@ -46,11 +46,18 @@ pub struct Sample {
 /// Samples the track every `step_m` from its start, the end included.
 pub fn sample(track: &Track, step_m: f64) -> Result<Vec<Sample>, TrackError> {
     if !(step_m.is_finite() && step_m > 0.0) {
-        return Err(TrackError::Irregularity(format!(
+        return Err(TrackError::Limit(format!(
             "--step {step_m}: expected a positive length in m"
         )));
     }
     let (a, b) = track.centreline.range();
+    crate::limits::check(
+        &format!("sampling the track every {step_m:.3e} m"),
+        (b - a) / step_m,
+        crate::limits::MAX_GRID_POINTS,
+        "use a coarser --step",
+    )
+    .map_err(TrackError::Limit)?;
     let n = ((b - a) / step_m + 1e-9).floor() as usize;
     let mut s: Vec<f64> = (0..=n).map(|k| a + k as f64 * step_m).collect();
     if b - s[n] > 1e-9 {
@@ -70,7 +77,7 @@ pub fn sample(track: &Track, step_m: f64) -> Result<Vec<Sample>, TrackError> {
 
 /// Writes the samples as CSV ([`CSV_COLUMNS`]; lengths in m, irregularities in mm).
 pub fn write_csv(samples: &[Sample], path: &Path) -> Result<(), TrackError> {
-    let io = |source: std::io::Error| TrackError::Io {
+    let io = |source: std::io::Error| TrackError::Write {
         path: path.display().to_string(),
         source,
     };

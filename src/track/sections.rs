@@ -172,6 +172,14 @@ fn check_ranges(ranges: &[(f64, f64)], what: &str, problems: &mut Vec<(usize, St
             ));
             continue;
         }
+        if let Err(e) = crate::limits::check(
+            &format!("a track section ending at s = {to} m"),
+            to.abs().max(from.abs()),
+            crate::limits::MAX_TRACK_LENGTH_M,
+            "a track of that length is beyond what a run covers; shorten it",
+        ) {
+            problems.push((i, e));
+        }
         if to < from {
             problems.push((i, format!("negative length: from_m = {from} > to_m = {to}")));
         } else if to - from < 1e-6 {

@@ -89,6 +89,102 @@ impl VehicleSpec {
         }
     }
 
+    /// The frontmost body's or wheelset's nominal position along the vehicle (≥ 0; the single
+    /// wheelset: 0), m.
+    pub fn front_offset_m(&self) -> f64 {
+        match self {
+            VehicleSpec::WheelsetOnFrame(_) => 0.0,
+            VehicleSpec::Multibody(m) => m
+                .bodies
+                .iter()
+                .map(|b| b.position_m[0])
+                .chain(m.wheelsets.iter().map(|w| w.x_m))
+                .fold(0.0_f64, f64::max),
+        }
+    }
+
+    /// Number of wheelsets.
+    pub fn wheelset_count(&self) -> usize {
+        match self {
+            VehicleSpec::WheelsetOnFrame(_) => 1,
+            VehicleSpec::Multibody(m) => m.wheelsets.len(),
+        }
+    }
+
+    /// Wheelsets closer to each other than their wheels' diameter (2 r0): two wheelsets at one
+    /// position, or wheels that would overlap.
+    pub fn spacing_problems(&self, r0: f64) -> Vec<String> {
+        let VehicleSpec::Multibody(m) = self else {
+            return Vec::new();
+        };
+        let mut p = Vec::new();
+        for (i, a) in m.wheelsets.iter().enumerate() {
+            for b in &m.wheelsets[i + 1..] {
+                let gap = (a.x_m - b.x_m).abs();
+                if gap < 2.0 * r0 {
+                    p.push(format!(
+                        "vehicle.wheelsets[{}]: x_m = {} is {gap:.3} m from wheelset {} (x_m = {}): their wheels (diameter {:.0} mm) would overlap",
+                        b.name,
+                        b.x_m,
+                        a.name,
+                        a.x_m,
+                        2e3 * r0
+                    ));
+                }
+            }
+        }
+        p
+    }
+
+    /// Physically doubtful but possible values (warnings, each naming its key): masses and radii
+    /// of gyration outside what rail vehicles have.
+    pub fn doubtful(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        // Radius of gyration sqrt(I/m) of a body of mass m about axis k.
+        let mut gyration = |what: String, mass: f64, inertia: &[f64], lo: f64, hi: f64| {
+            for (k, i) in inertia.iter().enumerate() {
+                let r = (i / mass).sqrt();
+                if r.is_finite() && !(lo..=hi).contains(&r) {
+                    w.push(format!(
+                        "vehicle.{what}.inertia_kg_m2[{k}] = {i}: radius of gyration {r:.3} m for {mass} kg, outside the {lo}..{hi} m of rail vehicles' bodies — check the value and its unit"
+                    ));
+                }
+            }
+        };
+        match self {
+            VehicleSpec::WheelsetOnFrame(f) => {
+                gyration(
+                    "wheelset".into(),
+                    f.wheelset.mass_kg,
+                    &f.wheelset.inertia_kg_m2,
+                    0.1,
+                    2.0,
+                );
+            }
+            VehicleSpec::Multibody(m) => {
+                for b in &m.bodies {
+                    gyration(
+                        format!("bodies[{}]", b.name),
+                        b.mass_kg,
+                        &b.inertia_kg_m2,
+                        0.1,
+                        30.0,
+                    );
+                }
+                for ws in &m.wheelsets {
+                    gyration(
+                        format!("wheelsets[{}]", ws.name),
+                        ws.mass_kg,
+                        &ws.inertia_kg_m2,
+                        0.1,
+                        2.0,
+                    );
+                }
+            }
+        }
+        w
+    }
+
     /// Problems with the values (empty when valid), each naming its key.
     pub fn problems(&self) -> Vec<String> {
         let mut p = Vec::new();
@@ -330,7 +426,14 @@ impl MultibodySpec {
                     .copy_from(&(-sign * arm.cross_matrix()));
             }
         }
-        let rank = jac.rank(1e-9 * jac.amax().max(1.0));
+        // Non-finite or absurd positions are reported on their own; an SVD of them may not
+        // converge (nalgebra's loops forever on NaN), so it gets an iteration limit.
+        if !jac.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let eps = 1e-9 * jac.amax().max(1.0);
+        let svd = nalgebra::linalg::SVD::try_new(jac, false, false, f64::EPSILON, 1000)?;
+        let rank = svd.singular_values.iter().filter(|&&v| v > eps).count();
         (rank < 3 * nj).then(|| {
             format!(
                 "vehicle.joints: over-constrained — {nj} spherical joints give {} independent constraints of {} (two joints between the same bodies, or a closed loop): their reactions are undetermined",

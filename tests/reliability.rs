@@ -1,0 +1,558 @@
+//! Reliability (issue 17): hostile but realistic input gets a clear error, quickly, before any
+//! work; nothing hangs on an absent viewer; an interrupted run keeps what it recorded. One test
+//! per class of bad input; each runs the binary with a deadline (a hang fails the test, it does
+//! not stall the suite).
+
+mod common;
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::tmpdir;
+
+/// The binary's result: exit success, stdout, stderr and wall time.
+struct Outcome {
+    ok: bool,
+    stdout: String,
+    stderr: String,
+    wall: Duration,
+}
+
+fn spawn(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Child {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_kecsim"));
+    c.args(args)
+        .current_dir(cwd)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.spawn().expect("kecsim starts")
+}
+
+/// Waits for `child` at most `deadline`; a process still running then is killed and the test
+/// fails as a hang.
+fn finish(mut child: Child, deadline: Duration, what: &str) -> Outcome {
+    let t = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            let mut stdout = String::new();
+            let mut stderr = String::new();
+            child.stdout.take().unwrap().read_to_string(&mut stdout).ok();
+            child.stderr.take().unwrap().read_to_string(&mut stderr).ok();
+            return Outcome {
+                ok: status.success(),
+                stdout,
+                stderr,
+                wall: t.elapsed(),
+            };
+        }
+        if t.elapsed() > deadline {
+            child.kill().ok();
+            panic!("`kecsim {what}` hung: still running after {deadline:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn run(args: &[&str], cwd: &Path, deadline_s: u64) -> Outcome {
+    finish(
+        spawn(args, cwd, &[]),
+        Duration::from_secs(deadline_s),
+        &args.join(" "),
+    )
+}
+
+/// Runs `args`, expects a failure within `deadline_s` whose message contains every one of
+/// `needles`.
+fn rejects(args: &[&str], cwd: &Path, deadline_s: u64, needles: &[&str]) -> Outcome {
+    let out = run(args, cwd, deadline_s);
+    assert!(
+        !out.ok,
+        "`kecsim {}` was accepted:\n{}",
+        args.join(" "),
+        out.stdout
+    );
+    // Refused before any work: within seconds, not after a computation.
+    assert!(
+        out.wall < Duration::from_secs(15),
+        "`kecsim {}` was refused only after {:?}",
+        args.join(" "),
+        out.wall
+    );
+    for n in needles {
+        assert!(
+            out.stderr.contains(n),
+            "`kecsim {}`: the message does not say {n:?}:\n{}",
+            args.join(" "),
+            out.stderr
+        );
+    }
+    assert!(
+        !out.stderr.contains("panicked"),
+        "`kecsim {}` panicked:\n{}",
+        args.join(" "),
+        out.stderr
+    );
+    out
+}
+
+/// A small scenario: the single wheelset on a straight kilometre with irregularities; `edit`
+/// replaces text in it.
+fn scenario(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let mut text = String::from(
+        r#"schema_version = 1
+name = "reliability"
+
+[profiles]
+wheel = "s1002"
+rail = "60e1"
+inclination = "1:40"
+
+[track]
+gauge_m = 1.435
+horizontal = [
+  { type = "straight", from_m = 0.0, to_m = 1000.0 },
+]
+
+[track.irregularities]
+psd = "german-low"
+seed = 1
+wavelength_min_m = 3.0
+wavelength_max_m = 80.0
+
+[simulation]
+speed_m_s = 20.0
+duration_s = 0.5
+record_rate_hz = 100.0
+
+[vehicle]
+kind = "wheelset-on-frame"
+axle_load_n = 100000.0
+
+[vehicle.wheelset]
+mass_kg = 1813.0
+inertia_kg_m2 = [1120.0, 112.0, 1120.0]
+
+[vehicle.tie]
+longitudinal_stiffness_n_per_m = 1.0e6
+lateral_stiffness_n_per_m = 1.0e6
+half_spacing_m = 1.0
+"#,
+    );
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from} not in the scenario");
+        text = text.replacen(from, to, 1);
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// A free local TCP port (bound, then released): nothing listens there.
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+#[test]
+fn bad_values_are_named_with_their_option() {
+    let dir = tmpdir("rel-values");
+    rejects(&["contact", "--inclination", "1:1"], &dir, 20, &["1:1", "inclin"]);
+    rejects(
+        &["contact", "--wheel-radius", "0"],
+        &dir,
+        20,
+        &["wheel radius 0.0 mm"],
+    );
+    rejects(
+        &["contact", "--back-to-back", "5000"],
+        &dir,
+        20,
+        &["back-to-back 5000.0 mm"],
+    );
+    rejects(&["bench", "creep", "--calls", "0"], &dir, 20, &["--calls 0"]);
+    // A negative number after a space is a bad value, not an unknown argument.
+    let out = rejects(&["contact", "--step", "-1"], &dir, 20, &["--step -1", "positive"]);
+    assert!(!out.stderr.contains("unexpected argument"), "{}", out.stderr);
+    rejects(&["track", "--step", "-1"], &dir, 20, &["--step -1"]);
+    rejects(&["run", "--speed", "-5"], &dir, 20, &["--speed -5"]);
+}
+
+#[test]
+fn inconsistent_input_is_refused_before_any_work() {
+    let dir = tmpdir("rel-inconsistent");
+    let profiles = Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles");
+    let rail = profiles.join("60e1.csv");
+    let wheel = profiles.join("s1002.csv");
+    // A rail profile given as the wheel, a wheel as the rail.
+    rejects(
+        &["contact", "--wheel", rail.to_str().unwrap()],
+        &dir,
+        20,
+        &["60e1.csv", "does not look like a wheel profile"],
+    );
+    rejects(
+        &["contact", "--rail", wheel.to_str().unwrap()],
+        &dir,
+        20,
+        &["s1002.csv", "does not look like a rail profile"],
+    );
+    // Two wheelsets at one position (the MS vehicle's w2 moved onto w1).
+    let ms = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
+    )
+    .unwrap()
+    .replacen("x_m = 10.124", "x_m = 11.924", 1);
+    let same = dir.join("same_position.toml");
+    std::fs::write(&same, ms).unwrap();
+    rejects(
+        &["run", same.to_str().unwrap()],
+        &dir,
+        30,
+        &["same_position.toml:", "wheelsets[w2]", "would overlap"],
+    );
+    // A braking ramp that would stop the vehicle (and used to drive it backwards past the
+    // track's start while the CSV said speed 0), and a run longer than the track.
+    let ramp = scenario(
+        &dir,
+        "ramp.toml",
+        &[("duration_s = 0.5", "duration_s = 5.0\nspeed_ramp_m_s2 = -10.0")],
+    );
+    let t = Instant::now();
+    rejects(
+        &["run", ramp.to_str().unwrap()],
+        &dir,
+        30,
+        &["standstill at t = 2.000 s"],
+    );
+    let long = scenario(&dir, "long.toml", &[("duration_s = 0.5", "duration_s = 1000.0")]);
+    rejects(
+        &["run", long.to_str().unwrap()],
+        &dir,
+        30,
+        &["end of the track", "at most 50.000 s"],
+    );
+    assert!(
+        t.elapsed() < Duration::from_secs(20),
+        "refused only after work: {:?}",
+        t.elapsed()
+    );
+    // A doubtful value is run, with a warning in the output and the JSON.
+    let doubtful = scenario(
+        &dir,
+        "doubtful.toml",
+        &[("[1120.0, 112.0, 1120.0]", "[0.001, 112.0, 1120.0]")],
+    );
+    let json = dir.join("doubtful.json");
+    let out = run(
+        &[
+            "run",
+            doubtful.to_str().unwrap(),
+            "--json",
+            json.to_str().unwrap(),
+        ],
+        &dir,
+        60,
+    );
+    assert!(out.ok, "{}", out.stderr);
+    assert!(
+        out.stderr.contains("warning") && out.stderr.contains("radius of gyration"),
+        "{}",
+        out.stderr
+    );
+    let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(
+        j["warnings"][0].as_str().unwrap().contains("inertia_kg_m2[0]"),
+        "{j}"
+    );
+}
+
+#[test]
+fn oversized_input_is_refused_with_the_limit_not_an_abort() {
+    let dir = tmpdir("rel-oversize");
+    // Irregularity nodes: 1e12 (an 8 TB allocation before), and a 1 µm wavelength.
+    let step = scenario(
+        &dir,
+        "step.toml",
+        &[(
+            "wavelength_max_m = 80.0",
+            "wavelength_max_m = 80.0\nstep_m = 1e-9",
+        )],
+    );
+    rejects(
+        &["run", step.to_str().unwrap()],
+        &dir,
+        30,
+        &["irregularity nodes", "limit", "--no-limits"],
+    );
+    let wmin = scenario(
+        &dir,
+        "wmin.toml",
+        &[("wavelength_min_m = 3.0", "wavelength_min_m = 1e-6")],
+    );
+    rejects(
+        &["run", wmin.to_str().unwrap()],
+        &dir,
+        30,
+        &["irregularity", "limit"],
+    );
+    let long = scenario(&dir, "longtrack.toml", &[("to_m = 1000.0", "to_m = 1e9")]);
+    rejects(
+        &["run", long.to_str().unwrap()],
+        &dir,
+        30,
+        &["longtrack.toml:", "limit of 5e5"],
+    );
+    // Grids: the contact sweep and the track samples.
+    rejects(
+        &["contact", "--step", "1e-7"],
+        &dir,
+        30,
+        &["table grid points", "limit"],
+    );
+    rejects(
+        &["track", "--step", "1e-6"],
+        &dir,
+        30,
+        &["sampling the track", "limit"],
+    );
+    rejects(
+        &["contact", "--table2-csv", "t2.csv", "--gv-step", "1e-9"],
+        &dir,
+        30,
+        &["gauge variations", "limit"],
+    );
+    // A SIMPACK wheel whose length unit makes it 130 m wide (units.len.f = 1: metres).
+    let prw = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/profiles/MBench_S1002_v3.prw"),
+    )
+    .unwrap()
+    .replace(
+        "units.len.f    = +1.000000000000000e+03",
+        "units.len.f    = +1.000000000000000e-00",
+    );
+    let wide = dir.join("wide.prw");
+    std::fs::write(&wide, prw).unwrap();
+    rejects(
+        &["contact", "--wheel", wide.to_str().unwrap()],
+        &dir,
+        30,
+        &["wide.prw", "length unit"],
+    );
+}
+
+#[test]
+fn unwritable_outputs_are_refused_before_the_run() {
+    let dir = tmpdir("rel-outputs");
+    let sc = scenario(&dir, "sc.toml", &[("duration_s = 0.5", "duration_s = 20.0")]);
+    let file = dir.join("a_file");
+    std::fs::write(&file, "x").unwrap();
+    let under_file = file.join("sub");
+    let save = dir.join("not_written.rrd");
+    let t = Instant::now();
+    rejects(
+        &[
+            "run",
+            sc.to_str().unwrap(),
+            "--json",
+            dir.join("missing_dir/x.json").to_str().unwrap(),
+            "--save",
+            save.to_str().unwrap(),
+        ],
+        &dir,
+        30,
+        &["--json", "does not exist"],
+    );
+    rejects(
+        &["run", sc.to_str().unwrap(), "--csv", under_file.to_str().unwrap()],
+        &dir,
+        30,
+        &["--csv", "cannot create"],
+    );
+    rejects(
+        &["contact", "--table2-csv", under_file.to_str().unwrap()],
+        &dir,
+        30,
+        &["--table2-csv"],
+    );
+    rejects(
+        &["contact", "--table2-csv", "t2.csv", "--gv-step", "0"],
+        &dir,
+        30,
+        &["--gv-step 0"],
+    );
+    assert!(
+        t.elapsed() < Duration::from_secs(15),
+        "checked only after work: {:?}",
+        t.elapsed()
+    );
+    assert!(!save.exists(), "a refused run wrote its recording");
+}
+
+#[test]
+fn an_absent_viewer_falls_back_to_a_file_and_says_so() {
+    let dir = tmpdir("rel-viewer");
+    let sc = scenario(&dir, "sc.toml", &[]);
+    let url = format!("rerun+http://127.0.0.1:{}/proxy", free_port());
+    let json = dir.join("run.json");
+    let out = run(
+        &[
+            "run",
+            sc.to_str().unwrap(),
+            "--connect",
+            &url,
+            "--json",
+            json.to_str().unwrap(),
+        ],
+        &dir,
+        60,
+    );
+    assert!(out.ok, "{}", out.stderr);
+    assert!(out.stderr.contains("no Rerun viewer answers"), "{}", out.stderr);
+    assert!(
+        out.stdout.contains("saved kecsim.rrd") && !out.stdout.contains("streamed"),
+        "{}",
+        out.stdout
+    );
+    assert!(json.exists() && dir.join("kecsim.rrd").exists());
+    common::rerun_verify(&dir.join("kecsim.rrd"));
+    // The same for a command without a simulation.
+    let out = run(&["profiles", "--connect", &url], &dir, 30);
+    assert!(
+        out.ok && out.stdout.contains("saved kecsim.rrd"),
+        "{}{}",
+        out.stdout,
+        out.stderr
+    );
+}
+
+#[test]
+fn an_interrupted_run_keeps_everything_recorded() {
+    let dir = tmpdir("rel-interrupt");
+    let csv = dir.join("csv");
+    let json = dir.join("run.json");
+    let rrd = dir.join("run.rrd");
+    // The default scenario (the MS vehicle's kilometre: tens of seconds of wall time).
+    let child = spawn(
+        &[
+            "run",
+            "--csv",
+            csv.to_str().unwrap(),
+            "--json",
+            json.to_str().unwrap(),
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+        &[],
+    );
+    // Wait until rows are being written, then SIGTERM.
+    let t = Instant::now();
+    let w1 = csv.join("w1.csv");
+    while std::fs::read_to_string(&w1).map_or(0, |s| s.lines().count()) < 20 {
+        assert!(t.elapsed() < Duration::from_secs(120), "no CSV rows after 120 s");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let pid = child.id().to_string();
+    assert!(Command::new("kill")
+        .args(["-TERM", &pid])
+        .status()
+        .unwrap()
+        .success());
+    let out = finish(child, Duration::from_secs(60), "run (interrupted)");
+    assert!(!out.ok, "an interrupted run reports it in its exit status");
+    assert!(out.stderr.contains("interrupted at t ="), "{}", out.stderr);
+    let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(j["stopped"], "interrupted", "{j}");
+    assert_eq!(j["outcome"], "stopped", "{j}");
+    let simulated = j["simulated_s"].as_f64().unwrap();
+    assert!(simulated > 0.1 && simulated < 50.0, "{simulated}");
+    // Every wheelset's CSV holds the rows up to the interrupt.
+    let rows = std::fs::read_to_string(&w1).unwrap().lines().count() - 1;
+    assert_eq!(
+        rows,
+        j["samples"].as_u64().unwrap() as usize,
+        "CSV rows vs JSON samples"
+    );
+    assert!(rrd.exists());
+    common::rerun_verify(&rrd);
+}
+
+#[test]
+fn long_runs_show_progress_without_a_terminal() {
+    let dir = tmpdir("rel-progress");
+    let sc = scenario(&dir, "sc.toml", &[]);
+    let out = finish(
+        spawn(
+            &["run", sc.to_str().unwrap()],
+            &dir,
+            &[("KECSIM_PROGRESS_S", "0")],
+        ),
+        Duration::from_secs(60),
+        "run (progress)",
+    );
+    assert!(out.ok, "{}", out.stderr);
+    assert!(
+        out.stderr.contains("kecsim: t = ") && out.stderr.contains(" %), "),
+        "{}",
+        out.stderr
+    );
+}
+
+#[test]
+fn a_byte_order_mark_is_not_a_bad_number() {
+    let dir = tmpdir("rel-bom");
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/profiles/RUIC519A.dat");
+    let mut bytes = vec![0xEF, 0xBB, 0xBF];
+    bytes.extend(std::fs::read(&src).unwrap());
+    let bom = dir.join("bom_wheel.dat");
+    std::fs::write(&bom, bytes).unwrap();
+    let out = run(
+        &[
+            "contact",
+            "--wheel",
+            bom.to_str().unwrap(),
+            "--inclination",
+            "1:20",
+        ],
+        &dir,
+        60,
+    );
+    assert!(out.ok, "{}", out.stderr);
+    // And a scenario file with one.
+    let sc = scenario(&dir, "sc.toml", &[]);
+    let mut bytes = vec![0xEF, 0xBB, 0xBF];
+    bytes.extend(std::fs::read(&sc).unwrap());
+    std::fs::write(&sc, bytes).unwrap();
+    let out = run(&["run", sc.to_str().unwrap()], &dir, 60);
+    assert!(out.ok, "{}", out.stderr);
+}
+
+#[test]
+fn a_bad_key_inside_a_tagged_table_is_reported_at_its_line() {
+    let dir = tmpdir("rel-axis");
+    let ms = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
+    )
+    .unwrap()
+    .replacen(
+        "type = \"bushing\"",
+        "type = \"bushing\"\nbump_stops = [ { axis = \"w\", clearance_m = 0.01, stiffness_n_per_m = 1e6 } ]",
+        1,
+    );
+    let line = 1 + ms[..ms.find("axis = \"w\"").unwrap()].matches('\n').count();
+    let path = dir.join("axis.toml");
+    std::fs::write(&path, ms).unwrap();
+    rejects(
+        &["run", path.to_str().unwrap()],
+        &dir,
+        30,
+        &[&format!("line {line}:"), "unknown variant `w`"],
+    );
+}
