@@ -430,6 +430,27 @@ fn an_absent_viewer_falls_back_to_a_file_and_says_so() {
         out.stdout,
         out.stderr
     );
+    // `--spawn` with no display for a viewer's window (or no `rerun` on PATH): a file.
+    let mut c = Command::new(env!("CARGO_BIN_EXE_kecsim"));
+    c.args(["profiles", "--spawn"])
+        .current_dir(&dir)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let out = finish(c.spawn().unwrap(), Duration::from_secs(30), "profiles --spawn");
+    assert!(
+        out.ok && out.stdout.contains("saved kecsim.rrd"),
+        "{}{}",
+        out.stdout,
+        out.stderr
+    );
+    assert!(
+        out.stderr.contains("saving the recording to kecsim.rrd instead"),
+        "{}",
+        out.stderr
+    );
 }
 
 #[test]

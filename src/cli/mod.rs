@@ -179,8 +179,8 @@ struct SinkArgs {
 
 impl SinkArgs {
     /// The sink to use: a viewer that cannot be reached (`--connect` with nothing listening within
-    /// [`inspect::VIEWER_TIMEOUT`], `--spawn` without `rerun` on PATH) falls back to saving
-    /// `kecsim.rrd`, and says so — before any work, so that nothing waits on an absent viewer.
+    /// [`inspect::VIEWER_TIMEOUT`], `--spawn` without `rerun` on PATH or without a display) falls
+    /// back to saving `kecsim.rrd`, and says so — before any work, so that nothing waits on an absent viewer.
     fn sink(&self) -> Sink {
         let fallback = |why: String| {
             eprintln!(
@@ -190,9 +190,9 @@ impl SinkArgs {
             Sink::Save(PathBuf::from(inspect::DEFAULT_RRD))
         };
         if self.spawn {
-            match inspect::viewer_on_path() {
-                true => Sink::Spawn,
-                false => fallback("no Rerun viewer (`rerun`) on PATH to spawn".into()),
+            match inspect::spawn_obstacle() {
+                None => Sink::Spawn,
+                Some(why) => fallback(why),
             }
         } else if let Some(url) = &self.connect {
             match inspect::probe_viewer(url, inspect::VIEWER_TIMEOUT) {

@@ -69,6 +69,23 @@ pub enum InspectError {
 /// the recording.
 pub const VIEWER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(3);
 
+/// Why a spawned viewer could not show anything here, if it could not: no `rerun` executable on
+/// PATH, or (Linux) no display for its window (`DISPLAY`, `WAYLAND_DISPLAY` unset: a server, a
+/// container, an ssh session without forwarding).
+pub fn spawn_obstacle() -> Option<String> {
+    if !viewer_on_path() {
+        return Some("no Rerun viewer (`rerun`) on PATH to spawn".into());
+    }
+    if cfg!(target_os = "linux")
+        && std::env::var_os("DISPLAY").is_none()
+        && std::env::var_os("WAYLAND_DISPLAY").is_none()
+        && std::env::var_os("WAYLAND_SOCKET").is_none()
+    {
+        return Some("no display for a spawned viewer (DISPLAY and WAYLAND_DISPLAY are unset)".into());
+    }
+    None
+}
+
 /// Whether a `rerun` executable is on PATH (what `--spawn` starts).
 pub fn viewer_on_path() -> bool {
     std::env::var_os("PATH").is_some_and(|paths| {
@@ -115,13 +132,13 @@ pub fn finish_recording(rec: &RecordingStream, sink: &Sink) -> String {
     match sink {
         Sink::Save(p) => format!("saved {}", p.display()),
         Sink::Spawn | Sink::Connect(_) => {
-            let to = match sink {
-                Sink::Connect(u) => u.clone(),
-                _ => "the spawned viewer".into(),
+            let (to, viewer) = match sink {
+                Sink::Connect(u) => (u.clone(), format!("the viewer at {u}")),
+                _ => ("the spawned viewer".to_string(), "the spawned viewer".to_string()),
             };
             match rec.flush_with_timeout(VIEWER_TIMEOUT) {
                 Ok(()) => format!("streamed to {to}"),
-                Err(e) => format!("NOT delivered: the viewer at {to} did not take the recording ({e})"),
+                Err(e) => format!("NOT delivered: {viewer} did not take the recording ({e})"),
             }
         }
     }
