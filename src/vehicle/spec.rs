@@ -78,28 +78,26 @@ pub struct TieSpec {
 impl VehicleSpec {
     /// The rearmost body's nominal position along the vehicle (≤ 0; the single wheelset: 0), m.
     pub fn rear_offset_m(&self) -> f64 {
-        match self {
-            VehicleSpec::WheelsetOnFrame(_) => 0.0,
-            VehicleSpec::Multibody(m) => m
-                .bodies
-                .iter()
-                .map(|b| b.position_m[0])
-                .chain(m.wheelsets.iter().map(|w| w.x_m))
-                .fold(0.0_f64, f64::min),
-        }
+        self.extent_m().0
     }
 
     /// The frontmost body's or wheelset's nominal position along the vehicle (≥ 0; the single
     /// wheelset: 0), m.
     pub fn front_offset_m(&self) -> f64 {
+        self.extent_m().1
+    }
+
+    /// The rearmost and frontmost nominal positions of the bodies and wheelsets along the vehicle
+    /// (the reference point, 0, included), m.
+    fn extent_m(&self) -> (f64, f64) {
         match self {
-            VehicleSpec::WheelsetOnFrame(_) => 0.0,
+            VehicleSpec::WheelsetOnFrame(_) => (0.0, 0.0),
             VehicleSpec::Multibody(m) => m
                 .bodies
                 .iter()
                 .map(|b| b.position_m[0])
                 .chain(m.wheelsets.iter().map(|w| w.x_m))
-                .fold(0.0_f64, f64::max),
+                .fold((0.0_f64, 0.0_f64), |(lo, hi), x| (lo.min(x), hi.max(x))),
         }
     }
 
