@@ -24,6 +24,33 @@ pub const MAX_TABLE_NODES: f64 = 2e5;
 /// Most output rows of a run, samples × wheelsets (each ~250 B kept for the summary: 4e6 ≈ 1 GB).
 pub const MAX_RUN_SAMPLES: f64 = 4e6;
 
+/// Largest input file read (profiles, scenarios, tracks, irregularity and table CSVs), bytes.
+pub const MAX_INPUT_FILE_BYTES: u64 = 256 << 20;
+
+/// Reads an input text file: a regular file (not a device such as `/dev/zero`, a FIFO or a
+/// directory, which would be read without end or block) of at most [`MAX_INPUT_FILE_BYTES`].
+pub fn read_text(path: &std::path::Path) -> std::io::Result<String> {
+    use std::io::{Error, ErrorKind};
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "not a regular file (a directory, a device or a pipe)",
+        ));
+    }
+    if meta.len() > MAX_INPUT_FILE_BYTES && !lifted() {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!(
+                "{} bytes, above the limit of {} MB for an input file (`kecsim --no-limits` lifts it)",
+                meta.len(),
+                MAX_INPUT_FILE_BYTES >> 20
+            ),
+        ));
+    }
+    std::fs::read_to_string(path)
+}
+
 static LIFTED: AtomicBool = AtomicBool::new(false);
 
 /// Lifts every limit for the rest of the process (`kecsim --no-limits`).

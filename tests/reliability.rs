@@ -247,7 +247,7 @@ fn inconsistent_input_is_refused_before_any_work() {
     let doubtful = scenario(
         &dir,
         "doubtful.toml",
-        &[("[1120.0, 112.0, 1120.0]", "[0.001, 112.0, 1120.0]")],
+        &[("[1120.0, 112.0, 1120.0]", "[0.001, 0.001, 0.001]")],
     );
     let json = dir.join("doubtful.json");
     let out = run(
@@ -576,4 +576,208 @@ fn a_bad_key_inside_a_tagged_table_is_reported_at_its_line() {
         30,
         &[&format!("line {line}:"), "unknown variant `w`"],
     );
+}
+
+#[test]
+fn outputs_never_overwrite_inputs_or_each_other() {
+    let dir = tmpdir("rel-clobber");
+    let sc = scenario(&dir, "sc.toml", &[]);
+    let before = std::fs::read(&sc).unwrap();
+    rejects(
+        &["run", sc.to_str().unwrap(), "--save", sc.to_str().unwrap()],
+        &dir,
+        30,
+        &["--save", "input"],
+    );
+    rejects(
+        &["run", sc.to_str().unwrap(), "--json", "sc.toml"],
+        &dir,
+        30,
+        &["--json", "input"],
+    );
+    assert_eq!(
+        std::fs::read(&sc).unwrap(),
+        before,
+        "the scenario was overwritten"
+    );
+    rejects(
+        &[
+            "run",
+            sc.to_str().unwrap(),
+            "--json",
+            "same.out",
+            "--save",
+            "./same.out",
+        ],
+        &dir,
+        30,
+        &["--json and --save name the same path"],
+    );
+    rejects(
+        &["run", sc.to_str().unwrap(), "--json", "d", "--csv", "d"],
+        &dir,
+        30,
+        &["same path"],
+    );
+    rejects(
+        &["contact", "--csv", "t.csv", "--table2-csv", "t.csv"],
+        &dir,
+        30,
+        &["--csv and --table2-csv name the same path"],
+    );
+    let profile = dir.join("w.csv");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/s1002.csv"),
+        &profile,
+    )
+    .unwrap();
+    rejects(
+        &[
+            "contact",
+            "--wheel",
+            profile.to_str().unwrap(),
+            "--csv",
+            profile.to_str().unwrap(),
+        ],
+        &dir,
+        30,
+        &["--csv", "input"],
+    );
+    // A wheelset's name is a CSV file name: no path out of the --csv directory.
+    let ms = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
+    )
+    .unwrap()
+    .replace("\"w1\"", "\"../escaped\"");
+    let escaped = dir.join("escaped_name.toml");
+    std::fs::write(&escaped, ms).unwrap();
+    rejects(
+        &["run", escaped.to_str().unwrap(), "--csv", "out"],
+        &dir,
+        30,
+        &["\"../escaped\"", "file names"],
+    );
+    assert!(!dir.join("escaped.csv").exists());
+}
+
+#[test]
+fn devices_pipes_and_absurd_sizes_are_refused_at_once() {
+    let dir = tmpdir("rel-devices");
+    rejects(
+        &["contact", "--wheel", "/dev/zero"],
+        &dir,
+        20,
+        &["/dev/zero", "not a regular file"],
+    );
+    rejects(
+        &["run", "/dev/zero"],
+        &dir,
+        20,
+        &["/dev/zero", "not a regular file"],
+    );
+    rejects(
+        &["track", "/dev/zero"],
+        &dir,
+        20,
+        &["/dev/zero", "not a regular file"],
+    );
+    rejects(
+        &["bench", "profiles", "--calls", "10000000000"],
+        &dir,
+        20,
+        &["--calls 10000000000"],
+    );
+    let sc = scenario(&dir, "sc.toml", &[]);
+    rejects(
+        &["run", sc.to_str().unwrap(), "--pace", "1e-9"],
+        &dir,
+        20,
+        &["--pace"],
+    );
+    rejects(
+        &[
+            "compare",
+            sc.to_str().unwrap(),
+            "--contact",
+            "kec,lookup",
+            "--duration",
+            "1e5",
+        ],
+        &dir,
+        30,
+        &["end of the track"],
+    );
+    rejects(
+        &["compare", sc.to_str().unwrap(), "--contact", "kec"],
+        &dir,
+        30,
+        &["at least two contact models"],
+    );
+    let before = scenario(
+        &dir,
+        "before.toml",
+        &[("duration_s = 0.5", "duration_s = 0.5\nstart_m = -50.0")],
+    );
+    rejects(
+        &["run", before.to_str().unwrap()],
+        &dir,
+        30,
+        &["start_m = -50", "before the track's start"],
+    );
+    let inertia = scenario(
+        &dir,
+        "inertia.toml",
+        &[("[1120.0, 112.0, 1120.0]", "[1120.0, 5000.0, 1120.0]")],
+    );
+    rejects(
+        &["run", inertia.to_str().unwrap()],
+        &dir,
+        30,
+        &["no rigid body has these principal inertias"],
+    );
+    let ms = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
+    )
+    .unwrap()
+    .replacen("name = \"primary_w1_right\"", "name = \"primary_w1_left\"", 1);
+    let dup = dir.join("duplicate_element.toml");
+    std::fs::write(&dup, ms).unwrap();
+    rejects(
+        &["run", dup.to_str().unwrap()],
+        &dir,
+        30,
+        &["primary_w1_left", "used by two"],
+    );
+}
+
+#[test]
+fn a_stream_nobody_takes_is_reported_and_fails_the_command() {
+    let dir = tmpdir("rel-not-delivered");
+    // Something listens (the probe succeeds) but it is no Rerun viewer: it answers every
+    // connection with an HTTP/1 error and closes it.
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    std::thread::spawn(move || {
+        use std::io::Write;
+        for mut s in listener.incoming().flatten() {
+            let _ = s.write_all(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n");
+        }
+    });
+    let url = format!("rerun+http://127.0.0.1:{port}/proxy");
+    let out = run(&["profiles", "--connect", &url], &dir, 60);
+    assert!(!out.ok, "{}", out.stdout);
+    assert!(out.stderr.contains("NOT delivered"), "{}", out.stderr);
+    assert!(!out.stdout.contains("streamed"), "{}", out.stdout);
+    // One that takes connections and never answers: no hang (the stream is let go at the end).
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    std::thread::spawn(move || {
+        let mut held = Vec::new();
+        for s in listener.incoming() {
+            held.push(s);
+        }
+    });
+    let url = format!("rerun+http://127.0.0.1:{port}/proxy");
+    let out = run(&["profiles", "--connect", &url], &dir, 30);
+    assert!(out.wall < Duration::from_secs(20), "{:?}", out.wall);
 }

@@ -9,9 +9,14 @@ pub(super) struct BenchArgs {
     #[arg(value_enum, default_value = "profiles")]
     target: BenchTarget,
     /// Calls per measurement.
-    #[arg(long, default_value_t = 5_000_000)]
+    #[arg(long, default_value_t = DEFAULT_CALLS)]
     calls: usize,
 }
+
+/// Calls per measurement by default.
+const DEFAULT_CALLS: usize = 5_000_000;
+/// Most calls per measurement (the profile target keeps one result per call: 8 bytes each).
+const MAX_CALLS: usize = 100_000_000;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum BenchTarget {
@@ -37,24 +42,34 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         eprintln!("kecsim: warning: debug build, timings are not representative (use --release)");
     }
     anyhow::ensure!(
-        a.calls >= 1,
-        "--calls {}: expected at least 1 call per measurement",
+        (1..=MAX_CALLS).contains(&a.calls),
+        "--calls {}: expected 1..={MAX_CALLS} calls per measurement",
         a.calls
     );
     let calls = a.calls;
+    // Targets whose calls are slow take at most this many (said, not silently).
+    let cap = |n: usize| {
+        if calls > n {
+            eprintln!("kecsim: bench: --calls {calls} capped at {n} for this target");
+        }
+        calls.min(n)
+    };
+    if matches!(a.target, BenchTarget::Dynamics | BenchTarget::Dispatch) && calls != DEFAULT_CALLS {
+        eprintln!("kecsim: bench: --calls does not apply to this target (it times whole runs)");
+    }
     match a.target {
         BenchTarget::Profiles => print!("{}", kecsim::bench::table(&kecsim::bench::profiles(calls))),
         BenchTarget::Contact => {
-            let (rows, builds) = kecsim::bench::contact(calls.min(200_000))?;
+            let (rows, builds) = kecsim::bench::contact(cap(200_000))?;
             print!("{}{builds}", kecsim::bench::contact_table(&rows));
         }
         BenchTarget::Track => {
             let (rows, notes) = kecsim::bench::track(calls)?;
             print!("{}{notes}", kecsim::bench::table(&rows));
         }
-        BenchTarget::Creep => print!("{}", kecsim::bench::creep(calls.min(1_000_000))?),
+        BenchTarget::Creep => print!("{}", kecsim::bench::creep(cap(1_000_000))?),
         BenchTarget::Kec => {
-            let (rows, builds) = kecsim::bench::kec(calls.min(200_000)).map_err(anyhow::Error::msg)?;
+            let (rows, builds) = kecsim::bench::kec(cap(200_000)).map_err(anyhow::Error::msg)?;
             print!("{}{builds}", kecsim::bench::contact_table(&rows));
         }
         BenchTarget::Dynamics => print!(

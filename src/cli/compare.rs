@@ -56,9 +56,23 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, || inspect::compare::blueprint(&c))?;
         inspect::compare::record(&rec, &c)?;
-        inspect::finish_recording(&rec, &sink)
+        inspect::finish_recording(rec, &sink)
     };
     print!("{}", c.markdown());
-    println!("{}", delivered);
+    println!("{}", delivered.map_err(anyhow::Error::msg)?);
+    let failed: Vec<String> = c
+        .runs
+        .iter()
+        .filter(|r| matches!(r.output.summary.outcome, "failed" | "derailed"))
+        .map(|r| format!("{} ({})", r.model, r.output.summary.outcome))
+        .collect();
+    anyhow::ensure!(
+        failed.is_empty(),
+        "{} of {} runs did not complete: {} — the differences cover only the {:.2} s every run covers",
+        failed.len(),
+        c.runs.len(),
+        failed.join(", "),
+        c.common_s
+    );
     Ok(())
 }

@@ -11,7 +11,7 @@ use kecsim::contact::lookup::LookupTable2;
 use kecsim::contact::report::ContactReport;
 use kecsim::inspect;
 
-use super::{check_output_file, check_sink, positive_mm, title, PairArgs, SinkArgs, TableArgs};
+use super::{check_pair_outputs, positive_mm, title, PairArgs, SinkArgs, TableArgs};
 
 #[derive(Args)]
 pub(super) struct ContactArgs {
@@ -46,13 +46,13 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
         sink,
     } = a;
     let sink = sink.sink();
-    check_sink(&sink)?;
-    if let Some(path) = &csv {
-        check_output_file("--csv", path)?;
-    }
+    check_pair_outputs(
+        &pair,
+        &[("--csv", csv.as_deref()), ("--table2-csv", table2_csv.as_deref())],
+        &sink,
+    )?;
     let gv_grid = match &table2_csv {
-        Some(path) => {
-            check_output_file("--table2-csv", path)?;
+        Some(_) => {
             let (gv_max, gv_step) = (
                 positive_mm("--gv-max", gv_max)?,
                 positive_mm("--gv-step", gv_step)?,
@@ -65,6 +65,12 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
                 "use a coarser --gv-step",
             )
             .map_err(anyhow::Error::msg)?;
+            anyhow::ensure!(
+                n >= 1.0,
+                "--gv-max {} mm / --gv-step {} mm: fewer than two gauge variations; the 2-entry table needs --gv-step ≤ --gv-max",
+                gv_max * 1e3,
+                gv_step * 1e3
+            );
             let n = n as i64;
             Some((-n..=n).map(|k| k as f64 * gv_step).collect::<Vec<f64>>())
         }
@@ -79,7 +85,7 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::contact::blueprint)?;
         inspect::contact::record(&rec, &geom, &report.table, &summary)?;
-        inspect::finish_recording(&rec, &sink)
+        inspect::finish_recording(rec, &sink)
     };
     print!("{summary}");
     if let Some(path) = csv {
@@ -103,6 +109,6 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
             t.elapsed().as_secs_f64()
         );
     }
-    println!("{}", delivered);
+    println!("{}", delivered.map_err(anyhow::Error::msg)?);
     Ok(())
 }

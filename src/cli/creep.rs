@@ -9,7 +9,7 @@ use kecsim::contact::forces::sweep::{self, SweepSettings};
 use kecsim::contact::forces::{ContactPatch, CreepModel, KalkerTable};
 use kecsim::inspect;
 
-use super::{check_sink, positive_mm, SinkArgs};
+use super::{check_distinct, check_output_file, check_sink, positive_mm, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct CreepArgs {
@@ -66,15 +66,42 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         sink,
     } = a;
     let sink = sink.sink();
+    if let Some(path) = &csv {
+        check_output_file("--csv", path)?;
+    }
+    check_distinct(
+        &[
+            ("--csv", csv.as_deref()),
+            (
+                "--save",
+                match &sink {
+                    kecsim::inspect::Sink::Save(p) => Some(p.as_path()),
+                    _ => None,
+                },
+            ),
+        ],
+        &[],
+    )?;
     check_sink(&sink)?;
     anyhow::ensure!(
         normal_force_n.is_finite() && normal_force_n > 0.0,
         "--normal-force-n {normal_force_n}: expected a positive force in N (a lifted wheel has no creep forces)"
     );
     anyhow::ensure!(
-        mu.is_finite() && mu > 0.0,
-        "--mu {mu}: expected a positive coefficient of friction"
+        mu.is_finite() && mu > 0.0 && mu <= 1.5,
+        "--mu {mu}: expected a coefficient of friction in (0, 1.5] (dry rail ~0.4)"
     );
+    let ratio = (a_mm / b_mm).max(b_mm / a_mm);
+    if ratio.is_finite() && ratio > 10.0 {
+        eprintln!(
+            "kecsim: warning: --a-mm {a_mm} / --b-mm {b_mm}: semi-axis ratio {ratio:.1} beyond Kalker's table (up to 10); its coefficients are extrapolated"
+        );
+    }
+    if normal_force_n > 1e6 {
+        eprintln!(
+            "kecsim: warning: --normal-force-n {normal_force_n}: above 1 MN, far beyond a wheel load (50–125 kN)"
+        );
+    }
     anyhow::ensure!(
         spin.is_finite(),
         "--spin {spin}: expected a finite spin creepage in 1/m"
@@ -121,7 +148,7 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::creep::blueprint)?;
         inspect::creep::record(&rec, &models, &patch, spin, &settings, &summary)?;
-        inspect::finish_recording(&rec, &sink)
+        inspect::finish_recording(rec, &sink)
     };
     print!("{summary}");
     if let Some(path) = csv {
@@ -134,6 +161,6 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         sweep::write_csv(&path, &rows).with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {} ({} rows)", path.display(), rows.len());
     }
-    println!("{}", delivered);
+    println!("{}", delivered.map_err(anyhow::Error::msg)?);
     Ok(())
 }

@@ -11,7 +11,7 @@ use kecsim::contact::lookup::{LookupTable1, LookupTable2};
 use kecsim::contact::report::{kec_error_markdown, kec_irregularity_errors, kec_summary};
 use kecsim::inspect;
 
-use super::{check_sink, title, PairArgs, SinkArgs, TableArgs};
+use super::{check_pair_outputs, title, PairArgs, SinkArgs, TableArgs};
 
 #[derive(Args)]
 pub(super) struct KecArgs {
@@ -39,7 +39,7 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
         sink,
     } = a;
     let sink = sink.sink();
-    check_sink(&sink)?;
+    check_pair_outputs(&pair, &[("--csv", csv.as_deref())], &sink)?;
     let pair = pair.pair()?;
     let title = title("kec", &pair);
     let l_w = pair.wheelset.l_w();
@@ -67,7 +67,7 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
         inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
-        inspect::finish_recording(&rec, &sink)
+        inspect::finish_recording(rec, &sink)
     };
     print!("{summary}");
     if let Some(path) = csv {
@@ -76,6 +76,6 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
             .with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {}", path.display());
     }
-    println!("{}", delivered);
+    println!("{}", delivered.map_err(anyhow::Error::msg)?);
     Ok(())
 }

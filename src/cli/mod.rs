@@ -258,16 +258,79 @@ fn check_output_file(flag: &str, path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Checks, before any work, that the outputs (option, path) are distinct from each other and from
+/// the inputs: one file for two outputs loses one of them, an output on an input overwrites it.
+fn check_distinct(outputs: &[(&str, Option<&Path>)], inputs: &[Option<&Path>]) -> Result<()> {
+    // The same file by two spellings: the canonical directory and the file name.
+    let key = |p: &Path| -> PathBuf {
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let dir = std::fs::canonicalize(&dir).unwrap_or(dir);
+        match p.file_name() {
+            Some(n) => dir.join(n),
+            None => dir,
+        }
+    };
+    let outs: Vec<(&str, &Path, PathBuf)> = outputs
+        .iter()
+        .filter_map(|(f, p)| p.map(|p| (*f, p, key(p))))
+        .collect();
+    for (i, (fa, pa, ka)) in outs.iter().enumerate() {
+        for (fb, _, kb) in &outs[i + 1..] {
+            anyhow::ensure!(
+                ka != kb,
+                "{fa} and {fb} name the same path {}: one output would overwrite the other",
+                pa.display()
+            );
+        }
+        for input in inputs.iter().flatten() {
+            anyhow::ensure!(
+                *ka != key(input),
+                "{fa} {}: this is an input of the command; writing it would overwrite it",
+                pa.display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Checks, before any work, that files can be written into the directory `dir` (created if
-/// missing; `flag` names the option).
+/// missing, in an existing directory; `flag` names the option).
 fn check_output_dir(flag: &str, dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("{flag} {}: cannot create the directory", dir.display()))?;
+    if !dir.is_dir() {
+        std::fs::create_dir(dir).with_context(|| {
+            format!(
+                "{flag} {}: cannot create the directory (its parent must exist)",
+                dir.display()
+            )
+        })?;
+    }
     let probe = dir.join(format!(".kecsim-write-check-{}", std::process::id()));
     std::fs::write(&probe, b"")
         .with_context(|| format!("{flag} {}: cannot write into this directory", dir.display()))?;
     std::fs::remove_file(&probe).ok();
     Ok(())
+}
+
+/// The outputs of a command on a pair (`--csv`-like options and the sink's file), checked before
+/// any work: writable, distinct from each other and from the profile files read.
+fn check_pair_outputs(pair: &PairArgs, outputs: &[(&str, Option<&Path>)], sink: &Sink) -> Result<()> {
+    let save = match sink {
+        Sink::Save(p) => Some(p.as_path()),
+        _ => None,
+    };
+    let mut all = outputs.to_vec();
+    all.push(("--save", save));
+    let inputs = [Some(Path::new(&pair.wheel)), Some(Path::new(&pair.rail))];
+    check_distinct(&all, &inputs)?;
+    for (flag, path) in outputs {
+        if let Some(p) = path {
+            check_output_file(flag, p)?;
+        }
+    }
+    check_sink(sink)
 }
 
 /// The sink's own output file, checked as [`check_output_file`] does.

@@ -5,7 +5,7 @@ use clap::Args;
 
 use kecsim::inspect;
 
-use super::{check_sink, print_pair, PairArgs, SinkArgs};
+use super::{check_pair_outputs, print_pair, PairArgs, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct ProfilesArgs {
@@ -17,16 +17,16 @@ pub(super) struct ProfilesArgs {
 
 pub(super) fn run(a: ProfilesArgs) -> Result<()> {
     let ProfilesArgs { pair, sink } = a;
-    let pair = pair.pair()?;
     let sink = sink.sink();
-    check_sink(&sink)?;
+    check_pair_outputs(&pair, &[], &sink)?;
+    let pair = pair.pair()?;
     let delivered = {
         // The stream lives in this scope: returning (even with an error) drops it and writes the footer.
         let rec = inspect::open_recording("kecsim", &sink, inspect::profiles::blueprint)?;
         inspect::profiles::record(&rec, &pair)?;
-        inspect::finish_recording(&rec, &sink)
+        inspect::finish_recording(rec, &sink)
     };
     print_pair(&pair);
-    println!("{}", delivered);
+    println!("{}", delivered.map_err(anyhow::Error::msg)?);
     Ok(())
 }

@@ -116,10 +116,14 @@ impl RunObserver for Pace {
     }
 
     fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
-        let due = Duration::from_secs_f64((sample.t / self.factor).max(0.0));
-        let elapsed = self.start.elapsed();
-        if due > elapsed {
-            std::thread::sleep(due - elapsed);
+        let due = Duration::from_secs_f64((sample.t / self.factor).clamp(0.0, 1e9));
+        // Sleep in slices so that an interrupt (Ctrl-C, SIGTERM) ends the wait at once.
+        while !kecsim::interrupt::requested() {
+            let elapsed = self.start.elapsed();
+            if due <= elapsed {
+                break;
+            }
+            std::thread::sleep((due - elapsed).min(Duration::from_millis(50)));
         }
         Ok(())
     }

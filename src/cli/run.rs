@@ -15,11 +15,14 @@ use kecsim::contact::lookup::{LookupTable1, TableSettings};
 use kecsim::contact::report::kec_summary;
 use kecsim::dynamics::output::CsvWriter;
 use kecsim::dynamics::{RunEnd, RunObserver, Stop};
-use kecsim::inspect::{self, run::LiveRecorder};
+use kecsim::inspect::{self, run::LiveRecorder, Sink};
 use kecsim::scenario::{RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
 
 use super::progress::{Pace, Progress};
-use super::{check_output_dir, check_output_file, check_sink, contact_model_names, print_pair, SinkArgs};
+use super::{
+    check_distinct, check_output_dir, check_output_file, check_sink, contact_model_names, print_pair,
+    SinkArgs,
+};
 
 #[derive(Args)]
 pub(super) struct RunArgs {
@@ -92,13 +95,13 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
         inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
-        inspect::finish_recording(&rec, &sink)
+        inspect::finish_recording(rec, &sink)
     };
     print!("{summary}");
     println!(
         "scene preprocessed (profiles placed, contact table, KEC profiles) in {:.2} s wall; {}",
         t.elapsed().as_secs_f64(),
-        delivered
+        delivered.map_err(anyhow::Error::msg)?
     );
     Ok(())
 }
@@ -109,24 +112,48 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
 fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     if let Some(x) = a.pace {
         anyhow::ensure!(
-            x.is_finite() && x > 0.0,
-            "--pace {x}: expected a positive factor of real time"
+            x.is_finite() && (1e-3..=1e6).contains(&x),
+            "--pace {x}: expected a factor of real time in 0.001..1e6 (0.001: 1 s simulated in 17 min)"
         );
     }
     if let Some(v) = a.speed {
         anyhow::ensure!(
-            v.is_finite() && (0.0..=150.0).contains(&v),
-            "--speed {v}: expected a forward speed in 0..150 m/s"
+            v.is_finite() && (0.0..=200.0).contains(&v),
+            "--speed {v}: expected a forward speed in 0..200 m/s"
         );
     }
+    // Ctrl-C / SIGTERM from here on: the run stops at its next step (or at once, if it comes
+    // during the preprocessing) and everything up to it is written; a second Ctrl-C ends the
+    // process at once.
+    kecsim::interrupt::clear();
+    ctrlc::set_handler(|| {
+        if kecsim::interrupt::request() {
+            eprintln!("\nkecsim: interrupted twice; exiting without finishing the outputs");
+            std::process::exit(130);
+        }
+        eprintln!("\nkecsim: interrupt: stopping at the next step and writing what was recorded");
+    })
+    .ok();
     // Every output before any work: a run must not be lost to an unwritable path at its end.
     if let Some(path) = &a.json {
         check_output_file("--json", path)?;
     }
+    let sink = a.sink.sink();
+    let save = match &sink {
+        Sink::Save(p) => Some(p.clone()),
+        _ => None,
+    };
+    check_distinct(
+        &[
+            ("--json", a.json.as_deref()),
+            ("--csv", a.csv.as_deref()),
+            ("--save", save.as_deref()),
+        ],
+        &[a.scenario.as_deref()],
+    )?;
     if let Some(dir) = &a.csv {
         check_output_dir("--csv", dir)?;
     }
-    let sink = a.sink.sink();
     check_sink(&sink)?;
     let built = scene.build_run(&RunOptions {
         contact: a.contact.clone(),
@@ -164,17 +191,6 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         None => None,
     };
     let mut recorder = LiveRecorder::open(&sink, scene, &names)?;
-    // Ctrl-C / SIGTERM: the run stops at its next output time and everything up to it is
-    // written (a second Ctrl-C ends the process at once).
-    kecsim::interrupt::clear();
-    ctrlc::set_handler(|| {
-        if kecsim::interrupt::request() {
-            eprintln!("\nkecsim: interrupted twice; exiting without finishing the outputs");
-            std::process::exit(130);
-        }
-        eprintln!("\nkecsim: interrupt: stopping at the next output time and writing what was recorded");
-    })
-    .ok();
     let mut progress = Progress::new();
     let mut pace = a.pace.map(Pace::new);
     let out = {
@@ -187,9 +203,8 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         }
         built.run(&mut observers)
     };
+    // The recorder is the stream's last handle: a file's footer is written here.
     let delivered = recorder.finish_stream(&sink);
-    // The stream's footer is written when the recorder (its last handle) is dropped.
-    drop(recorder);
     let summary = &out.summary;
     print!("{summary}");
     if let Some(c) = &csv {
@@ -204,12 +219,15 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {}", path.display());
     }
-    println!("{}", delivered);
+    if let Ok(line) = &delivered {
+        println!("{line}");
+    }
     if let RunEnd::Failed(e) = &out.end {
         anyhow::bail!("the run stopped at t = {:.4} s: {e}", summary.simulated_s);
     }
     if let RunEnd::Stopped(Stop::Interrupted { t }) = &out.end {
         anyhow::bail!("interrupted at t = {t:.4} s; everything recorded up to it is written");
     }
+    delivered.map_err(anyhow::Error::msg)?;
     Ok(())
 }

@@ -7,7 +7,7 @@ use clap::Args;
 
 use kecsim::inspect;
 
-use super::{check_output_file, check_sink, SinkArgs};
+use super::{check_distinct, check_output_file, check_sink, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct TrackArgs {
@@ -33,6 +33,19 @@ pub(super) fn run(a: TrackArgs) -> Result<()> {
     } = a;
     let sink = sink.sink();
     check_sink(&sink)?;
+    check_distinct(
+        &[
+            ("--csv", csv.as_deref()),
+            (
+                "--save",
+                match &sink {
+                    kecsim::inspect::Sink::Save(p) => Some(p.as_path()),
+                    _ => None,
+                },
+            ),
+        ],
+        &[file.as_deref()],
+    )?;
     if let Some(path) = &csv {
         check_output_file("--csv", path)?;
     }
@@ -47,7 +60,7 @@ pub(super) fn run(a: TrackArgs) -> Result<()> {
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::track::blueprint)?;
         inspect::track::record(&rec, &track, &samples, &summary)?;
-        inspect::finish_recording(&rec, &sink)
+        inspect::finish_recording(rec, &sink)
     };
     print!("{summary}");
     println!(
@@ -59,6 +72,6 @@ pub(super) fn run(a: TrackArgs) -> Result<()> {
         kecsim::track::report::write_csv(&samples, &path)?;
         println!("wrote {}", path.display());
     }
-    println!("{}", delivered);
+    println!("{}", delivered.map_err(anyhow::Error::msg)?);
     Ok(())
 }

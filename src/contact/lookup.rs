@@ -1111,7 +1111,7 @@ fn write_rows_csv(path: &Path, rows: &[TableRow], r0: f64, l_r: f64) -> std::io:
 
 fn read_rows_csv(path: &Path, two_entry: bool) -> Result<(Vec<TableRow>, f64, f64), TableError> {
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| TableError::Io {
+    let text = crate::limits::read_text(path).map_err(|source| TableError::Io {
         path: p.clone(),
         source,
     })?;

@@ -126,19 +126,32 @@ pub fn probe_viewer(url: &str, timeout: std::time::Duration) -> Result<(), Strin
 }
 
 /// Ends a recording: a stream to a viewer is flushed within [`VIEWER_TIMEOUT`]; the line to
-/// print says where the recording went, truthfully (a stream the viewer did not take is named
-/// as not delivered). Files are written when the stream's last handle drops.
-pub fn finish_recording(rec: &RecordingStream, sink: &Sink) -> String {
+/// print says where the recording went; a stream the viewer did not take is an error (the command
+/// then exits non-zero, after writing its other outputs). `rec` must be the stream's last handle:
+/// a file's footer is written when it drops here.
+pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, String> {
     match sink {
-        Sink::Save(p) => format!("saved {}", p.display()),
+        Sink::Save(p) => {
+            drop(rec);
+            Ok(format!("saved {}", p.display()))
+        }
         Sink::Spawn | Sink::Connect(_) => {
             let (to, viewer) = match sink {
                 Sink::Connect(u) => (u.clone(), format!("the viewer at {u}")),
                 _ => ("the spawned viewer".to_string(), "the spawned viewer".to_string()),
             };
-            match rec.flush_with_timeout(VIEWER_TIMEOUT) {
-                Ok(()) => format!("streamed to {to}"),
-                Err(e) => format!("NOT delivered: {viewer} did not take the recording ({e})"),
+            let flushed = rec.flush_with_timeout(VIEWER_TIMEOUT);
+            // Dropping a stream waits for the viewer without end (the SDK joins its network
+            // thread with no timeout), which hangs on a viewer that stopped answering: the
+            // flushed stream is let go instead (the process ends right after).
+            std::mem::forget(rec);
+            match flushed {
+                Ok(()) => Ok(format!("streamed to {to}")),
+                Err(e) => Err({
+                    format!(
+                    "the recording was NOT delivered: {viewer} did not take it ({e}); run again with --save FILE"
+                )
+                }),
             }
         }
     }

@@ -230,8 +230,8 @@ pub struct LiveRecorder {
 impl LiveRecorder {
     /// Sends what is pending and ends the stream as [`super::finish_recording`] does: the line
     /// saying where the recording went.
-    pub fn finish_stream(&mut self, sink: &Sink) -> String {
-        super::finish_recording(&self.rec, sink)
+    pub fn finish_stream(self, sink: &Sink) -> Result<String, String> {
+        super::finish_recording(self.rec, sink)
     }
     /// Opens the recording on `sink` with the run layout for `wheelsets`, and logs the statics
     /// (rails, track plan, series styles): a sink that cannot be opened fails before the run.

@@ -42,7 +42,7 @@ struct RawPoint {
 /// Reads a profile file of any supported format.
 pub fn read_profile(path: &Path, expected: ProfileKind) -> Result<Profile, ProfileError> {
     let p = path.display().to_string();
-    let text = fs::read_to_string(path).map_err(|source| ProfileError::Io {
+    let text = crate::limits::read_text(path).map_err(|source| ProfileError::Io {
         path: p.clone(),
         source,
     })?;

@@ -189,7 +189,7 @@ impl Scenario {
     /// Reads and parses a scenario file.
     pub fn read(path: &Path) -> Result<Self, ScenarioError> {
         let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+        let text = crate::limits::read_text(path).map_err(|source| ScenarioError::Io {
             path: p.clone(),
             source,
         })?;

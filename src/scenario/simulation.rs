@@ -346,10 +346,23 @@ pub fn run_extent_problems(
         ));
     }
     if let Some(track) = &reference.track {
-        let (_, end) = track.centreline.range();
+        let (start, end) = track.centreline.range();
+        let rear = reference.s0 + vehicle.rear_offset_m();
+        if rear < start {
+            p.push(format!(
+                "simulation.start_m = {}: the vehicle's rearmost body or wheelset starts at s = {rear:.3} m, before the track's start (s = {start} m); start_m ≥ {:.3}",
+                reference.s0,
+                start - vehicle.rear_offset_m()
+            ));
+        }
         let front = reference.s0 + vehicle.front_offset_m();
         let travel = speed.distance(d);
-        if front + travel > end {
+        if front > end {
+            p.push(format!(
+                "simulation.start_m = {}: the vehicle's front starts at s = {front:.3} m, beyond the track's end (s = {end} m)",
+                reference.s0
+            ));
+        } else if front + travel > end {
             // Time at which the front reaches the end: v t + a t²/2 = end − front.
             let room = (end - front).max(0.0);
             let (v, a) = (speed.initial_m_s, speed.ramp_m_s2);

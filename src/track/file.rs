@@ -549,7 +549,7 @@ pub fn track_from_text(text: &str, origin: &str, base: &Path) -> Result<Track, T
 /// Reads a track or scenario file.
 pub fn read_track(path: &Path) -> Result<Track, TrackError> {
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| TrackError::Io {
+    let text = crate::limits::read_text(path).map_err(|source| TrackError::Io {
         path: p.clone(),
         source,
     })?;

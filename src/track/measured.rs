@@ -33,7 +33,7 @@ fn at(path: &str, line: usize, problem: impl Into<String>) -> TrackError {
 /// Reads an irregularity CSV (see the module doc).
 pub fn read_csv(path: &Path) -> Result<Irregularities, TrackError> {
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| TrackError::Io {
+    let text = crate::limits::read_text(path).map_err(|source| TrackError::Io {
         path: p.clone(),
         source,
     })?;

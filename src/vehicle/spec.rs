@@ -189,6 +189,14 @@ impl VehicleSpec {
         match self {
             VehicleSpec::Multibody(m) => p.extend(m.problems()),
             VehicleSpec::WheelsetOnFrame(w) => {
+                let i = &w.wheelset.inertia_kg_m2;
+                if i.iter().all(|v| v.is_finite())
+                    && (0..3).any(|k| i[(k + 1) % 3] + i[(k + 2) % 3] < i[k] * (1.0 - 1e-9))
+                {
+                    p.push(format!(
+                        "vehicle.wheelset.inertia_kg_m2 = {i:?}: no rigid body has these principal inertias (each must be at most the sum of the other two)"
+                    ));
+                }
                 let mut check = |name: &str, v: f64, lo: f64, hi: f64| {
                     if !(v.is_finite() && v >= lo && v <= hi) {
                         p.push(format!("vehicle.{name} = {v}: expected a value in [{lo}, {hi}]"));
@@ -498,6 +506,63 @@ impl MultibodySpec {
         for (i, n) in names.iter().enumerate() {
             if n == "track" || names[..i].contains(n) {
                 p.push(format!("vehicle: body name \"{n}\" is reserved or used twice"));
+            }
+            // Names become file names (`--csv DIR/NAME.csv`) and entity paths.
+            if n.is_empty()
+                || n.starts_with('.')
+                || !n
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
+            {
+                p.push(format!(
+                    "vehicle: body name \"{n}\": expected letters, digits, '_', '-' or '.' (not first): names become file names"
+                ));
+            }
+        }
+        let mut seen: Vec<&str> = Vec::new();
+        for name in self
+            .elements
+            .iter()
+            .map(|e| match e {
+                ElementSpec::Bushing { name, .. }
+                | ElementSpec::Axial { name, .. }
+                | ElementSpec::Rotational { name, .. }
+                | ElementSpec::CarriedMass { name, .. } => name.as_str(),
+            })
+            .chain(self.joints.iter().map(|j| j.name.as_str()))
+        {
+            if seen.contains(&name) {
+                p.push(format!(
+                    "vehicle.elements[{name}]: the name \"{name}\" is used by two elements or joints"
+                ));
+            }
+            seen.push(name);
+        }
+        // A rigid body's principal inertias obey the triangle inequality (I_a + I_b ≥ I_c).
+        let triangle = |i: &[f64; 3]| (0..3).all(|k| i[(k + 1) % 3] + i[(k + 2) % 3] >= i[k] * (1.0 - 1e-9));
+        for (name, inertia, what) in self
+            .bodies
+            .iter()
+            .map(|b| (&b.name, &b.inertia_kg_m2, "bodies"))
+            .chain(
+                self.wheelsets
+                    .iter()
+                    .map(|w| (&w.name, &w.inertia_kg_m2, "wheelsets")),
+            )
+        {
+            if inertia.iter().all(|v| v.is_finite()) && !triangle(inertia) {
+                p.push(format!(
+                    "vehicle.{what}[{name}].inertia_kg_m2 = {inertia:?}: no rigid body has these principal inertias (each must be at most the sum of the other two)"
+                ));
+            }
+        }
+        for e in &self.elements {
+            if let ElementSpec::CarriedMass { name, body, .. } = e {
+                if body == "track" {
+                    p.push(format!(
+                        "vehicle.elements[{name}]: a carried mass rides on a body of the vehicle, not on \"track\""
+                    ));
+                }
             }
         }
         // Every wheelset hangs in something: a wheelset no element holds would run away.
