@@ -181,6 +181,13 @@ fn bad_values_are_named_with_their_option() {
     let out = rejects(&["contact", "--step", "-1"], &dir, 20, &["--step -1", "positive"]);
     assert!(!out.stderr.contains("unexpected argument"), "{}", out.stderr);
     rejects(&["track", "--step", "-1"], &dir, 20, &["--step -1"]);
+    // A grid too coarse to see the contact jumps (at 0.5 mm one of six was missed, silently).
+    rejects(
+        &["contact", "--step", "0.5"],
+        &dir,
+        20,
+        &["--step 0.5", "contact jumps"],
+    );
     rejects(&["run", "--speed", "-5"], &dir, 20, &["--speed -5"]);
 }
 

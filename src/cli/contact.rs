@@ -51,6 +51,11 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
         &[("--csv", csv.as_deref()), ("--table2-csv", table2_csv.as_deref())],
         &sink,
     )?;
+    if table2_csv.is_none() && (gv_max != 10.0 || gv_step != 1.0) {
+        eprintln!(
+            "kecsim: warning: --gv-max and --gv-step apply to the 2-entry table: add --table2-csv FILE"
+        );
+    }
     let gv_grid = match &table2_csv {
         Some(_) => {
             let (gv_max, gv_step) = (

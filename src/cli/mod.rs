@@ -142,6 +142,10 @@ impl PairArgs {
     }
 }
 
+/// Coarsest grid step of a contact table, mm: at 0.5 mm the sweep of S1002 on 60E1 misses one of
+/// its six contact jumps.
+const MAX_TABLE_STEP_MM: f64 = 0.25;
+
 /// Range and grid of the 1-entry lookup table.
 #[derive(Args)]
 struct TableArgs {
@@ -155,6 +159,11 @@ struct TableArgs {
 
 impl TableArgs {
     fn settings(&self) -> Result<TableSettings> {
+        anyhow::ensure!(
+            self.step.is_nan() || self.step <= MAX_TABLE_STEP_MM,
+            "--step {} mm: a grid coarser than {MAX_TABLE_STEP_MM} mm can step over contact jumps (they are found between grid nodes); default 0.1",
+            self.step
+        );
         Ok(TableSettings {
             step_m: positive_mm("--step", self.step)?,
             y_max_m: self.y_max.map(|v| positive_mm("--y-max", v)).transpose()?,
