@@ -9,7 +9,7 @@ use kecsim::contact::forces::sweep::{self, SweepSettings};
 use kecsim::contact::forces::{ContactPatch, CreepModel, KalkerTable};
 use kecsim::inspect;
 
-use super::{check_distinct, check_output_file, check_sink, positive_mm, SinkArgs};
+use super::{check_distinct, check_output_file, check_sink, positive_mm, sink_file, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct CreepArgs {
@@ -69,19 +69,7 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
     if let Some(path) = &csv {
         check_output_file("--csv", path)?;
     }
-    check_distinct(
-        &[
-            ("--csv", csv.as_deref()),
-            (
-                "--save",
-                match &sink {
-                    kecsim::inspect::Sink::Save(p) => Some(p.as_path()),
-                    _ => None,
-                },
-            ),
-        ],
-        &[],
-    )?;
+    check_distinct(&[("--csv", csv.as_deref()), ("--save", sink_file(&sink))], &[])?;
     check_sink(&sink)?;
     anyhow::ensure!(
         normal_force_n.is_finite() && normal_force_n > 0.0,

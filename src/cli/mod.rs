@@ -326,12 +326,8 @@ fn check_output_dir(flag: &str, dir: &Path) -> Result<()> {
 /// The outputs of a command on a pair (`--csv`-like options and the sink's file), checked before
 /// any work: writable, distinct from each other and from the profile files read.
 fn check_pair_outputs(pair: &PairArgs, outputs: &[(&str, Option<&Path>)], sink: &Sink) -> Result<()> {
-    let save = match sink {
-        Sink::Save(p) => Some(p.as_path()),
-        _ => None,
-    };
     let mut all = outputs.to_vec();
-    all.push(("--save", save));
+    all.push(("--save", sink_file(sink)));
     let inputs = [Some(Path::new(&pair.wheel)), Some(Path::new(&pair.rail))];
     check_distinct(&all, &inputs)?;
     for (flag, path) in outputs {
@@ -340,6 +336,14 @@ fn check_pair_outputs(pair: &PairArgs, outputs: &[(&str, Option<&Path>)], sink: 
         }
     }
     check_sink(sink)
+}
+
+/// The file the sink writes, if it writes one.
+fn sink_file(sink: &Sink) -> Option<&Path> {
+    match sink {
+        Sink::Save(p) => Some(p.as_path()),
+        _ => None,
+    }
 }
 
 /// The sink's own output file, checked as [`check_output_file`] does.

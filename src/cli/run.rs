@@ -15,13 +15,13 @@ use kecsim::contact::lookup::{LookupTable1, TableSettings};
 use kecsim::contact::report::kec_summary;
 use kecsim::dynamics::output::CsvWriter;
 use kecsim::dynamics::{RunEnd, RunObserver, Stop};
-use kecsim::inspect::{self, run::LiveRecorder, Sink};
+use kecsim::inspect::{self, run::LiveRecorder};
 use kecsim::scenario::{RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
 
 use super::progress::{Pace, Progress};
 use super::{
     check_distinct, check_output_dir, check_output_file, check_sink, contact_model_names, print_pair,
-    SinkArgs,
+    sink_file, SinkArgs,
 };
 
 #[derive(Args)]
@@ -139,15 +139,11 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         check_output_file("--json", path)?;
     }
     let sink = a.sink.sink();
-    let save = match &sink {
-        Sink::Save(p) => Some(p.clone()),
-        _ => None,
-    };
     check_distinct(
         &[
             ("--json", a.json.as_deref()),
             ("--csv", a.csv.as_deref()),
-            ("--save", save.as_deref()),
+            ("--save", sink_file(&sink)),
         ],
         &[a.scenario.as_deref()],
     )?;

@@ -7,7 +7,7 @@ use clap::Args;
 
 use kecsim::inspect;
 
-use super::{check_distinct, check_output_file, check_sink, SinkArgs};
+use super::{check_distinct, check_output_file, check_sink, sink_file, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct TrackArgs {
@@ -34,16 +34,7 @@ pub(super) fn run(a: TrackArgs) -> Result<()> {
     let sink = sink.sink();
     check_sink(&sink)?;
     check_distinct(
-        &[
-            ("--csv", csv.as_deref()),
-            (
-                "--save",
-                match &sink {
-                    kecsim::inspect::Sink::Save(p) => Some(p.as_path()),
-                    _ => None,
-                },
-            ),
-        ],
+        &[("--csv", csv.as_deref()), ("--save", sink_file(&sink))],
         &[file.as_deref()],
     )?;
     if let Some(path) = &csv {

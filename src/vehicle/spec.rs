@@ -189,14 +189,7 @@ impl VehicleSpec {
         match self {
             VehicleSpec::Multibody(m) => p.extend(m.problems()),
             VehicleSpec::WheelsetOnFrame(w) => {
-                let i = &w.wheelset.inertia_kg_m2;
-                if i.iter().all(|v| v.is_finite())
-                    && (0..3).any(|k| i[(k + 1) % 3] + i[(k + 2) % 3] < i[k] * (1.0 - 1e-9))
-                {
-                    p.push(format!(
-                        "vehicle.wheelset.inertia_kg_m2 = {i:?}: no rigid body has these principal inertias (each must be at most the sum of the other two)"
-                    ));
-                }
+                p.extend(inertia_problem("wheelset", &w.wheelset.inertia_kg_m2));
                 let mut check = |name: &str, v: f64, lo: f64, hi: f64| {
                     if !(v.is_finite() && v >= lo && v <= hi) {
                         p.push(format!("vehicle.{name} = {v}: expected a value in [{lo}, {hi}]"));
@@ -363,6 +356,18 @@ pub enum ElementSpec {
         at_m: [f64; 3],
         mass_kg: f64,
     },
+}
+
+/// Principal inertias no rigid body has: one larger than the sum of the other two (the triangle
+/// inequality I_a + I_b ≥ I_c of every mass distribution). `key` names the entry.
+fn inertia_problem(key: &str, i: &[f64; 3]) -> Option<String> {
+    let violated = i.iter().all(|v| v.is_finite())
+        && (0..3).any(|k| i[(k + 1) % 3] + i[(k + 2) % 3] < i[k] * (1.0 - 1e-9));
+    violated.then(|| {
+        format!(
+            "vehicle.{key}.inertia_kg_m2 = {i:?}: no rigid body has these principal inertias (each must be at most the sum of the other two)"
+        )
+    })
 }
 
 /// A problem found in the vehicle table.
@@ -538,8 +543,6 @@ impl MultibodySpec {
             }
             seen.push(name);
         }
-        // A rigid body's principal inertias obey the triangle inequality (I_a + I_b ≥ I_c).
-        let triangle = |i: &[f64; 3]| (0..3).all(|k| i[(k + 1) % 3] + i[(k + 2) % 3] >= i[k] * (1.0 - 1e-9));
         for (name, inertia, what) in self
             .bodies
             .iter()
@@ -550,11 +553,7 @@ impl MultibodySpec {
                     .map(|w| (&w.name, &w.inertia_kg_m2, "wheelsets")),
             )
         {
-            if inertia.iter().all(|v| v.is_finite()) && !triangle(inertia) {
-                p.push(format!(
-                    "vehicle.{what}[{name}].inertia_kg_m2 = {inertia:?}: no rigid body has these principal inertias (each must be at most the sum of the other two)"
-                ));
-            }
+            p.extend(inertia_problem(&format!("{what}[{name}]"), inertia));
         }
         for e in &self.elements {
             if let ElementSpec::CarriedMass { name, body, .. } = e {
