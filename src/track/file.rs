@@ -442,13 +442,26 @@ impl TrackSpec {
                 loc.at(f.span().start, p);
             }
         }
+        let st = self.start;
+        for (name, v, limit) in [
+            ("x_m", st.x_m, 1e7),
+            ("y_m", st.y_m, 1e7),
+            ("z_m", st.z_m, 1e4),
+            ("heading_rad", st.heading_rad, 100.0),
+        ] {
+            if !(v.is_finite() && v.abs() <= limit) {
+                loc.at(
+                    table_line,
+                    format!("track.start.{name} = {v:e}: expected |value| ≤ {limit:e} (plan coordinates in m, heading in rad)"),
+                );
+            }
+        }
         if !loc.problems.is_empty() {
             return Err(TrackError::Invalid {
                 path: origin.to_string(),
                 problems: loc.problems,
             });
         }
-        let st = self.start;
         let start = Start {
             x_m: st.x_m,
             y_m: st.y_m,

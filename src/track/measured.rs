@@ -30,6 +30,10 @@ fn at(path: &str, line: usize, problem: impl Into<String>) -> TrackError {
     }
 }
 
+/// Largest irregularity value accepted in a file, mm (FRA class 1, the worst, stays within ±30 mm
+/// of alignment; a larger value is a unit or column mistake).
+pub const MAX_IRREGULARITY_MM: f64 = 50.0;
+
 /// Reads an irregularity CSV (see the module doc).
 pub fn read_csv(path: &Path) -> Result<Irregularities, TrackError> {
     let p = path.display().to_string();
@@ -127,7 +131,18 @@ pub fn parse_csv(text: &str, origin: &str) -> Result<Irregularities, TrackError>
         let names = if rails { RAIL_COLUMNS } else { COMBINATION_COLUMNS };
         let mut v = [0.0; 4];
         for c in 0..4 {
-            v[c] = cell(cols[c], names[c])? * 1e-3;
+            let mm = cell(cols[c], names[c])?;
+            if mm.abs() > MAX_IRREGULARITY_MM {
+                return Err(at(
+                    origin,
+                    line,
+                    format!(
+                        "column {}: {mm} mm is no track irregularity (the worst track classes stay within ±30 mm; the limit is ±{MAX_IRREGULARITY_MM} mm): is the file in mm?",
+                        names[c]
+                    ),
+                ));
+            }
+            v[c] = mm * 1e-3;
         }
         if rails {
             let o = RailOffsets {

@@ -180,6 +180,11 @@ impl VehicleSpec {
                 }
             }
         }
+        if let VehicleSpec::Multibody(m) = self {
+            for e in &m.elements {
+                w.extend(element_doubts(e));
+            }
+        }
         w
     }
 
@@ -356,6 +361,59 @@ pub enum ElementSpec {
         at_m: [f64; 3],
         mass_kg: f64,
     },
+}
+
+/// Stiffness above which an element is doubtful, N/m or N m/rad (a wheel–rail contact is ~1e9 N/m;
+/// rail vehicles' suspensions stay below 1e8).
+const DOUBTFUL_STIFFNESS: f64 = 1e10;
+/// Damping above which an element is doubtful, N s/m or N m s/rad.
+const DOUBTFUL_DAMPING: f64 = 1e8;
+/// Carried mass above which it is doubtful, kg.
+const DOUBTFUL_CARRIED_MASS_KG: f64 = 1e5;
+
+/// An element's doubtful values (warnings): stiffness, damping or a carried mass beyond what rail
+/// vehicles have — usually a unit mistake (kN/m given in mN/m, kg in g).
+fn element_doubts(e: &ElementSpec) -> Vec<String> {
+    let mut w = Vec::new();
+    let (name, k, c): (&String, Vec<f64>, Vec<f64>) = match e {
+        ElementSpec::Bushing {
+            name,
+            stiffness,
+            damping,
+            ..
+        } => (name, stiffness.to_vec(), damping.to_vec()),
+        ElementSpec::Axial {
+            name,
+            stiffness_n_per_m,
+            damping_n_s_per_m,
+            ..
+        } => (name, vec![*stiffness_n_per_m], vec![*damping_n_s_per_m]),
+        ElementSpec::Rotational {
+            name,
+            stiffness_n_m_per_rad,
+            damping_n_m_s_per_rad,
+            ..
+        } => (name, vec![*stiffness_n_m_per_rad], vec![*damping_n_m_s_per_rad]),
+        ElementSpec::CarriedMass { name, mass_kg, .. } => {
+            if *mass_kg > DOUBTFUL_CARRIED_MASS_KG {
+                w.push(format!(
+                    "vehicle.elements[{name}].mass_kg = {mass_kg}: above {DOUBTFUL_CARRIED_MASS_KG:e} kg, more than a whole rail vehicle"
+                ));
+            }
+            return w;
+        }
+    };
+    if let Some(v) = k.iter().copied().find(|v| *v > DOUBTFUL_STIFFNESS) {
+        w.push(format!(
+            "vehicle.elements[{name}]: stiffness {v:e} above {DOUBTFUL_STIFFNESS:e} (stiffer than the wheel–rail contact; a unit mistake?)"
+        ));
+    }
+    if let Some(v) = c.iter().copied().find(|v| *v > DOUBTFUL_DAMPING) {
+        w.push(format!(
+            "vehicle.elements[{name}]: damping {v:e} above {DOUBTFUL_DAMPING:e} (a unit mistake?)"
+        ));
+    }
+    w
 }
 
 /// Principal inertias no rigid body has: one larger than the sum of the other two (the triangle
