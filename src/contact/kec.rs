@@ -718,14 +718,7 @@ impl KecModel {
                                     (a.min(v), b.max(v))
                                 });
                             if y - rail_y < lo_y || y - rail_y > hi_y {
-                                let (lo, hi) = p.domain();
-                                return Err(KecError::OffProfile {
-                                    y_mm: y * 1e3,
-                                    side: side.name(),
-                                    s_mm: s * 1e3,
-                                    lo_mm: lo * 1e3,
-                                    hi_mm: hi * 1e3,
-                                });
+                                return Err(self.off_profile(y, side, s));
                             }
                         }
                         Err(e)
@@ -805,6 +798,18 @@ impl KecModel {
         })
     }
 
+    /// The knife edge of `side` at s^k = `s` is off its equivalent profile at `y`.
+    fn off_profile(&self, y: f64, side: Side, s: f64) -> KecError {
+        let (lo, hi) = self.profile(side).domain();
+        KecError::OffProfile {
+            y_mm: y * 1e3,
+            side: side.name(),
+            s_mm: s * 1e3,
+            lo_mm: lo * 1e3,
+            hi_mm: hi * 1e3,
+        }
+    }
+
     fn finish(
         &self,
         y: f64,
@@ -817,13 +822,7 @@ impl KecModel {
             // At the table's last row the knife edge is at the profile's end: Newton's round-off
             // may put it a hair outside (1e-7 m of s^k is ~1e-9 of the profile's slope change).
             if s < lo - OFF_PROFILE_TOL_M || s > hi + OFF_PROFILE_TOL_M {
-                return Err(KecError::OffProfile {
-                    y_mm: y * 1e3,
-                    side: side.name(),
-                    s_mm: s * 1e3,
-                    lo_mm: lo * 1e3,
-                    hi_mm: hi * 1e3,
-                });
+                return Err(self.off_profile(y, side, s));
             }
         }
         let (_, j) = self.residual(q, &x);
