@@ -20,6 +20,14 @@
 //!   The Jacobian is renewed after a rejection by a wide margin (err > 10) or a second rejection in
 //!   a row; a mild rejection is the step size's fault. Output: cubic Hermite.
 //!
+//! - [`Method::Bdf`]: variable-step, variable-order BDF (orders 1–5, [`bdf`]) — the family of the
+//!   paper's integrator (Matlab's `ode15s`, §8.4). One implicit equation per step, solved by
+//!   Newton's method with a matrix that is kept for many steps: the Jacobian's diagonal blocks
+//!   (each wheelset, by finite differences; with [`OdeSystem::newton_groups`] also the bogie
+//!   frames, in passes of their own) and the exact q̇ = v coupling of the other bodies
+//!   ([`OdeSystem::kinematic_blocks`]). About 3–4 right-hand sides per step, steps set by
+//!   accuracy, not by the creep forces' stiffness. Output: cubic Hermite.
+//!
 //! After a rejected step the next accepted one does not grow the step (Hairer–Wanner I, §II.4).
 //!
 //! Rosenbrock step (Hairer–Wanner II, §IV.7; f_t by a forward difference):
@@ -73,6 +81,20 @@ pub trait OdeSystem {
     fn jacobian_blocks(&self) -> Option<Vec<(usize, usize)>> {
         None
     }
+    /// For the BDF's Newton matrix: groups of diagonal blocks, each group with the contract of
+    /// [`Self::jacobian_blocks`] (one finite-difference pass per group). `None`: the
+    /// [`Self::jacobian_blocks`] as one group.
+    fn newton_groups(&self) -> Option<Vec<Vec<(usize, usize)>>> {
+        None
+    }
+    /// For the BDF's Newton matrix: blocks (offset, 2m) of states whose first m derivatives are
+    /// exactly their last m states (positions and velocities: x'_{o+i} = x_{o+m+i}). Outside the
+    /// [`Self::jacobian_blocks`] the iteration matrix keeps this exact part of the Jacobian
+    /// (free), so that the Newton iteration on slow second-order states contracts as (ωh)²
+    /// instead of ωh. Default: none.
+    fn kinematic_blocks(&self) -> Vec<(usize, usize)> {
+        Vec::new()
+    }
     /// Whether state j is left out of finite-difference Jacobians at x (its column zero): for
     /// states where a perturbation switches the model rather than moves it.
     fn inactive(&self, _x: &[f64], _j: usize) -> bool {
@@ -104,6 +126,7 @@ pub enum Method {
     Dopri5,
     Ros3,
     Ros34pw2,
+    Bdf,
 }
 
 impl Method {
@@ -112,9 +135,16 @@ impl Method {
         match self {
             Method::Dopri5 => 5.0,
             Method::Ros3 | Method::Ros34pw2 => 3.0,
+            // The BDF's order varies: the integrator asks the stepper ([`Stepper::error_order`]).
+            Method::Bdf => 2.0,
         }
     }
 }
+
+/// BDF: Newton iterations per step before the Jacobian is renewed or the step fails.
+const NEWTON_MAX: usize = 4;
+/// BDF: the Newton iteration's remaining error, in the error norm (1 = the tolerance).
+const NEWTON_TOLERANCE: f64 = 0.1;
 
 /// Tolerances and limits.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,6 +162,9 @@ pub struct Settings {
     /// ROS34PW2 only: accepted steps a Jacobian is kept for before it is evaluated again
     /// (1 = every step; earlier after a rejection by a wide margin or two rejections in a row).
     pub jacobian_max_age: usize,
+    /// BDF only: the highest order used (1–5; BDF-1, BDF-2 are A-stable, BDF-3…5 stable in
+    /// narrowing sectors around the negative real axis).
+    pub bdf_max_order: usize,
 }
 
 impl Settings {
@@ -146,6 +179,7 @@ impl Settings {
             max_steps: 10_000_000,
             fixed_step: None,
             jacobian_max_age: 25,
+            bdf_max_order: 5,
         }
     }
 }
@@ -365,8 +399,17 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
     .min(settings.h_max)
     .min((t_end - t0).max(f64::MIN_POSITIVE));
     let mut stepper = Stepper::new(n, settings.method);
+    if settings.method == Method::Bdf {
+        let groups = sys
+            .newton_groups()
+            .or_else(|| sys.jacobian_blocks().map(|b| vec![b]));
+        stepper
+            .bdf_blocks(groups, sys.kinematic_blocks(), n)
+            .map_err(IntegrationError::Settings)?;
+    }
     if settings.method == Method::Ros34pw2 {
         stepper.blocks = sys.jacobian_blocks();
+        stepper.groups = stepper.blocks.iter().cloned().collect();
         if let Some(b) = &stepper.blocks {
             if b.iter().any(|&(o, m)| o + m > n) {
                 return Err(IntegrationError::Settings(format!(
@@ -380,7 +423,6 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
     let mut err_prev: f64 = 1e-4;
     // Rejections in a row at the current point.
     let mut rejections = 0usize;
-    let q = settings.method.error_order();
     let n_events = sys.event_count();
     let mut g0 = vec![0.0; n_events];
     let mut g1 = vec![0.0; n_events];
@@ -416,12 +458,9 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
         } else if err > 1.0 {
             stats.rejected += 1;
             rejections += 1;
+            let q = stepper.error_order();
             stepper.rejected(err, rejections);
-            let fac = if err.is_finite() {
-                (0.9 * err.powf(-1.0 / q)).clamp(0.1, 0.9)
-            } else {
-                0.25
-            };
+            let fac = stepper.rejection_factor(err, q);
             h *= fac;
             if h < settings.h_min {
                 if !err.is_finite() {
@@ -464,7 +503,11 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             next_out = t0 + out_index as f64 * dt_out;
         }
         stats.accepted += 1;
+        let q = stepper.error_order();
         stepper.accepted(settings.jacobian_max_age);
+        if settings.method == Method::Bdf {
+            stepper.bdf_accepted(t + h, &x1, err, h, settings);
+        }
         stats.smallest_step = stats.smallest_step.min(h);
         stats.largest_step = stats.largest_step.max(h);
         if let Some((k, s)) = event {
@@ -483,6 +526,7 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             }
             x1.copy_from_slice(&xe);
             stepper.jac_age = None;
+            stepper.bdf.restart();
         }
         t = if last && event.is_none() { t_end } else { t1 };
         std::mem::swap(&mut x, &mut x1);
@@ -494,7 +538,11 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             // PI controller (Gustafsson; Hairer's DOPRI5 uses β = 0.04).
             let beta = 0.04;
             let e = err.max(1e-10);
-            let mut fac = (0.9 * e.powf(-1.0 / q + 0.75 * beta) * err_prev.powf(beta)).clamp(0.2, 10.0);
+            let mut fac = if settings.method == Method::Bdf {
+                stepper.bdf.factor
+            } else {
+                (0.9 * e.powf(-1.0 / q + 0.75 * beta) * err_prev.powf(beta)).clamp(0.2, 10.0)
+            };
             if rejections > 0 {
                 // Right after a rejection, do not grow the step (Hairer–Wanner I, §II.4).
                 fac = fac.min(1.0);
@@ -716,6 +764,13 @@ struct Stepper {
     jac_age: Option<usize>,
     /// W-method: the system's diagonal blocks, W restricted to them ([`OdeSystem::jacobian_blocks`]).
     blocks: Option<Vec<(usize, usize)>>,
+    /// The blocks by finite-difference pass (one pass per group).
+    groups: Vec<Vec<(usize, usize)>>,
+    /// BDF: the accepted points and the order.
+    bdf: bdf::Bdf,
+    /// BDF: the Newton matrix's blocks — the system's Jacobian blocks, then its kinematic blocks
+    /// (their entries the constant identity coupling, set once).
+    newton_blocks: Option<Vec<(usize, usize)>>,
 }
 
 impl Stepper {
@@ -728,7 +783,88 @@ impl Stepper {
             ft: vec![0.0; n],
             jac_age: None,
             blocks: None,
+            groups: Vec::new(),
+            bdf: bdf::Bdf::new(),
+            newton_blocks: None,
         }
+    }
+
+    /// BDF: the Jacobian blocks (finite differences) and the kinematic blocks (exact identity
+    /// couplings, [`OdeSystem::kinematic_blocks`]) of the Newton matrix. Without Jacobian blocks
+    /// the full Jacobian is used and the kinematic blocks are not needed.
+    fn bdf_blocks(
+        &mut self,
+        groups: Option<Vec<Vec<(usize, usize)>>>,
+        kinematic: Vec<(usize, usize)>,
+        n: usize,
+    ) -> Result<(), String> {
+        let Some(groups) = groups else {
+            return Ok(());
+        };
+        let blocks: Vec<(usize, usize)> = groups.iter().flatten().copied().collect();
+        let overlap = |o: usize, m: usize, skip: usize| {
+            blocks
+                .iter()
+                .enumerate()
+                .any(|(i, &(bo, bm))| i != skip && o < bo + bm && bo < o + m)
+        };
+        for (i, &(o, m)) in blocks.iter().enumerate() {
+            if o + m > n || overlap(o, m, i) {
+                return Err(format!(
+                    "Jacobian block ({o}, {m}) overlaps another or reaches beyond the {n} states"
+                ));
+            }
+        }
+        let mut all = blocks.clone();
+        for &(o, m) in &kinematic {
+            if overlap(o, m, usize::MAX) {
+                continue;
+            }
+            if m % 2 != 0 || o + m > n {
+                return Err(format!(
+                    "kinematic block ({o}, {m}) is odd or reaches beyond the {n} states"
+                ));
+            }
+            for i in 0..m / 2 {
+                self.jac[(o + i, o + m / 2 + i)] = 1.0;
+            }
+            all.push((o, m));
+        }
+        self.blocks = Some(blocks);
+        self.groups = groups;
+        self.newton_blocks = Some(all);
+        Ok(())
+    }
+
+    /// The step factor after a rejection with error norm `err` (q the error's order): a BDF step
+    /// whose Newton iteration failed (infinite norm) is halved; otherwise from the estimate.
+    fn rejection_factor(&self, err: f64, q: f64) -> f64 {
+        if err.is_finite() {
+            (0.9 * err.powf(-1.0 / q)).clamp(0.1, 0.9)
+        } else if self.method == Method::Bdf && self.bdf.newton_failed {
+            0.5
+        } else {
+            0.25
+        }
+    }
+
+    /// Order of the error estimate's exponent for the next step-size change.
+    fn error_order(&self) -> f64 {
+        match self.method {
+            Method::Bdf => self.bdf.usable_order() as f64 + 1.0,
+            m => m.error_order(),
+        }
+    }
+
+    /// BDF: the step to (t1, x1) was accepted with error norm `err`.
+    fn bdf_accepted(&mut self, t1: f64, x1: &[f64], err: f64, h: f64, s: &Settings) {
+        self.bdf.accepted(t1, x1, err, h, s.bdf_max_order, |d| {
+            let mut norm = ErrorNorm::default();
+            for (v, xi) in d.iter().zip(x1) {
+                norm.add(*xi, *xi, *v, s);
+            }
+            norm.value()
+        });
     }
 
     /// A step was rejected (error norm `err`, the `rejections`-th in a row at this point). The
@@ -736,6 +872,7 @@ impl Stepper {
     /// fault; a Jacobian from an earlier point is renewed only after a rejection by a wide margin
     /// (err > 10) or a second rejection in a row.
     fn rejected(&mut self, err: f64, rejections: usize) {
+        self.bdf.rejected(rejections);
         if self.jac_age.is_some_and(|a| a > 0) && (err > 10.0 || rejections >= 2) {
             self.jac_age = None;
         }
@@ -770,39 +907,13 @@ impl Stepper {
         match analytic {
             Some(r) => r.map_err(StepFailure::Model)?,
             None if self.blocks.is_some() => {
-                let blocks = self.blocks.as_deref().unwrap_or_default();
-                let widest = blocks.iter().map(|b| b.1).max().unwrap_or(0);
-                let mut dxs = vec![0.0; blocks.len()];
-                for c in 0..widest {
-                    self.tmp.copy_from_slice(x);
-                    let mut any = false;
-                    for (b, &(o, m)) in blocks.iter().enumerate() {
-                        dxs[b] = 0.0;
-                        if c < m && !sys.inactive(x, o + c) {
-                            let j = o + c;
-                            dxs[b] = 1.5e-8 * x[j].abs().max(s.atol / s.rtol).max(1e-12);
-                            self.tmp[j] += dxs[b];
-                            any = true;
-                        }
-                    }
-                    // Nothing perturbed (every block's column idle): the columns are zero.
-                    let col = &mut self.k[6];
-                    if any {
-                        sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
-                        stats.rhs_evaluations += 1;
-                    }
-                    for (b, &(o, m)) in blocks.iter().enumerate() {
-                        if c < m {
-                            for i in 0..m {
-                                self.jac[(o + i, o + c)] = if dxs[b] > 0.0 {
-                                    (col[o + i] - f0[o + i]) / dxs[b]
-                                } else {
-                                    0.0
-                                };
-                            }
-                        }
-                    }
-                }
+                // One pass of evaluations per group: the blocks of a group are perturbed together.
+                let groups = std::mem::take(&mut self.groups);
+                let result = groups
+                    .iter()
+                    .try_for_each(|blocks| self.block_columns(sys, t, x, f0, blocks, s, stats));
+                self.groups = groups;
+                result?;
             }
             None => {
                 for j in 0..n {
@@ -836,6 +947,54 @@ impl Stepper {
         Ok(())
     }
 
+    /// The finite-difference columns of `blocks` (perturbed together: no block's rows depend on
+    /// another's states) at (t, x), f0 = f(t, x): as many evaluations as the widest block.
+    #[allow(clippy::too_many_arguments)]
+    fn block_columns<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        x: &[f64],
+        f0: &[f64],
+        blocks: &[(usize, usize)],
+        s: &Settings,
+        stats: &mut Stats,
+    ) -> Result<(), StepFailure<S::Error>> {
+        let widest = blocks.iter().map(|b| b.1).max().unwrap_or(0);
+        let mut dxs = vec![0.0; blocks.len()];
+        for c in 0..widest {
+            self.tmp.copy_from_slice(x);
+            let mut any = false;
+            for (b, &(o, m)) in blocks.iter().enumerate() {
+                dxs[b] = 0.0;
+                if c < m && !sys.inactive(x, o + c) {
+                    let j = o + c;
+                    dxs[b] = 1.5e-8 * x[j].abs().max(s.atol / s.rtol).max(1e-12);
+                    self.tmp[j] += dxs[b];
+                    any = true;
+                }
+            }
+            // Nothing perturbed (every block's column idle): the columns are zero.
+            let col = &mut self.k[6];
+            if any {
+                sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
+                stats.rhs_evaluations += 1;
+            }
+            for (b, &(o, m)) in blocks.iter().enumerate() {
+                if c < m {
+                    for i in 0..m {
+                        self.jac[(o + i, o + c)] = if dxs[b] > 0.0 {
+                            (col[o + i] - f0[o + i]) / dxs[b]
+                        } else {
+                            0.0
+                        };
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// One step of size h from (t, x) with f0 = f(t, x): x1, f1 = f(t + h, x1) and the error norm.
     #[allow(clippy::too_many_arguments)]
     fn step<S: OdeSystem + ?Sized>(
@@ -854,6 +1013,7 @@ impl Stepper {
             Method::Dopri5 => self.dopri5(sys, t, x, f0, h, s, x1, f1, stats),
             Method::Ros3 => self.ros3(sys, t, x, f0, h, s, x1, f1, stats),
             Method::Ros34pw2 => self.ros34pw2(sys, t, x, f0, h, s, x1, f1, stats),
+            Method::Bdf => self.bdf_step(sys, t, x, f0, h, s, x1, f1, stats),
         }
     }
 
@@ -1034,6 +1194,148 @@ impl Stepper {
         Ok(norm.value())
     }
 
+    /// One BDF step of size h from the newest accepted point (t, x) ([`bdf`]): x1, f1 (the
+    /// derivative of the BDF polynomial at t + h, which equals f there to the Newton tolerance)
+    /// and the error norm. A Newton iteration that does not converge in [`NEWTON_MAX`] iterations
+    /// renews a Jacobian that is not fresh and tries again; with a fresh one it fails the step
+    /// (infinite error norm: the integrator retries shorter).
+    #[allow(clippy::too_many_arguments)]
+    fn bdf_step<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        x: &[f64],
+        f0: &[f64],
+        h: f64,
+        s: &Settings,
+        x1: &mut [f64],
+        f1: &mut [f64],
+        stats: &mut Stats,
+    ) -> Result<f64, StepFailure<S::Error>> {
+        let n = x.len();
+        if self.bdf.history.front().is_none_or(|p| p.0 != t) {
+            self.bdf.restart();
+            self.bdf.history.push_front((t, x.to_vec()));
+        }
+        let k = self.bdf.usable_order();
+        let t1 = t + h;
+        let b = &mut self.bdf;
+        b.nodes.clear();
+        b.nodes.push(t1);
+        b.nodes.extend(b.history.iter().take(k).map(|p| p.0));
+        bdf::derivative_weights(&b.nodes, &mut b.alpha);
+        let alpha0 = b.alpha[0];
+        // Σ_{j≥1} α_j x_j: the corrector's known part.
+        let mut known = vec![0.0; n];
+        for (j, p) in b.history.iter().take(k).enumerate() {
+            let a = b.alpha[j + 1];
+            for (kv, xv) in known.iter_mut().zip(&p.1) {
+                *kv += a * xv;
+            }
+        }
+        // Predictor: the polynomial through the k + 1 newest points (or x + h f at the start).
+        let with_f = b.history.len() < 2;
+        b.predicted.clear();
+        if with_f {
+            b.predicted.extend(x.iter().zip(f0).map(|(xi, fi)| xi + h * fi));
+        } else {
+            b.nodes.clear();
+            b.nodes.extend(b.history.iter().take(k + 1).map(|p| p.0));
+            bdf::value_weights(&b.nodes, t1, &mut b.weights);
+            b.predicted.resize(n, 0.0);
+            b.predicted.iter_mut().for_each(|v| *v = 0.0);
+            for (w, p) in b.weights.iter().zip(b.history.iter()) {
+                for (v, xv) in b.predicted.iter_mut().zip(&p.1) {
+                    *v += w * xv;
+                }
+            }
+        }
+        // The Jacobian's differences need f(t, x) itself: f0 is the BDF polynomial's derivative,
+        // equal to f only to the Newton tolerance, which divided by a difference's 1e-10 would
+        // swamp the columns.
+        let mut fx = Vec::new();
+        if self.jac_age.is_none() {
+            self.bdf_jacobian(sys, t, x, &mut fx, h, s, stats)?;
+        }
+        let mut rhs = nalgebra::DVector::zeros(n);
+        let converged = loop {
+            let iteration = IterationMatrix::factor(&self.jac, self.newton_blocks.as_deref(), 1.0 / alpha0);
+            x1.copy_from_slice(&self.bdf.predicted);
+            let mut previous = f64::INFINITY;
+            let mut converged = false;
+            for _ in 0..NEWTON_MAX {
+                sys.rhs(t1, x1, f1).map_err(StepFailure::Model)?;
+                stats.rhs_evaluations += 1;
+                for m in 0..n {
+                    rhs[m] = f1[m] - alpha0 * x1[m] - known[m];
+                }
+                let delta = iteration.solve(&rhs).ok_or(StepFailure::Singular)?;
+                let mut norm = ErrorNorm::default();
+                for m in 0..n {
+                    x1[m] += delta[m];
+                    norm.add(x1[m], x1[m], delta[m], s);
+                }
+                let d = norm.value();
+                if !d.is_finite() {
+                    break;
+                }
+                // Converged when the remaining error (a geometric tail at the observed rate) is
+                // small against the tolerance the error estimate is held to; a first correction
+                // has no rate yet and must itself be small.
+                if d <= 0.1 * NEWTON_TOLERANCE {
+                    converged = true;
+                    break;
+                }
+                if previous.is_finite() {
+                    let rate = d / previous;
+                    if rate >= 0.9 {
+                        break;
+                    }
+                    if d * rate / (1.0 - rate) <= NEWTON_TOLERANCE {
+                        converged = true;
+                        break;
+                    }
+                }
+                previous = d;
+            }
+            if converged || self.jac_age == Some(0) {
+                break converged;
+            }
+            self.bdf_jacobian(sys, t, x, &mut fx, h, s, stats)?;
+        };
+        self.bdf.newton_failed = !converged;
+        if !converged {
+            return Ok(f64::INFINITY);
+        }
+        let mut norm = ErrorNorm::default();
+        let c = bdf::milne(k, with_f);
+        for m in 0..n {
+            f1[m] = alpha0 * x1[m] + known[m];
+            norm.add(x[m], x1[m], c * (x1[m] - self.bdf.predicted[m]), s);
+        }
+        Ok(norm.value())
+    }
+
+    /// The BDF's Jacobian at (t, x), with f(t, x) evaluated into `fx` (once per step).
+    #[allow(clippy::too_many_arguments)]
+    fn bdf_jacobian<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        x: &[f64],
+        fx: &mut Vec<f64>,
+        h: f64,
+        s: &Settings,
+        stats: &mut Stats,
+    ) -> Result<(), StepFailure<S::Error>> {
+        if fx.is_empty() {
+            fx.resize(x.len(), 0.0);
+            sys.rhs(t, x, fx).map_err(StepFailure::Model)?;
+            stats.rhs_evaluations += 1;
+        }
+        self.jacobian(sys, t, x, fx, h, s, stats)
+    }
+
     /// The state at t + s h (0 ≤ s ≤ 1) within the last step.
     fn dense(&self, x: &[f64], x1: &[f64], f0: &[f64], f1: &[f64], h: f64, s: f64) -> Vec<f64> {
         let s1 = 1.0 - s;
@@ -1054,7 +1356,7 @@ impl Stepper {
                     x[i] + s * (r2 + s1 * (r3 + s * (r4 + s1 * r5)))
                 })
                 .collect(),
-            Method::Ros3 | Method::Ros34pw2 => (0..x.len())
+            Method::Ros3 | Method::Ros34pw2 | Method::Bdf => (0..x.len())
                 .map(|i| {
                     // Cubic Hermite.
                     let (h00, h10, h01, h11) = (
@@ -1070,5 +1372,6 @@ impl Stepper {
     }
 }
 
+mod bdf;
 #[cfg(test)]
 mod tests;

@@ -189,6 +189,69 @@ impl Multibody {
         12 * i
     }
 
+    /// The bodies that carry wheelsets (bogie frames), whose modes against the wheelsets' primary
+    /// suspensions are the stiffest of the bodies': their [q, q̇] blocks, in groups of bodies
+    /// that share no element and no joint chain (greedy colouring), so that each group's
+    /// blocks are differenced together.
+    fn stiff_body_groups(&self) -> Vec<Vec<(usize, usize)>> {
+        let nb = self.bodies.len();
+        let body = |r: BodyRef| match r {
+            BodyRef::Body(i) if i < nb => Some(i),
+            _ => None,
+        };
+        let carries_wheelset = |i: usize| {
+            self.elements.iter().any(|e| {
+                let (a, b) = e.ends();
+                (body(a) == Some(i) && matches!(b, BodyRef::Body(k) if k >= nb))
+                    || (body(b) == Some(i) && matches!(a, BodyRef::Body(k) if k >= nb))
+            })
+        };
+        // Adjacency: an element between two bodies, or both in one chain of joints (the joint
+        // forces couple every body of a chain).
+        let mut chain: Vec<usize> = (0..nb).collect();
+        fn root(chain: &mut [usize], mut i: usize) -> usize {
+            while chain[i] != i {
+                chain[i] = chain[chain[i]];
+                i = chain[i];
+            }
+            i
+        }
+        for j in &self.joints {
+            let (ra, rb) = (root(&mut chain, j.a), root(&mut chain, j.b));
+            chain[ra] = rb;
+        }
+        let mut adjacent = vec![vec![false; nb]; nb];
+        for e in &self.elements {
+            let (a, b) = e.ends();
+            if let (Some(a), Some(b)) = (body(a), body(b)) {
+                adjacent[a][b] = true;
+                adjacent[b][a] = true;
+            }
+        }
+        let roots: Vec<usize> = (0..nb).map(|i| root(&mut chain, i)).collect();
+        let jointed: Vec<bool> = (0..nb)
+            .map(|i| self.joints.iter().any(|j| j.a == i || j.b == i))
+            .collect();
+        for (a, row) in adjacent.iter_mut().enumerate() {
+            for (b, cell) in row.iter_mut().enumerate() {
+                if a != b && jointed[a] && roots[a] == roots[b] {
+                    *cell = true;
+                }
+            }
+        }
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for i in (0..nb).filter(|&i| carries_wheelset(i)) {
+            match groups.iter_mut().find(|g| g.iter().all(|&k| !adjacent[i][k])) {
+                Some(g) => g.push(i),
+                None => groups.push(vec![i]),
+            }
+        }
+        groups
+            .into_iter()
+            .map(|g| g.into_iter().map(|i| (self.body_offset(i), 12)).collect())
+            .collect()
+    }
+
     /// State size of wheelset j ([`WheelsetState::slot_size`]): solid axle [x, y, ψ, ẋ, ẏ, ψ̇, Ω,
     /// θ_l, θ_r, θ̇_l, θ̇_r] (11); IRW-wheelset [x, y, ψ, ẋ, ẏ, ψ̇, Ω_l, Ω_r, θ_l, θ_r, θ̇_l, θ̇_r]
     /// (12: each wheel's spin; the bridge does not pitch).
@@ -799,6 +862,18 @@ impl VehicleModel for Multibody {
         (0..self.wheelsets.len())
             .map(|j| (self.wheelset_offset(j), self.wheelset_size(j)))
             .collect()
+    }
+
+    fn kinematic_blocks(&self) -> Vec<(usize, usize)> {
+        (0..self.bodies.len())
+            .map(|i| (self.body_offset(i), 12))
+            .collect()
+    }
+
+    fn newton_groups(&self) -> Vec<Vec<(usize, usize)>> {
+        let mut groups = vec![self.wheelset_slots()];
+        groups.extend(self.stiff_body_groups());
+        groups
     }
 
     fn lift_offsets(&self) -> Vec<usize> {

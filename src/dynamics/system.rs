@@ -193,6 +193,15 @@ pub trait VehicleModel: Send + Sync {
     }
     /// Per wheelset: its states (offset, count; see [`WheelsetState::read`]).
     fn wheelset_slots(&self) -> Vec<(usize, usize)>;
+    /// Per rigid body: its states [q, q̇] (offset, 2 m), q̇ the derivative of q (none by default).
+    fn kinematic_blocks(&self) -> Vec<(usize, usize)> {
+        Vec::new()
+    }
+    /// The BDF's Newton matrix blocks by finite-difference pass ([`crate::dynamics::integrator::OdeSystem::newton_groups`]):
+    /// by default the wheelsets' slots in one pass.
+    fn newton_groups(&self) -> Vec<Vec<(usize, usize)>> {
+        vec![self.wheelset_slots()]
+    }
     /// Per wheelset: the index of its θ_l in the state (θ_r, θ̇_l, θ̇_r follow; see
     /// [`WheelsetState::read`]).
     fn lift_offsets(&self) -> Vec<usize>;
@@ -257,6 +266,16 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
     /// on another wheelset's).
     fn jacobian_blocks(&self) -> Option<Vec<(usize, usize)>> {
         Some(self.model.wheelset_slots())
+    }
+
+    /// The bodies' [q, q̇] (the BDF's Newton matrix keeps their exact q̇ coupling).
+    fn kinematic_blocks(&self) -> Vec<(usize, usize)> {
+        self.model.kinematic_blocks()
+    }
+
+    /// The wheelsets' blocks, then the bogie frames' (differenced in passes of their own).
+    fn newton_groups(&self) -> Option<Vec<Vec<(usize, usize)>>> {
+        Some(self.model.newton_groups())
     }
 
     /// Two per wheelset: each wheel's lift θ (a lifted wheel lands where it passes zero).

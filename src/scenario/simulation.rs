@@ -76,6 +76,9 @@ pub struct IntegratorSpec {
     /// ros34pw2: accepted steps one Jacobian serves before it is evaluated again.
     #[serde(default = "default_jacobian_max_age")]
     pub jacobian_max_age: usize,
+    /// bdf: the highest order (1–5).
+    #[serde(default = "default_max_order")]
+    pub max_order: usize,
 }
 
 impl IntegratorSpec {
@@ -83,6 +86,7 @@ impl IntegratorSpec {
     pub fn settings(&self) -> Settings {
         let mut s = Settings::new(self.method, self.rtol, self.atol);
         s.jacobian_max_age = self.jacobian_max_age;
+        s.bdf_max_order = self.max_order;
         s
     }
 }
@@ -99,6 +103,9 @@ fn default_atol() -> f64 {
 fn default_jacobian_max_age() -> usize {
     25
 }
+fn default_max_order() -> usize {
+    5
+}
 
 impl Default for IntegratorSpec {
     fn default() -> Self {
@@ -107,6 +114,7 @@ impl Default for IntegratorSpec {
             rtol: default_rtol(),
             atol: default_atol(),
             jacobian_max_age: default_jacobian_max_age(),
+            max_order: default_max_order(),
         }
     }
 }
@@ -189,6 +197,7 @@ impl SimulationSpec {
             1.0,
             1e6,
         );
+        check("integrator.max_order", self.integrator.max_order as f64, 1.0, 5.0);
         if let Some(a) = self.kec_two_point_approach_m {
             check("kec_two_point_approach_m", a, 0.0, 1e-3);
         }
