@@ -1392,6 +1392,6 @@ impl Stepper {
     }
 }
 
-mod bdf;
+pub mod bdf;
 #[cfg(test)]
 mod tests;
