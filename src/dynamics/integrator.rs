@@ -949,6 +949,7 @@ impl Stepper {
         stats.jacobians += 1;
         self.jac_age = Some(0);
         self.newton_matrix = None;
+        self.bdf.newton_rate = 0.5;
         Ok(())
     }
 
@@ -1299,22 +1300,24 @@ impl Stepper {
                 if !d.is_finite() {
                     break;
                 }
-                // Converged when the remaining error (a geometric tail at the observed rate) is
-                // small against the tolerance the error estimate is held to; a first correction
-                // has no rate yet and must itself be small.
-                if d <= 0.1 * NEWTON_TOLERANCE {
-                    converged = true;
+                // Converged when the remaining error (a geometric tail at the contraction rate) is
+                // small against the tolerance the error estimate is held to. A first correction
+                // is judged at the rate the last steps observed with this Jacobian (CVODE's
+                // carried rate; 0.5 after a new one).
+                let rate = if previous.is_finite() {
+                    let r = d / previous;
+                    self.bdf.newton_rate = r;
+                    r
+                } else {
+                    self.bdf.newton_rate.max(0.05)
+                };
+                if rate >= 0.9 && previous.is_finite() {
                     break;
                 }
-                if previous.is_finite() {
-                    let rate = d / previous;
-                    if rate >= 0.9 {
-                        break;
-                    }
-                    if d * rate / (1.0 - rate) <= NEWTON_TOLERANCE {
-                        converged = true;
-                        break;
-                    }
+                if d <= 0.1 * NEWTON_TOLERANCE || (rate < 0.9 && d * rate / (1.0 - rate) <= NEWTON_TOLERANCE)
+                {
+                    converged = true;
+                    break;
                 }
                 previous = d;
             }

@@ -89,6 +89,8 @@ pub(super) struct Bdf {
     pub(super) predicted: Vec<f64>,
     /// The last trial step's Newton iteration failed.
     pub(super) newton_failed: bool,
+    /// The Newton iteration's last observed contraction rate (0.5 after a new Jacobian).
+    pub(super) newton_rate: f64,
     /// Scratch: weights.
     pub(super) alpha: Vec<f64>,
     pub(super) weights: Vec<f64>,
@@ -104,6 +106,7 @@ impl Bdf {
             factor: 1.0,
             predicted: Vec::new(),
             newton_failed: false,
+            newton_rate: 0.5,
             alpha: Vec::new(),
             weights: Vec::new(),
             nodes: Vec::new(),
