@@ -129,18 +129,6 @@ pub enum Method {
     Bdf,
 }
 
-impl Method {
-    /// Order of the error estimate's exponent (q in h_new = h · err^(−1/q)).
-    fn error_order(self) -> f64 {
-        match self {
-            Method::Dopri5 => 5.0,
-            Method::Ros3 | Method::Ros34pw2 => 3.0,
-            // The BDF's order varies: the integrator asks the stepper ([`Stepper::error_order`]).
-            Method::Bdf => 2.0,
-        }
-    }
-}
-
 /// BDF: Newton iterations per step before the Jacobian is renewed or the step fails.
 const NEWTON_MAX: usize = 4;
 /// BDF: the Newton iteration's remaining error, in the error norm (1 = the tolerance).
@@ -404,19 +392,13 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             .newton_groups()
             .or_else(|| sys.jacobian_blocks().map(|b| vec![b]));
         stepper
-            .bdf_blocks(groups, sys.kinematic_blocks(), n)
+            .set_blocks(groups, sys.kinematic_blocks(), n)
             .map_err(IntegrationError::Settings)?;
     }
     if settings.method == Method::Ros34pw2 {
-        stepper.blocks = sys.jacobian_blocks();
-        stepper.groups = stepper.blocks.iter().cloned().collect();
-        if let Some(b) = &stepper.blocks {
-            if b.iter().any(|&(o, m)| o + m > n) {
-                return Err(IntegrationError::Settings(format!(
-                    "Jacobian blocks {b:?} reach beyond the {n} states"
-                )));
-            }
-        }
+        stepper
+            .set_blocks(sys.jacobian_blocks().map(|b| vec![b]), Vec::new(), n)
+            .map_err(IntegrationError::Settings)?;
     }
     let mut x1 = vec![0.0; n];
     let mut f1 = vec![0.0; n];
@@ -793,10 +775,12 @@ impl Stepper {
         }
     }
 
-    /// BDF: the Jacobian blocks (finite differences) and the kinematic blocks (exact identity
-    /// couplings, [`OdeSystem::kinematic_blocks`]) of the Newton matrix. Without Jacobian blocks
-    /// the full Jacobian is used and the kinematic blocks are not needed.
-    fn bdf_blocks(
+    /// The Jacobian blocks by finite-difference group (the W-method's one group, the BDF's
+    /// [`OdeSystem::newton_groups`]), checked to lie apart and within the n states, and for the
+    /// BDF's Newton matrix the kinematic blocks (exact identity couplings,
+    /// [`OdeSystem::kinematic_blocks`]). Without Jacobian blocks the full Jacobian is used and the
+    /// kinematic blocks are not needed.
+    fn set_blocks(
         &mut self,
         groups: Option<Vec<Vec<(usize, usize)>>>,
         kinematic: Vec<(usize, usize)>,
@@ -852,11 +836,13 @@ impl Stepper {
         }
     }
 
-    /// Order of the error estimate's exponent for the next step-size change.
+    /// Order q of the error estimate's exponent (h_new = h · err^(−1/q)) for the next step-size
+    /// change: the BDF's varies with its order.
     fn error_order(&self) -> f64 {
         match self.method {
+            Method::Dopri5 => 5.0,
+            Method::Ros3 | Method::Ros34pw2 => 3.0,
             Method::Bdf => self.bdf.usable_order() as f64 + 1.0,
-            m => m.error_order(),
         }
     }
 
@@ -940,11 +926,13 @@ impl Stepper {
             }
         }
         // ∂f/∂t by a forward difference (the γ_i h f_t terms; zero for autonomous systems).
-        let dt = 1.5e-8 * t.abs().max(h).max(1e-6);
-        sys.rhs(t + dt, x, &mut self.ft).map_err(StepFailure::Model)?;
-        stats.rhs_evaluations += 1;
-        for (ft, f) in self.ft.iter_mut().zip(f0) {
-            *ft = (*ft - f) / dt;
+        {
+            let dt = 1.5e-8 * t.abs().max(h).max(1e-6);
+            sys.rhs(t + dt, x, &mut self.ft).map_err(StepFailure::Model)?;
+            stats.rhs_evaluations += 1;
+            for (ft, f) in self.ft.iter_mut().zip(f0) {
+                *ft = (*ft - f) / dt;
+            }
         }
         stats.jacobians += 1;
         self.jac_age = Some(0);
@@ -1225,37 +1213,9 @@ impl Stepper {
         }
         let k = self.bdf.usable_order();
         let t1 = t + h;
-        let b = &mut self.bdf;
-        b.nodes.clear();
-        b.nodes.push(t1);
-        b.nodes.extend(b.history.iter().take(k).map(|p| p.0));
-        bdf::derivative_weights(&b.nodes, &mut b.alpha);
-        let alpha0 = b.alpha[0];
         // Σ_{j≥1} α_j x_j: the corrector's known part.
         let mut known = vec![0.0; n];
-        for (j, p) in b.history.iter().take(k).enumerate() {
-            let a = b.alpha[j + 1];
-            for (kv, xv) in known.iter_mut().zip(&p.1) {
-                *kv += a * xv;
-            }
-        }
-        // Predictor: the polynomial through the k + 1 newest points (or x + h f at the start).
-        let with_f = b.history.len() < 2;
-        b.predicted.clear();
-        if with_f {
-            b.predicted.extend(x.iter().zip(f0).map(|(xi, fi)| xi + h * fi));
-        } else {
-            b.nodes.clear();
-            b.nodes.extend(b.history.iter().take(k + 1).map(|p| p.0));
-            bdf::value_weights(&b.nodes, t1, &mut b.weights);
-            b.predicted.resize(n, 0.0);
-            b.predicted.iter_mut().for_each(|v| *v = 0.0);
-            for (w, p) in b.weights.iter().zip(b.history.iter()) {
-                for (v, xv) in b.predicted.iter_mut().zip(&p.1) {
-                    *v += w * xv;
-                }
-            }
-        }
+        let (alpha0, with_f) = self.bdf.prepare(t1, x, f0, h, k, &mut known);
         // The Jacobian's differences need f(t, x) itself: f0 is the BDF polynomial's derivative,
         // equal to f only to the Newton tolerance, which divided by a difference's 1e-10 would
         // swamp the columns.

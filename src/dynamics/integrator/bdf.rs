@@ -91,10 +91,10 @@ pub(super) struct Bdf {
     pub(super) newton_failed: bool,
     /// The Newton iteration's last observed contraction rate (0.5 after a new Jacobian).
     pub(super) newton_rate: f64,
-    /// Scratch: weights.
-    pub(super) alpha: Vec<f64>,
-    pub(super) weights: Vec<f64>,
-    pub(super) nodes: Vec<f64>,
+    /// Scratch: weights and nodes.
+    alpha: Vec<f64>,
+    weights: Vec<f64>,
+    nodes: Vec<f64>,
 }
 
 impl Bdf {
@@ -111,6 +111,48 @@ impl Bdf {
             weights: Vec::new(),
             nodes: Vec::new(),
         }
+    }
+
+    /// Sets up the step to t1 = t + h from the newest point (x, f0 = f there) at order k: the
+    /// corrector's α₀ and known part Σ_{j≥1} α_j x_j (into `known`) and the predictor (into
+    /// `predicted`: the polynomial through the k + 1 newest points, or x + h f0 from the first
+    /// point). Returns α₀ and whether the predictor used f0.
+    pub(super) fn prepare(
+        &mut self,
+        t1: f64,
+        x: &[f64],
+        f0: &[f64],
+        h: f64,
+        k: usize,
+        known: &mut [f64],
+    ) -> (f64, bool) {
+        self.nodes.clear();
+        self.nodes.push(t1);
+        self.nodes.extend(self.history.iter().take(k).map(|p| p.0));
+        derivative_weights(&self.nodes, &mut self.alpha);
+        known.iter_mut().for_each(|v| *v = 0.0);
+        for (a, p) in self.alpha[1..].iter().zip(&self.history) {
+            for (kv, xv) in known.iter_mut().zip(&p.1) {
+                *kv += a * xv;
+            }
+        }
+        let with_f = self.history.len() < 2;
+        self.predicted.clear();
+        if with_f {
+            self.predicted
+                .extend(x.iter().zip(f0).map(|(xi, fi)| xi + h * fi));
+        } else {
+            self.nodes.clear();
+            self.nodes.extend(self.history.iter().take(k + 1).map(|p| p.0));
+            value_weights(&self.nodes, t1, &mut self.weights);
+            self.predicted.resize(x.len(), 0.0);
+            for (w, p) in self.weights.iter().zip(&self.history) {
+                for (v, xv) in self.predicted.iter_mut().zip(&p.1) {
+                    *v += w * xv;
+                }
+            }
+        }
+        (self.alpha[0], with_f)
     }
 
     /// Forget the past (at the start and after a jump of the state): order 1 from (t, x).
