@@ -228,13 +228,11 @@ impl Multibody {
                 adjacent[b][a] = true;
             }
         }
+        // Two bodies share a root only if joints link them.
         let roots: Vec<usize> = (0..nb).map(|i| root(&mut chain, i)).collect();
-        let jointed: Vec<bool> = (0..nb)
-            .map(|i| self.joints.iter().any(|j| j.a == i || j.b == i))
-            .collect();
         for (a, row) in adjacent.iter_mut().enumerate() {
             for (b, cell) in row.iter_mut().enumerate() {
-                if a != b && jointed[a] && roots[a] == roots[b] {
+                if a != b && roots[a] == roots[b] {
                     *cell = true;
                 }
             }
