@@ -125,7 +125,16 @@ fn lift_off_is_continuous_at_zero_normal_force() {
             force: [0.0, 0.0, -weight],
             moment: [m_x, 0.0, 0.0],
         };
-        evaluate(&INERTIA, &state, &kin, &frame, &load, &f, [5e4, 5e4], None)
+        evaluate(
+            &INERTIA,
+            &state,
+            &kin,
+            &frame,
+            &load,
+            &f,
+            &mut [5e4, 5e4].into(),
+            None,
+        )
     };
     // Moments (N m) well below and well above the threshold ≈ W_total · 0.75 m.
     let (m1, m2, m3, m4) = (20e3, 40e3, 110e3, 130e3);
@@ -151,7 +160,17 @@ fn lift_off_is_continuous_at_zero_normal_force() {
         force: [0.0, 0.0, 2.0 * INERTIA.mass_kg * G],
         moment: [0.0; 3],
     };
-    let err = evaluate(&INERTIA, &state, &kin, &frame, &load, &f, [5e4, 5e4], None).unwrap_err();
+    let err = evaluate(
+        &INERTIA,
+        &state,
+        &kin,
+        &frame,
+        &load,
+        &f,
+        &mut [5e4, 5e4].into(),
+        None,
+    )
+    .unwrap_err();
     assert!(matches!(err, WheelsetError::Flight { .. }), "{err}");
 }
 

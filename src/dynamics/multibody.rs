@@ -507,11 +507,10 @@ impl Multibody {
                 &motions[nb + j],
                 &load,
                 &self.forces,
-                data.lambda[j],
+                &mut data.normal_start[j],
                 self.reference.lateral_flexibility().as_ref(),
             )
             .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))?;
-            data.lambda[j] = dynamics.normal;
             if let Some(d) = dxdt.as_deref_mut() {
                 let o = self.wheelset_offset(j);
                 WheelsetState::write_rates(&x[o..], &mut d[o..], &dynamics, self.is_irw(j));

@@ -105,11 +105,10 @@ impl SingleWheelset {
             &frame.motion,
             &load,
             &self.forces,
-            data.lambda[0],
+            &mut data.normal_start[0],
             self.reference.lateral_flexibility().as_ref(),
         )
         .map_err(DynamicsError::wheelset(&self.name, st.y))?;
-        data.lambda[0] = dynamics.normal;
         let kin = pose_kinematics(&st, &kin).map_err(DynamicsError::wheelset(&self.name, st.y))?;
         Ok(WheelsetSample {
             state: st,

@@ -10,7 +10,7 @@ use nalgebra::Vector3;
 use thiserror::Error;
 
 use super::reference::Reference;
-use super::wheelset::{Landing, WheelsetDynamics, WheelsetError, WheelsetState};
+use super::wheelset::{Landing, NormalForceStart, WheelsetDynamics, WheelsetError, WheelsetState};
 use crate::contact::{ContactModel, ContactModelError, WarmStart, WheelsetKinematics};
 use crate::track::TrackError;
 
@@ -110,9 +110,9 @@ pub struct Settling {
 pub struct VehicleData {
     /// Per wheelset: the contact model's warm start.
     pub warm: Vec<WarmStart>,
-    /// Per wheelset: the normal forces of the last evaluation, which the next one's creep forces
-    /// start from, N.
-    pub lambda: Vec<[f64; 2]>,
+    /// Per wheelset: the normal forces and the iteration's secant matrix of the last evaluation,
+    /// which the next one starts from ([`NormalForceStart`]).
+    pub normal_start: Vec<NormalForceStart>,
     /// Contact-model evaluations (for the statistics).
     pub contact_evaluations: usize,
     /// The landings of lifted wheels so far (integrator events; trial steps never land).
@@ -124,7 +124,7 @@ impl VehicleData {
     pub fn new(lambda: Vec<[f64; 2]>) -> VehicleData {
         VehicleData {
             warm: vec![WarmStart::default(); lambda.len()],
-            lambda,
+            normal_start: lambda.into_iter().map(NormalForceStart::from).collect(),
             contact_evaluations: 0,
             landings: Vec::new(),
         }

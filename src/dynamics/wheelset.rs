@@ -255,6 +255,26 @@ pub enum WheelsetError {
     NormalForces { change: f64, passes: usize },
 }
 
+/// Where the normal-force iteration of [`evaluate`] starts: the normal forces λ and the Broyden
+/// matrix B ≈ ∂(Φ(λ) − λ)/∂λ, both carried from one evaluation of a wheelset to the next (the
+/// result does not depend on them beyond the iteration's tolerance).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalForceStart {
+    /// Normal forces (left, right), N.
+    pub lambda: [f64; 2],
+    /// B; −I starts the iteration as the plain fixed point λ₁ = Φ(λ₀).
+    pub secant: Matrix2<f64>,
+}
+
+impl From<[f64; 2]> for NormalForceStart {
+    fn from(lambda: [f64; 2]) -> Self {
+        NormalForceStart {
+            lambda,
+            secant: -Matrix2::identity(),
+        }
+    }
+}
+
 /// Passes between creep forces and normal forces: at most 1 + this many, until Φ(λ) − λ is below
 /// `LAMBDA_TOLERANCE` relative (so that the right-hand side is a function of the state, not of the
 /// previous evaluation — implicit integrators difference it); else a diagnosed failure.
@@ -533,8 +553,8 @@ fn spin_inertia(inertia: &WheelsetInertia) -> f64 {
 }
 
 /// Evaluates the wheelset's accelerations and normal forces. `kin` is the contact model's
-/// two-point configuration at the state's y; `lambda_guess` seeds the creep forces' first pass
-/// (e.g. the previous evaluation's normal forces).
+/// two-point configuration at the state's y; `start` seeds the normal-force iteration (the
+/// previous evaluation's normal forces and secant matrix) and is updated to this one's.
 ///
 /// A wheel whose normal force would be ≤ 0 is released ([`Lift`]): with θ = θ̇ = 0 the equations
 /// are solved again with that wheel free, and its θ̈ (≥ 0: the two solutions meet where λ = 0)
@@ -548,11 +568,42 @@ pub fn evaluate(
     frame: &FrameMotion,
     load: &Load,
     forces: &ContactForceSettings,
-    lambda_guess: [f64; 2],
+    start: &mut NormalForceStart,
     track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
+    let r = evaluate_from(inertia, state, kin, frame, load, forces, start, track)?;
+    start.lambda = r.normal;
+    Ok(r)
+}
+
+/// [`evaluate`] but for the update of `start.lambda` (its secant matrix is updated by the
+/// both-wheels solve).
+#[allow(clippy::too_many_arguments)]
+fn evaluate_from(
+    inertia: &WheelsetInertia,
+    state: &WheelsetState,
+    kin: &WheelsetKinematics,
+    frame: &FrameMotion,
+    load: &Load,
+    forces: &ContactForceSettings,
+    start: &mut NormalForceStart,
+    track: Option<&LateralFlexibility>,
+) -> Result<WheelsetDynamics, WheelsetError> {
+    let lambda_guess = start.lambda;
     let lifted = |l: Lift, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
-        let r = solve(inertia, state, kin, frame, load, forces, guess, Some(&l), track)?;
+        let mut fresh = -Matrix2::identity();
+        let r = solve(
+            inertia,
+            state,
+            kin,
+            frame,
+            load,
+            forces,
+            guess,
+            &mut fresh,
+            Some(&l),
+            track,
+        )?;
         let p = 1 - l.side;
         if r.normal[p] <= 0.0 {
             return Err(WheelsetError::Flight {
@@ -576,6 +627,7 @@ pub fn evaluate(
         load,
         forces,
         lambda_guess,
+        &mut start.secant,
         None,
         track,
     )?;
@@ -614,6 +666,7 @@ fn solve(
     load: &Load,
     forces: &ContactForceSettings,
     lambda_guess: [f64; 2],
+    secant: &mut Matrix2<f64>,
     lift: Option<&Lift>,
     track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
@@ -673,8 +726,9 @@ fn solve(
     let m_load = Vector3::from(load.moment);
     let m_known = m_load - axle * axle.dot(&m_load);
     // The ellipse shape depends on the curvatures only: solve Hertz once per wheel at the guessed
-    // load and scale it (a, b ∝ N^⅓) in every pass.
-    let mut hertz0 = [None; 2];
+    // load, look up its Kalker coefficients (a/b fixed), and scale the patch (a, b ∝ N^⅓) in
+    // every pass.
+    let mut patch0 = [None; 2];
     for i in (0..2).filter(|&i| on_rail(i)) {
         let side = Side::BOTH[i].name();
         let c = &kin.contacts[i];
@@ -684,8 +738,13 @@ fn solve(
             c.wheel_curvature,
             c.rail_curvature,
         );
-        hertz0[i] = Some(
-            HertzContact::solve(curv, lambda_guess[i].max(1.0), &forces.material, &forces.material).map_err(
+        let hertz = HertzContact::solve(curv, lambda_guess[i].max(1.0), &forces.material, &forces.material)
+            .map_err(|e| WheelsetError::Contact {
+            side,
+            message: e.to_string(),
+        })?;
+        patch0[i] = Some(
+            ContactPatch::from_hertz(&hertz, &forces.material, forces.friction, &forces.kalker).map_err(
                 |e| WheelsetError::Contact {
                     side,
                     message: e.to_string(),
@@ -713,12 +772,7 @@ fn solve(
         for i in (0..2).filter(|&i| on_rail(i)) {
             let side = Side::BOTH[i].name();
             let n_force = lambda[i].max(1.0);
-            let hertz = hertz0[i].as_ref().ok_or(WheelsetError::Singular)?.scaled(n_force);
-            let patch = ContactPatch::from_hertz(&hertz, &forces.material, forces.friction, &forces.kalker)
-                .map_err(|e| WheelsetError::Contact {
-                side,
-                message: e.to_string(),
-            })?;
+            let patch = patch0[i].as_ref().ok_or(WheelsetError::Singular)?.scaled(n_force);
             creep[i] = forces
                 .model
                 .forces(&patch, &creepage[i], frame.speed)
@@ -776,52 +830,69 @@ fn solve(
             track_accel: if track.is_some() { sol[8] } else { 0.0 },
         })
     };
-    // Solve G(λ) = Φ(λ) − λ = 0 by Broyden's method, started as the plain fixed point (B₀ = −I:
-    // the first step is λ₁ = Φ(λ₀)); the secant updates make it superlinear where the plain
-    // iteration converges linearly (its factor reaches ~0.3 in flange contact). A lifted wheel's
-    // λ stays 0.
+    // Solve G(λ) = Φ(λ) − λ = 0 by Broyden's method. Its matrix B ≈ ∂G/∂λ starts from `secant`,
+    // the one the wheelset's previous evaluation ended with (G changes little between nearby
+    // states: Polach's ε does not depend on N since a²b ∝ N, so G is nearly linear and a carried
+    // B converges in 2–3 passes), and is handed back for the next. Should that fail, the
+    // iteration starts again as the plain fixed point (B₀ = −I: the first step is λ₁ = Φ(λ₀)),
+    // the secant updates making it superlinear where the plain iteration converges linearly (its
+    // factor reaches ~0.3 in flange contact). A lifted wheel's λ stays 0.
     let pin = |mut l: [f64; 2]| {
         if let Some(lf) = lift {
             l[lf.side] = 0.0;
         }
         l
     };
-    let mut lambda = pin(lambda_guess);
-    let mut result = pass(lambda)?;
-    let mut g = Vector2::new(result.normal[0] - lambda[0], result.normal[1] - lambda[1]);
-    let mut jac = -Matrix2::<f64>::identity();
     // Relative, with an absolute floor of 1 nN (a wheelset about to leave both rails has λ → 0).
     let tolerance = |r: &WheelsetDynamics| LAMBDA_TOLERANCE * (r.normal[0].abs() + r.normal[1].abs()) + 1e-9;
-    let mut converged = g.amax() <= tolerance(&result);
-    for _ in 0..MAX_PASSES {
-        if converged {
-            break;
+    let broyden = |mut jac: Matrix2<f64>| -> Result<(WheelsetDynamics, Matrix2<f64>, bool), WheelsetError> {
+        let mut lambda = pin(lambda_guess);
+        let mut result = pass(lambda)?;
+        let mut g = Vector2::new(result.normal[0] - lambda[0], result.normal[1] - lambda[1]);
+        let mut converged = g.amax() <= tolerance(&result);
+        for _ in 0..MAX_PASSES {
+            if converged {
+                break;
+            }
+            let step = match jac.lu().solve(&(-g)) {
+                Some(s) if s.iter().all(|v| v.is_finite()) => s,
+                _ => g,
+            };
+            let next = pin([lambda[0] + step[0], lambda[1] + step[1]]);
+            let step = Vector2::new(next[0] - lambda[0], next[1] - lambda[1]);
+            let r = pass(next)?;
+            let g_next = Vector2::new(r.normal[0] - next[0], r.normal[1] - next[1]);
+            let dg = g_next - g;
+            let dl = step.norm_squared();
+            if dl > 0.0 {
+                jac += (dg - jac * step) * step.transpose() / dl;
+            }
+            lambda = next;
+            g = g_next;
+            result = r;
+            converged = g.amax() <= tolerance(&result);
         }
-        let step = match jac.lu().solve(&(-g)) {
-            Some(s) if s.iter().all(|v| v.is_finite()) => s,
-            _ => g,
-        };
-        let next = pin([lambda[0] + step[0], lambda[1] + step[1]]);
-        let step = Vector2::new(next[0] - lambda[0], next[1] - lambda[1]);
-        let r = pass(next)?;
-        let g_next = Vector2::new(r.normal[0] - next[0], r.normal[1] - next[1]);
-        let dg = g_next - g;
-        let dl = step.norm_squared();
-        if dl > 0.0 {
-            jac += (dg - jac * step) * step.transpose() / dl;
-        }
-        lambda = next;
-        g = g_next;
-        result = r;
-        converged = g.amax() <= tolerance(&result);
-    }
-    result.lambda_change = g.amax();
+        result.lambda_change = g.amax();
+        Ok((result, jac, converged))
+    };
+    let fresh = -Matrix2::<f64>::identity();
+    let carried = *secant;
+    let (result, jac, converged) = match broyden(carried) {
+        Ok(r) if r.2 || carried == fresh => r,
+        Err(e) if carried == fresh => return Err(e),
+        _ => broyden(fresh)?,
+    };
     if !converged {
         return Err(WheelsetError::NormalForces {
             change: result.lambda_change,
             passes: MAX_PASSES + 1,
         });
     }
+    *secant = if jac.iter().all(|v| v.is_finite()) {
+        jac
+    } else {
+        fresh
+    };
     Ok(result)
 }
 
