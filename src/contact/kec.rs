@@ -788,7 +788,7 @@ impl KecModel {
                 break;
             }
             if last < TOLERANCE || (last < 1e-11 && f.amax() < 1e-15) {
-                return self.finish(y, &q, x, it);
+                return self.finish(y, x, &j, it);
             }
         }
         Err(KecError::NoConvergence {
@@ -810,11 +810,12 @@ impl KecModel {
         }
     }
 
+    /// The solution at x (`j` the Jacobian there) with its first and second derivatives in q.
     fn finish(
         &self,
         y: f64,
-        q: &[f64; N_Q],
         x: [f64; 4],
+        j: &Matrix4<f64>,
         iterations: usize,
     ) -> Result<KecSolution, KecError> {
         for (side, s) in [(Side::Left, x[2]), (Side::Right, x[3])] {
@@ -825,8 +826,17 @@ impl KecModel {
                 return Err(self.off_profile(y, side, s));
             }
         }
-        let (_, j) = self.residual(q, &x);
-        let lu = j.lu();
+        // J⁻¹ once (4×4, by cofactors): the 5 first and 15 second derivatives below are products
+        // with it.
+        let singular = || KecError::NoConvergence {
+            y_mm: y * 1e3,
+            iterations,
+            last_step: f64::NAN,
+        };
+        let inv = j.try_inverse().ok_or_else(singular)?;
+        if !inv.iter().all(|v| v.is_finite()) {
+            return Err(singular());
+        }
         // ∂F/∂q: F1 = y … − y_lir, F2 = … − z_lir, F3 = y … − y_rir, F4 = … − z_rir.
         #[rustfmt::skip]
         let dfdq: [[f64; 4]; N_Q] = [
@@ -836,14 +846,9 @@ impl KecModel {
             [0.0, 0.0, -1.0, 0.0],
             [0.0, 0.0, 0.0, -1.0],
         ];
-        let singular = || KecError::NoConvergence {
-            y_mm: y * 1e3,
-            iterations,
-            last_step: f64::NAN,
-        };
         let mut dx = [[0.0; N_Q]; 4];
         for (a, col) in dfdq.iter().enumerate() {
-            let v = lu.solve(&(-Vector4::from(*col))).ok_or_else(singular)?;
+            let v = -(inv * Vector4::from(*col));
             for r in 0..4 {
                 dx[r][a] = v[r];
             }
@@ -865,11 +870,15 @@ impl KecModel {
                     dfr * (pa * rb + ra * pb) + phi * d2fr * ra * rb,
                     (pa * rb + ra * pb) - d2fr * ra * rb,
                 );
-                let v = lu.solve(&(-fxx)).ok_or_else(singular)?;
-                d2z[a][b] = v[0];
-                d2z[b][a] = v[0];
-                d2phi[a][b] = v[1];
-                d2phi[b][a] = v[1];
+                // Rows 0 and 1 of −J⁻¹ F_xx: z̃ and φ.
+                let (vz, vphi) = (
+                    -inv.row(0).dot(&fxx.transpose()),
+                    -inv.row(1).dot(&fxx.transpose()),
+                );
+                d2z[a][b] = vz;
+                d2z[b][a] = vz;
+                d2phi[a][b] = vphi;
+                d2phi[b][a] = vphi;
             }
         }
         Ok(KecSolution {

@@ -33,7 +33,7 @@
 
 use std::sync::Arc;
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Vector3, Vector6};
 
 use super::reference::{FrameAt, Reference, G};
 use super::system::{
@@ -549,7 +549,6 @@ impl Multibody {
         if nj == 0 {
             return Ok(Vec::new());
         }
-        let nb = self.bodies.len();
         let skew = |p: &Vector3<f64>| p.cross_matrix();
         let k_of = |i: usize, p: &Vector3<f64>| {
             let (pose, m) = (&poses[i], &motions[i]);
@@ -562,10 +561,19 @@ impl Multibody {
                 + 2.0 * w.cross(&rho_dot)
                 + pose.theta_dot.cross(&pose.theta_dot.cross(p))
         };
-        let mut jac = DMatrix::<f64>::zeros(3 * nj, 6 * nb);
+        // J (3 nj × 6 nb) is sparse: joint r's rows hold a 3×6 block [lin | ang] for each of its
+        // two bodies. So S = J M⁻¹ Jᵀ is built block by block (joints r, s couple through a
+        // shared body), with the same result as the dense products at a fraction of their cost.
+        let mut blocks: Vec<[(usize, Matrix3x6<f64>); 2]> = Vec::with_capacity(nj);
         let mut gamma = DVector::<f64>::zeros(3 * nj);
         let mut errors = Vec::with_capacity(nj);
         let wc = JOINT_STABILISATION_RAD_S;
+        let block = |lin: Matrix3<f64>, ang: Matrix3<f64>| {
+            let mut b = Matrix3x6::zeros();
+            b.fixed_view_mut::<3, 3>(0, 0).copy_from(&lin);
+            b.fixed_view_mut::<3, 3>(0, 3).copy_from(&ang);
+            b
+        };
         for (r, jt) in self.joints.iter().enumerate() {
             let (pa, pb) = (&poses[jt.a], &poses[jt.b]);
             let at = pa.rotation.transpose();
@@ -574,37 +582,56 @@ impl Multibody {
             let e_dot = at * (pb.point_velocity(&jt.arm_b) - pa.point_velocity(&jt.arm_a));
             errors.push(e.norm());
             let g = -2.0 * wc * e_dot - wc * wc * e - (rot * k_of(jt.b, &jt.arm_b) - k_of(jt.a, &jt.arm_a));
-            let blocks = [
-                (jt.a, -Matrix3::identity(), skew(&jt.arm_a)),
-                (jt.b, rot, -rot * skew(&jt.arm_b)),
-            ];
-            for (body, lin, ang) in blocks {
-                jac.view_mut((3 * r, 6 * body), (3, 3)).copy_from(&lin);
-                jac.view_mut((3 * r, 6 * body + 3), (3, 3)).copy_from(&ang);
-            }
+            blocks.push([
+                (jt.a, block(-Matrix3::identity(), skew(&jt.arm_a))),
+                (jt.b, block(rot, -rot * skew(&jt.arm_b))),
+            ]);
             gamma.rows_mut(3 * r, 3).copy_from(&g);
         }
-        let mut minv = DVector::<f64>::zeros(6 * nb);
-        let mut q0 = DVector::<f64>::zeros(6 * nb);
-        for (i, b) in self.bodies.iter().enumerate() {
-            for k in 0..3 {
-                minv[6 * i + k] = 1.0 / b.mass_kg;
-                minv[6 * i + 3 + k] = 1.0 / b.inertia[k];
-                q0[6 * i + k] = qdd[i][0][k];
-                q0[6 * i + 3 + k] = qdd[i][1][k];
+        let minv = |i: usize| {
+            let b = &self.bodies[i];
+            Vector6::new(
+                1.0 / b.mass_kg,
+                1.0 / b.mass_kg,
+                1.0 / b.mass_kg,
+                1.0 / b.inertia[0],
+                1.0 / b.inertia[1],
+                1.0 / b.inertia[2],
+            )
+        };
+        let q0 = |i: usize| {
+            let q = &qdd[i];
+            Vector6::new(q[0][0], q[0][1], q[0][2], q[1][0], q[1][1], q[1][2])
+        };
+        // S and γ − J q̈₀.
+        let mut schur = DMatrix::<f64>::zeros(3 * nj, 3 * nj);
+        for (r, bl) in blocks.iter().enumerate() {
+            for &(body, b) in bl {
+                let rhs = b * q0(body);
+                let mut g = gamma.fixed_rows_mut::<3>(3 * r);
+                g -= rhs;
+                let bm = b * Matrix6::from_diagonal(&minv(body));
+                for (s, bl_s) in blocks.iter().enumerate() {
+                    for &(body_s, bs) in bl_s {
+                        if body_s == body {
+                            let mut v = schur.fixed_view_mut::<3, 3>(3 * r, 3 * s);
+                            v += bm * bs.transpose();
+                        }
+                    }
+                }
             }
         }
-        let jm = DMatrix::from_fn(3 * nj, 6 * nb, |r, c| jac[(r, c)] * minv[c]);
-        let schur = &jm * jac.transpose();
-        let mu = schur
-            .lu()
-            .solve(&(gamma - &jac * &q0))
-            .ok_or(DynamicsError::JointsSingular)?;
-        let dq = jm.transpose() * mu;
-        for (i, q) in qdd.iter_mut().enumerate() {
-            for k in 0..3 {
-                q[0][k] += dq[6 * i + k];
-                q[1][k] += dq[6 * i + 3 + k];
+        let mu = schur.lu().solve(&gamma).ok_or(DynamicsError::JointsSingular)?;
+        // q̈ += M⁻¹ Jᵀ μ.
+        for (r, bl) in blocks.iter().enumerate() {
+            let m = mu.fixed_rows::<3>(3 * r);
+            for &(body, b) in bl {
+                let dq = (b.transpose() * m).component_mul(&minv(body));
+                let q = &mut qdd[body];
+                for k in 0..3 {
+                    q[0][k] += dq[k];
+                    q[1][k] += dq[3 + k];
+                }
             }
         }
         Ok(errors)
