@@ -109,6 +109,9 @@ pub struct RunSummary {
     pub steps: usize,
     pub rejected_steps: usize,
     pub rhs_evaluations: usize,
+    /// Jacobians evaluated (implicit and linearly implicit methods; their finite-difference
+    /// right-hand sides are counted in `rhs_evaluations`).
+    pub jacobians: usize,
     pub preprocessing_s: f64,
     pub max_abs_y_mm: f64,
     pub max_abs_yaw_mrad: f64,
@@ -148,14 +151,15 @@ impl fmt::Display for RunSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "simulated {:.3} s in {:.3} s wall: real-time factor {:.1} (preprocessing {:.2} s); {} steps ({} rejected), {} right-hand sides",
+            "simulated {:.3} s in {:.3} s wall: real-time factor {:.1} (preprocessing {:.2} s); {} steps ({} rejected), {} right-hand sides, {} Jacobians",
             self.simulated_s,
             self.wall_s,
             self.realtime_factor,
             self.preprocessing_s,
             self.steps,
             self.rejected_steps,
-            self.rhs_evaluations
+            self.rhs_evaluations,
+            self.jacobians
         )?;
         if self.samples == 0 {
             writeln!(f, "no output samples")?;

@@ -354,6 +354,7 @@ fn summarise(
         steps: stats.accepted,
         rejected_steps: stats.rejected,
         rhs_evaluations: stats.rhs_evaluations,
+        jacobians: stats.jacobians,
         preprocessing_s: labels.preprocessing_s,
         max_abs_y_mm: fold(&|s| s.y.abs() * 1e3),
         max_abs_yaw_mrad: fold(&|s| s.yaw.abs() * 1e3),
