@@ -619,3 +619,91 @@ fn compare_reports_the_differences_of_the_runs() {
         assert!((d[0] - (r[1] - r[0])).abs() < 1e-9);
     }
 }
+
+/// `kecsim bench precision`: a tolerance sweep against one reference run. The error of each row is
+/// its difference from an independent tight run; a row with the reference's own settings is
+/// identical to it (error exactly 0: runs are deterministic); the error of a model falls with the
+/// tolerance down to the model's own floor (lookup against a KEC reference); the cost at equal
+/// error picks the cheapest run within the level; the command prints and records it.
+#[test]
+fn precision_sweep_measures_error_against_the_reference() {
+    use kecsim::bench::precision::{precision, PrecisionSettings};
+    let sc = scene("wheelset_klingel.toml");
+    let settings = PrecisionSettings {
+        contacts: vec!["kec".to_string(), "lookup".to_string()],
+        methods: vec![Method::Dopri5],
+        rtols: vec![1e-3, 1e-5, 1e-9],
+        reference: ("kec".to_string(), Method::Dopri5, 1e-9),
+        duration_s: Some(1.0),
+    };
+    let p = precision(&sc, &settings).unwrap();
+    assert_eq!(p.rows.len(), 6);
+    assert!(p.rows.iter().all(|r| r.outcome == "completed"), "{:?}", p.rows);
+    let err = |c: &str, rtol: f64| {
+        let r = p.rows.iter().find(|r| r.contact == c && r.rtol == rtol).unwrap();
+        (r.max_dy, r.max_dpsi)
+    };
+    println!("{}", p.markdown());
+    // The reference's own settings reproduce it exactly.
+    assert_eq!(err("kec", 1e-9), (0.0, 0.0));
+    // Convergence: the error falls with the tolerance.
+    let (e3, e5) = (err("kec", 1e-3), err("kec", 1e-5));
+    assert!(e3.0 > 0.0 && e5.0 < e3.0 / 10.0, "{e3:?} {e5:?}");
+    // The lookup table's floor: its difference from KEC (the model's, not the integrator's)
+    // stays when the tolerance tightens, and is within the paper's bound on this scene.
+    let (l5, l9) = (err("lookup", 1e-5), err("lookup", 1e-9));
+    assert!(l9.0 > 10.0 * e5.0 && l9.0 < 1e-3, "{l9:?}");
+    assert!((l5.0 - l9.0).abs() < 0.5 * l9.0, "{l5:?} {l9:?}");
+    // The cheapest run within a level every row meets: the fastest KEC row.
+    let fastest = p
+        .rows
+        .iter()
+        .filter(|r| r.contact == "kec")
+        .map(|r| r.wall_s)
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(p.cheapest_within("kec", 1.0, 1.0).unwrap().wall_s, fastest);
+    assert!(p.cheapest_within("lookup", 1e-12, 1e-12).is_none());
+    assert!(p.markdown().contains("| kec | Dopri5 | 1e-5 |"));
+
+    let dir = tmpdir("precision");
+    let rrd = dir.join("p.rrd");
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wheelset_klingel.toml");
+    let out = kecsim(
+        &[
+            "bench",
+            "precision",
+            scene_path.to_str().unwrap(),
+            "--duration",
+            "0.5",
+            "--contact",
+            "kec",
+            "--method",
+            "dopri5",
+            "--rtol",
+            "1e-3,1e-6",
+            "--reference-contact",
+            "kec",
+            "--reference-rtol",
+            "1e-9",
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        stdout.contains("| kec | Dopri5 | 1e-6 |") && stdout.contains("Cost at equal error"),
+        "{stdout}"
+    );
+    rerun_verify(&rrd);
+    assert!(std::fs::metadata(&rrd).unwrap().len() > 0);
+    // The sweep's options belong to `precision` only.
+    let out = kecsim(&["bench", "creep", "--rtol", "1e-3"], &dir);
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("apply to `kecsim bench precision` only"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -2,6 +2,7 @@
 //! error that goes with it, in release builds. Not timed assertions: numbers for people.
 
 pub mod dynamics;
+pub mod precision;
 
 use std::hint::black_box;
 use std::time::Instant;

@@ -1,16 +1,62 @@
 //! `kecsim bench [TARGET]`: measured speed with its error, printed (release builds).
 
+use std::path::{Path, PathBuf};
+
 use anyhow::Result;
 use clap::Args;
+
+use kecsim::bench::precision::PrecisionSettings;
+use kecsim::dynamics::integrator::Method;
+use kecsim::inspect;
+use kecsim::scenario::{Scenario, DEFAULT_SCENARIO};
+
+use super::{check_sink, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct BenchArgs {
     /// What to measure.
     #[arg(value_enum, default_value = "profiles")]
     target: BenchTarget,
+    /// `precision`: the scenario file (TOML) with a [simulation] [default: the embedded MS scene,
+    /// the default of `kecsim run`].
+    scenario: Option<PathBuf>,
     /// Calls per measurement.
     #[arg(long, default_value_t = DEFAULT_CALLS)]
     calls: usize,
+    /// `precision`: simulated time, s [default: 6 s on the embedded MS scene (straight track and
+    /// the first wheelsets' swing to the flange at the curve's start), else the scenario's].
+    #[arg(long, value_name = "S")]
+    duration: Option<f64>,
+    /// `precision`: contact models swept [default: kec, lookup, lookup2, online].
+    #[arg(long, value_delimiter = ',', value_parser = super::contact_model_names())]
+    contact: Vec<String>,
+    /// `precision`: integrators swept [default: bdf, dopri5].
+    #[arg(long, value_delimiter = ',', value_parser = ["dopri5", "ros3", "ros34pw2", "bdf"])]
+    method: Vec<String>,
+    /// `precision`: relative tolerances swept (atol keeps the scene's atol/rtol) [default: 1e-3,
+    /// 1e-4, 1e-5].
+    #[arg(long, value_delimiter = ',')]
+    rtol: Vec<f64>,
+    /// `precision`: the reference run's contact model [default: online].
+    #[arg(long, value_parser = super::contact_model_names())]
+    reference_contact: Option<String>,
+    /// `precision`: the reference run's rtol, integrated by DOPRI5 [default: 1e-8].
+    #[arg(long)]
+    reference_rtol: Option<f64>,
+    #[command(flatten)]
+    sink: SinkArgs,
+}
+
+/// `precision` on the embedded MS scene: its default window, s.
+const MS_PRECISION_WINDOW_S: f64 = 6.0;
+
+fn method(name: &str) -> Method {
+    match name {
+        "dopri5" => Method::Dopri5,
+        "ros3" => Method::Ros3,
+        "ros34pw2" => Method::Ros34pw2,
+        _ => Method::Bdf,
+    }
 }
 
 /// Calls per measurement by default.
@@ -35,6 +81,9 @@ enum BenchTarget {
     Dynamics,
     /// The cost of calling a contact model through the `dyn ContactModel` interface.
     Dispatch,
+    /// Work–precision of a scene: wall time against error for each contact model and integrator
+    /// over a tolerance sweep, against one reference run; printed and recorded (log–log).
+    Precision,
 }
 
 pub(super) fn run(a: BenchArgs) -> Result<()> {
@@ -46,6 +95,20 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         "--calls {}: expected 1..={MAX_CALLS} calls per measurement",
         a.calls
     );
+    let precision_only = a.scenario.is_some()
+        || a.duration.is_some()
+        || !a.contact.is_empty()
+        || !a.method.is_empty()
+        || !a.rtol.is_empty()
+        || a.reference_contact.is_some()
+        || a.reference_rtol.is_some();
+    anyhow::ensure!(
+        matches!(a.target, BenchTarget::Precision) || !precision_only,
+        "a scenario, --duration, --contact, --method, --rtol and --reference-* apply to `kecsim bench precision` only"
+    );
+    if matches!(a.target, BenchTarget::Precision) {
+        return precision(a);
+    }
     let calls = a.calls;
     // Targets whose calls are slow take at most this many (said, not silently).
     let cap = |n: usize| {
@@ -80,6 +143,59 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
             "{}",
             kecsim::bench::dynamics::dispatch().map_err(anyhow::Error::msg)?
         ),
+        BenchTarget::Precision => unreachable!("handled above"),
     }
+    Ok(())
+}
+
+/// `kecsim bench precision [SCENARIO]`.
+fn precision(a: BenchArgs) -> Result<()> {
+    if let Some(d) = a.duration {
+        anyhow::ensure!(
+            d.is_finite() && d > 0.0 && d <= 1e5,
+            "--duration {d}: expected a positive time in s, at most 1e5"
+        );
+    }
+    let sink = a.sink.sink();
+    check_sink(&sink)?;
+    let (scene, default_window) = match &a.scenario {
+        Some(path) => {
+            let origin = path.display().to_string();
+            let scene = Scenario::read(path)?.compile(&origin, path.parent().unwrap_or(Path::new(".")))?;
+            (scene, None)
+        }
+        None => {
+            let scene = Scenario::parse(DEFAULT_SCENARIO, "ms_vehicle_tab6")?
+                .compile("ms_vehicle_tab6", Path::new("."))?;
+            (scene, Some(MS_PRECISION_WINDOW_S))
+        }
+    };
+    let mut settings = PrecisionSettings {
+        duration_s: a.duration.or(default_window),
+        ..PrecisionSettings::default()
+    };
+    if !a.contact.is_empty() {
+        settings.contacts = a.contact.clone();
+    }
+    if !a.method.is_empty() {
+        settings.methods = a.method.iter().map(|m| method(m)).collect();
+    }
+    if !a.rtol.is_empty() {
+        settings.rtols = a.rtol.clone();
+    }
+    if let Some(c) = &a.reference_contact {
+        settings.reference.0 = c.clone();
+    }
+    if let Some(r) = a.reference_rtol {
+        settings.reference.2 = r;
+    }
+    let p = kecsim::bench::precision::precision(&scene, &settings).map_err(anyhow::Error::msg)?;
+    let delivered = {
+        let rec = inspect::open_recording("kecsim", &sink, inspect::precision::blueprint)?;
+        inspect::precision::record(&rec, &p)?;
+        inspect::finish_recording(rec, &sink)
+    };
+    print!("{}", p.markdown());
+    println!("{}", delivered.map_err(anyhow::Error::msg)?);
     Ok(())
 }

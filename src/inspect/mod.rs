@@ -19,6 +19,7 @@ pub mod compare;
 pub mod contact;
 pub mod creep;
 pub mod kec;
+pub mod precision;
 pub mod profiles;
 pub mod readback;
 pub mod run;

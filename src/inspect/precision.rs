@@ -1,0 +1,148 @@
+//! `kecsim bench precision`: the work–precision diagram, error against wall time on log–log axes,
+//! one line per contact model and integrator through its tolerance sweep (each point labelled with
+//! its rtol), decade grid lines labelled; the report beside it. Plotted in 2D views with
+//! x = 100 log₁₀(wall time / s) and y = −100 log₁₀(error) (so that smaller errors lie lower, as on
+//! paper: the 2D view's y axis points down).
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
+//! | `precision/{dy,dpsi}/grid` | LineStrips2D, static | decades of wall time and of error, labelled |
+//! | `precision/{dy,dpsi}/CONTACT_METHOD` | LineStrips2D, Points2D, static | one sweep (error in mm or mrad) |
+//! | `precision/summary` | TextDocument, static | the report |
+
+use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, TextDocumentView};
+use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
+
+use super::{log_static, InspectError};
+use crate::bench::precision::{Precision, PrecisionRow};
+
+const PALETTE: [(u8, u8, u8); 8] = [
+    (60, 180, 120),
+    (230, 80, 60),
+    (60, 140, 230),
+    (200, 150, 40),
+    (150, 90, 200),
+    (120, 120, 120),
+    (40, 190, 200),
+    (220, 100, 170),
+];
+
+/// Plot coordinates of (wall s, error) on the log–log axes.
+fn at(wall: f64, error: f64) -> [f32; 2] {
+    [(100.0 * wall.log10()) as f32, (-100.0 * error.log10()) as f32]
+}
+
+/// The layout: Δy and Δψ diagrams side by side, the report below them.
+pub fn blueprint() -> Blueprint {
+    Blueprint::new(rerun::blueprint::Vertical::new([
+        Horizontal::new([
+            Spatial2DView::new("max |Δy| [mm] against wall time [s] (log–log)")
+                .with_origin("/precision/dy")
+                .into(),
+            Spatial2DView::new("max |Δψ| [mrad] against wall time [s] (log–log)")
+                .with_origin("/precision/dpsi")
+                .into(),
+        ])
+        .into(),
+        TextDocumentView::new("Report")
+            .with_origin("/precision/summary")
+            .into(),
+    ]))
+}
+
+/// The decades spanning `values` (positive ones): floor(log₁₀ min) ..= ceil(log₁₀ max).
+fn decades(values: impl Iterator<Item = f64>) -> Option<(i32, i32)> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    (lo <= hi).then(|| (lo.log10().floor() as i32, hi.log10().ceil() as i32))
+}
+
+/// Records the diagrams and the report.
+pub fn record(rec: &RecordingStream, p: &Precision) -> Result<(), InspectError> {
+    // A zero error (a run identical to the reference) is drawn at the plot's floor.
+    let floor = 1e-9;
+    for (view, unit, error) in [
+        (
+            "dy",
+            "mm",
+            (|r: &PrecisionRow| r.max_dy * 1e3) as fn(&PrecisionRow) -> f64,
+        ),
+        ("dpsi", "mrad", |r: &PrecisionRow| r.max_dpsi * 1e3),
+    ] {
+        let (Some((w0, w1)), Some((e0, e1))) = (
+            decades(p.rows.iter().map(|r| r.wall_s)),
+            decades(p.rows.iter().map(|r| error(r).max(floor))),
+        ) else {
+            continue;
+        };
+        let (wl, wh) = (10f64.powi(w0), 10f64.powi(w1));
+        let (el, eh) = (10f64.powi(e0), 10f64.powi(e1));
+        let mut strips = Vec::new();
+        let mut labels = Vec::new();
+        for k in w0..=w1 {
+            let w = 10f64.powi(k);
+            strips.push(vec![at(w, el), at(w, eh)]);
+            labels.push(format!("{w:.0e} s"));
+        }
+        for k in e0..=e1 {
+            let e = 10f64.powi(k);
+            strips.push(vec![at(wl, e), at(wh, e)]);
+            labels.push(format!("{e:.0e} {unit}"));
+        }
+        log_static(
+            rec,
+            &format!("precision/{view}/grid"),
+            &LineStrips2D::new(strips)
+                .with_labels(labels)
+                .with_colors([Color::from_rgb(90, 90, 100)])
+                .with_radii([Radius::new_ui_points(0.5)]),
+        )?;
+        let mut series: Vec<(String, Vec<&PrecisionRow>)> = Vec::new();
+        for r in &p.rows {
+            let name = format!("{}_{:?}", r.contact, r.method).to_lowercase();
+            match series.iter_mut().find(|s| s.0 == name) {
+                Some(s) => s.1.push(r),
+                None => series.push((name, vec![r])),
+            }
+        }
+        for (k, (name, rows)) in series.iter().enumerate() {
+            let (cr, cg, cb) = PALETTE[k % PALETTE.len()];
+            let color = Color::from_rgb(cr, cg, cb);
+            let mut rows = rows.clone();
+            rows.sort_by(|a, b| b.rtol.total_cmp(&a.rtol));
+            let pts: Vec<[f32; 2]> = rows.iter().map(|r| at(r.wall_s, error(r).max(floor))).collect();
+            let entity = format!("precision/{view}/{name}");
+            log_static(
+                rec,
+                &entity,
+                &LineStrips2D::new([pts.clone()])
+                    .with_labels([name.clone()])
+                    .with_colors([color])
+                    .with_radii([Radius::new_ui_points(1.5)]),
+            )?;
+            log_static(
+                rec,
+                &format!("{entity}/points"),
+                &Points2D::new(pts)
+                    .with_labels(rows.iter().map(|r| {
+                        let failed = if r.outcome == "completed" {
+                            ""
+                        } else {
+                            " (not completed)"
+                        };
+                        format!("{:.0e}{failed}", r.rtol)
+                    }))
+                    .with_colors([color])
+                    .with_radii([Radius::new_ui_points(4.0)]),
+            )?;
+        }
+    }
+    log_static(
+        rec,
+        "precision/summary",
+        &TextDocument::from_markdown(p.markdown()),
+    )
+}
