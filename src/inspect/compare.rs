@@ -20,16 +20,19 @@ use crate::dynamics::Sample;
 /// The simulated-time timeline.
 pub const TIME: &str = "time";
 
-const PALETTE: [(u8, u8, u8); 6] = [
+const PALETTE: [(u8, u8, u8); 8] = [
     (60, 180, 120),
     (230, 80, 60),
     (60, 140, 230),
     (200, 150, 40),
     (150, 90, 200),
     (120, 120, 120),
+    (40, 190, 200),
+    (220, 100, 170),
 ];
 
-fn colors(n: usize, skip: usize) -> Vec<Color> {
+/// `n` series colours from the palette, starting at entry `skip`.
+pub(crate) fn colors(n: usize, skip: usize) -> Vec<Color> {
     (0..n)
         .map(|k| {
             let (r, g, b) = PALETTE[(k + skip) % PALETTE.len()];

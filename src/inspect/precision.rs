@@ -16,17 +16,6 @@ use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument
 use super::{log_static, InspectError};
 use crate::bench::precision::{Precision, PrecisionRow};
 
-const PALETTE: [(u8, u8, u8); 8] = [
-    (60, 180, 120),
-    (230, 80, 60),
-    (60, 140, 230),
-    (200, 150, 40),
-    (150, 90, 200),
-    (120, 120, 120),
-    (40, 190, 200),
-    (220, 100, 170),
-];
-
 /// Plot coordinates of (wall s, error) on the log–log axes.
 fn at(wall: f64, error: f64) -> [f32; 2] {
     [(100.0 * wall.log10()) as f32, (-100.0 * error.log10()) as f32]
@@ -109,8 +98,7 @@ pub fn record(rec: &RecordingStream, p: &Precision) -> Result<(), InspectError> 
             }
         }
         for (k, (name, rows)) in series.iter().enumerate() {
-            let (cr, cg, cb) = PALETTE[k % PALETTE.len()];
-            let color = Color::from_rgb(cr, cg, cb);
+            let color = super::compare::colors(1, k)[0];
             let mut rows = rows.clone();
             rows.sort_by(|a, b| b.rtol.total_cmp(&a.rtol));
             let pts: Vec<[f32; 2]> = rows.iter().map(|r| at(r.wall_s, error(r).max(floor))).collect();
