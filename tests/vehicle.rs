@@ -465,6 +465,46 @@ fn ms_vehicle_kec_and_table_match_online_until_the_first_contact_jump() {
     );
 }
 
+/// The wheelsets of a right-hand side are evaluated in parallel (the run's thread joins a pool of
+/// two threads): the result does not depend on it — the MS vehicle's run on a thread of its own
+/// (the pool split) and on a one-thread pool (every wheelset in turn) agree to the last bit.
+#[test]
+fn parallel_wheelsets_change_nothing() {
+    let sc = scene("ms_vehicle_tab6.toml");
+    let go = |sc: &Scene| run_scene(sc, "kec", |s| s.duration_s = 0.5);
+    let split = std::thread::scope(|s| {
+        s.spawn(|| {
+            assert_eq!(
+                kecsim::dynamics::run::join_run_pool(),
+                2.min(std::thread::available_parallelism().map_or(1, |n| n.get()))
+            );
+            go(&sc)
+        })
+        .join()
+        .unwrap()
+    });
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let serial = one.install(|| {
+        assert_eq!(
+            kecsim::dynamics::run::join_run_pool(),
+            1,
+            "already in a pool: none of its own"
+        );
+        go(&sc)
+    });
+    assert_eq!(split.summary.steps, serial.summary.steps);
+    assert_eq!(split.summary.rhs_evaluations, serial.summary.rhs_evaluations);
+    for ((_, a), (_, b)) in split.wheelsets.iter().zip(&serial.wheelsets) {
+        assert_eq!(a.len(), b.len());
+        for (p, q) in a.iter().zip(b) {
+            assert_eq!(
+                (p.y, p.yaw, p.normal, p.creep_y),
+                (q.y, q.yaw, q.normal, q.creep_y)
+            );
+        }
+    }
+}
+
 /// The same bogie on IRW-wheelsets (independently rotating wheels on non-rotating bridges) over
 /// the curve entry (2.5 s): each wheel spins at its own rate and rolls without longitudinal creep
 /// (Ω r = V per wheel), where the solid axles' wheels carry kN of longitudinal creep force.

@@ -17,6 +17,7 @@
 //! stored gv-slopes; a jump whose location moves with gv is then smeared over one gv cell — the
 //! 2-entry table's inherent error, measured by `kecsim bench contact`.
 
+use rayon::prelude::*;
 use std::path::Path;
 
 use super::geometry::{ContactError, ContactGeometry, ContactSolution};
@@ -273,6 +274,10 @@ pub fn flange_contact_limit(
     }
 }
 
+/// One grid interval of a table being built: its solutions after the left node (up to and
+/// including the right one) and the contact jump inside it, if any.
+type Interval = (Vec<ContactSolution>, Option<Jump>);
+
 /// The largest half-width a two-point transition centred at `c` may take: 0.45 of the distance
 /// to the nearest other centre of `centres` or to an end of [lo, hi] (shared by the KEC profiles
 /// and the tables).
@@ -443,39 +448,54 @@ impl LookupTable1 {
         let grid: Vec<f64> = (0..=n)
             .map(|k| y_min + (y_max - y_min) * k as f64 / n as f64)
             .collect();
+        // The grid's solutions, then each interval's refinement, in parallel (each is a search of
+        // its own; the results and the first error in grid order).
         let coarse = grid
-            .iter()
+            .par_iter()
             .map(|&y| geom.solve(y, &off))
+            .collect::<Vec<_>>()
+            .into_iter()
             .collect::<Result<Vec<_>, _>>()?;
         // Between grid nodes: a contact jump is located by bisection and held as two rows at the
         // same y; a sharp change of slope (the contact crossing a profile-curvature change) looks
         // like a jump to the detector but has equal limits, and becomes an ordinary node; then
         // intervals are halved where the Hermite cubic misses the online solution.
+        let intervals: Vec<Result<Interval, TableError>> = coarse
+            .par_windows(2)
+            .map(|w| {
+                let (a, b) = (&w[0], &w[1]);
+                let mut sols = Vec::new();
+                let mut jump = None;
+                match Self::jump_between(a, b, settings.jump_threshold_m) {
+                    Some(left) => {
+                        let (sa, sb, yj) = Self::locate_jump(geom, &off, a, b, left)?;
+                        Self::refine(geom, &off, a, &sa, settings, settings.max_refinements, &mut sols)?;
+                        let step = (2..6).map(|k| (sa.x()[k] - sb.x()[k]).abs()).fold(0.0, f64::max);
+                        if step > JUMP_MIN_STEP_M {
+                            let k = if left { 2 } else { 4 };
+                            jump = Some(Jump {
+                                y: yj,
+                                left,
+                                s_wheel_before: sa.x()[k],
+                                s_wheel_after: sb.x()[k],
+                            });
+                            sols.push(sb.clone());
+                            Self::refine(geom, &off, &sb, b, settings, settings.max_refinements, &mut sols)?;
+                        } else {
+                            Self::refine(geom, &off, &sa, b, settings, settings.max_refinements, &mut sols)?;
+                        }
+                    }
+                    None => Self::refine(geom, &off, a, b, settings, settings.max_refinements, &mut sols)?,
+                }
+                Ok((sols, jump))
+            })
+            .collect();
         let mut sols = vec![coarse[0].clone()];
         let mut jumps = Vec::new();
-        for w in coarse.windows(2) {
-            let (a, b) = (&w[0], &w[1]);
-            match Self::jump_between(a, b, settings.jump_threshold_m) {
-                Some(left) => {
-                    let (sa, sb, yj) = Self::locate_jump(geom, &off, a, b, left)?;
-                    Self::refine(geom, &off, a, &sa, settings, settings.max_refinements, &mut sols)?;
-                    let step = (2..6).map(|k| (sa.x()[k] - sb.x()[k]).abs()).fold(0.0, f64::max);
-                    if step > JUMP_MIN_STEP_M {
-                        let k = if left { 2 } else { 4 };
-                        jumps.push(Jump {
-                            y: yj,
-                            left,
-                            s_wheel_before: sa.x()[k],
-                            s_wheel_after: sb.x()[k],
-                        });
-                        sols.push(sb.clone());
-                        Self::refine(geom, &off, &sb, b, settings, settings.max_refinements, &mut sols)?;
-                    } else {
-                        Self::refine(geom, &off, &sa, b, settings, settings.max_refinements, &mut sols)?;
-                    }
-                }
-                None => Self::refine(geom, &off, a, b, settings, settings.max_refinements, &mut sols)?,
-            }
+        for interval in intervals {
+            let (part, jump) = interval?;
+            sols.extend(part);
+            jumps.extend(jump);
         }
         let rows: Vec<TableRow> = sols.iter().map(|s| TableRow::from_solution(s, gv)).collect();
         let pair = &geom.pair;
@@ -495,10 +515,11 @@ impl LookupTable1 {
             Some(m) => (-m, m),
             None => {
                 let off = RailOffsets::default();
-                (
-                    -flange_contact_limit(geom, &off, false)?,
-                    flange_contact_limit(geom, &off, true)?,
-                )
+                let (right, left) = rayon::join(
+                    || flange_contact_limit(geom, &off, false),
+                    || flange_contact_limit(geom, &off, true),
+                );
+                (-right?, left?)
             }
         };
         // Snap the range outwards to the grid through y = 0, so that y = 0 is a node.
@@ -865,8 +886,10 @@ impl LookupTable2 {
         )
         .map_err(TableError::Invalid)?;
         let columns = gvs
-            .iter()
+            .par_iter()
             .map(|&gv| LookupTable1::build_range(geom, gv, -y_max, y_max, settings))
+            .collect::<Vec<_>>()
+            .into_iter()
             .collect::<Result<Vec<_>, _>>()?;
         Ok(LookupTable2 { columns })
     }

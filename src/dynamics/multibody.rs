@@ -33,6 +33,8 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Vector3, Vector6};
 
 use super::reference::{FrameAt, Reference, G};
@@ -41,7 +43,8 @@ use super::system::{
     WheelsetSample,
 };
 use super::wheelset::{
-    evaluate, land, pose_kinematics, FrameMotion, IrwInertia, Landing, Load, WheelsetInertia, WheelsetState,
+    evaluate, land, pose_kinematics, FrameMotion, IrwInertia, Landing, Load, WheelsetDynamics,
+    WheelsetInertia, WheelsetState,
 };
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::{ContactModel, WarmStart, WheelsetKinematics};
@@ -87,6 +90,10 @@ type StaticState = (DVector<f64>, Vec<ElementLoad>, Vec<Vector3<f64>>);
 pub const JOINT_STABILISATION_RAD_S: f64 = 20.0;
 /// Penalty stiffness standing for the joints in the static settling, N/m.
 const JOINT_PENALTY_N_PER_M: f64 = 1e10;
+
+/// Wheelsets per parallel task of a right-hand side: the MS vehicle's six in two tasks of three
+/// (one per core of a 2-core machine); smaller tasks cost more in scheduling than they save.
+const WHEELSETS_PER_TASK: usize = 3;
 
 /// The multibody vehicle system (the model, with its elements preloaded by the static settling;
 /// its run state is a [`VehicleData`]).
@@ -264,7 +271,7 @@ impl Multibody {
     /// Wheelset j's contact-model kinematics (two-point) and its frame at state `st`.
     fn wheelset_kinematics(
         &self,
-        data: &mut VehicleData,
+        warm: &mut WarmStart,
         j: usize,
         st: &WheelsetState,
         s_ref: f64,
@@ -275,9 +282,8 @@ impl Multibody {
         let f = self.frame_at(s, v, v_dot)?;
         let kin = self
             .contact
-            .kinematics(st.y, st.y_dot, &st.shifted_rails(&f.rails), &mut data.warm[j])
+            .kinematics(st.y, st.y_dot, &st.shifted_rails(&f.rails), warm)
             .map_err(DynamicsError::contact(&self.wheelsets[j].name, st.y, s))?;
-        data.contact_evaluations += 1;
         Ok((kin, f, s))
     }
 
@@ -430,17 +436,30 @@ impl Multibody {
                 q_dot: [qd[0], qd[1], qd[2], qd[3], qd[4], qd[5]],
             });
         }
+        // Each wheelset's contact kinematics depends only on its own state and warm start: the
+        // wheelsets are evaluated in parallel (the results, errors included, in wheelset order).
+        let kinematics: Vec<Result<_, DynamicsError>> = data
+            .warm
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(WHEELSETS_PER_TASK)
+            .map(|(j, warm)| {
+                let o = self.wheelset_offset(j);
+                let st = WheelsetState::read(&x[o..], self.is_irw(j));
+                let (kin, f, s) = self.wheelset_kinematics(warm, j, &st, s_ref, v, v_dot)?;
+                // The pose: the two-point configuration moved by a lifted wheel's θ.
+                let pose = pose_kinematics(&st, &kin)
+                    .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
+                Ok((st, kin, f, s, pose))
+            })
+            .collect();
+        data.contact_evaluations += nw;
         let mut ws_states = Vec::with_capacity(nw);
         let mut kins = Vec::with_capacity(nw);
         let mut ws_s = Vec::with_capacity(nw);
         let mut ws_rails = Vec::with_capacity(nw);
-        for j in 0..nw {
-            let o = self.wheelset_offset(j);
-            let st = WheelsetState::read(&x[o..], self.is_irw(j));
-            let (kin, f, s) = self.wheelset_kinematics(data, j, &st, s_ref, v, v_dot)?;
-            // The pose: the two-point configuration moved by a lifted wheel's θ.
-            let pose =
-                pose_kinematics(&st, &kin).map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
+        for r in kinematics {
+            let (st, kin, f, s, pose) = r?;
             poses.push(Pose {
                 origin: f.origin,
                 rotation: f.rotation,
@@ -493,24 +512,35 @@ impl Multibody {
                 }
             }
         }
+        // Each wheelset's dynamics depends only on its own state, loads and normal-force start:
+        // in parallel, as the kinematics.
+        let dynamics: Vec<Result<WheelsetDynamics, DynamicsError>> = data
+            .normal_start
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(WHEELSETS_PER_TASK)
+            .map(|(j, start)| {
+                let (f, mo) = acc[nb + j];
+                let load = Load {
+                    force: f.into(),
+                    moment: mo.into(),
+                };
+                evaluate(
+                    &self.wheelsets[j].inertia,
+                    &ws_states[j],
+                    &kins[j].0,
+                    &motions[nb + j],
+                    &load,
+                    &self.forces,
+                    start,
+                    self.reference.lateral_flexibility().as_ref(),
+                )
+                .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))
+            })
+            .collect();
         let mut ws_samples = Vec::with_capacity(nw);
-        for j in 0..nw {
-            let (f, mo) = acc[nb + j];
-            let load = Load {
-                force: f.into(),
-                moment: mo.into(),
-            };
-            let dynamics = evaluate(
-                &self.wheelsets[j].inertia,
-                &ws_states[j],
-                &kins[j].0,
-                &motions[nb + j],
-                &load,
-                &self.forces,
-                &mut data.normal_start[j],
-                self.reference.lateral_flexibility().as_ref(),
-            )
-            .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))?;
+        for (j, dynamics) in dynamics.into_iter().enumerate() {
+            let dynamics = dynamics?;
             if let Some(d) = dxdt.as_deref_mut() {
                 let o = self.wheelset_offset(j);
                 WheelsetState::write_rates(&x[o..], &mut d[o..], &dynamics, self.is_irw(j));
@@ -917,7 +947,8 @@ impl VehicleModel for Multibody {
         let (o, irw) = (self.wheelset_offset(j), self.is_irw(j));
         let mut st = WheelsetState::read(&x[o..], irw);
         let (v, v_dot) = self.reference.speed_at(t);
-        let (kin, _, _) = self.wheelset_kinematics(data, j, &st, self.reference.s_ref(t), v, v_dot)?;
+        let (kin, _, _) =
+            self.wheelset_kinematics(&mut data.warm[j], j, &st, self.reference.s_ref(t), v, v_dot)?;
         let landing = land(
             &self.wheelsets[j].inertia,
             &mut st,

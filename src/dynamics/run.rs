@@ -192,12 +192,38 @@ pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
 /// model the W-method renews its Jacobian every step (the online solve's warm start makes the
 /// right-hand side depend on the evaluation history near contact jumps; with a kept Jacobian its
 /// error estimate missed 0.06 mm on the Klingel scene, measured).
+/// Makes this thread one of a thread pool of its own, once per thread and for the thread's life
+/// (rayon cannot take a thread back out of a pool): this thread and, on a machine with more than
+/// one core, one more (`KECSIM_THREADS` sets the total; 1: every run on this thread alone). The
+/// right-hand side's parallel parts (a vehicle's wheelsets) then split between the cores without
+/// handing each evaluation to another thread. Where the pool cannot be made (this thread already
+/// in another pool), runs go on as they are. Returns the pool's number of threads (1 without one).
+pub fn join_run_pool() -> usize {
+    thread_local! {
+        static POOL: Option<rayon::ThreadPool> = {
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            let threads = std::env::var("KECSIM_THREADS")
+                .ok()
+                .and_then(|v| v.parse::<usize>().ok())
+                .filter(|&n| n >= 1)
+                .unwrap_or(cores.min(2));
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .use_current_thread()
+                .build()
+                .ok()
+        };
+    }
+    POOL.with(|p| p.as_ref().map_or(1, |p| p.current_num_threads()))
+}
+
 pub fn run(
     vehicle: &dyn VehicleModel,
     settings: &RunSettings,
     labels: &RunLabels,
     observers: &mut [&mut dyn RunObserver],
 ) -> RunOutput {
+    join_run_pool();
     let names = vehicle.wheelset_names();
     let body_names = vehicle.body_names();
     let r0 = vehicle.nominal_radius();

@@ -419,6 +419,9 @@ impl super::Scene {
         if !problems.is_empty() {
             return Err(BuildError::Options(problems.join("; ")));
         }
+        // The preprocessing and the run share this thread's pool (the tables' searches and the
+        // right-hand sides' wheelsets split between its threads).
+        crate::dynamics::run::join_run_pool();
         let t = Instant::now();
         let model = contact.build(&self.pair)?;
         let vehicle = build_vehicle(
