@@ -707,3 +707,45 @@ fn precision_sweep_measures_error_against_the_reference() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// `kecsim bench scaling`: both series run and complete, each with its fitted exponent (printed, not
+/// asserted: timings are for people, not for tests), the vehicles with their bodies and wheelsets;
+/// its options are its own.
+#[test]
+fn bench_scaling_measures_both_series() {
+    let dir = tmpdir("scaling");
+    let out = kecsim(&["bench", "scaling", "--km", "1,2", "--duration", "0.5"], &dir);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    println!("{stdout}");
+    let exponent = |prefix: &str| -> f64 {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(prefix))
+            .unwrap_or_else(|| panic!("{stdout}"));
+        line[prefix.len()..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let length = exponent("fitted exponent of the wall time against the track length: ");
+    let size = exponent("fitted exponents against the number of states (1: linear): ");
+    assert!(
+        length.is_finite() && length > 0.0,
+        "track length exponent {length}"
+    );
+    assert!(size.is_finite() && size > 0.0, "vehicle size exponent {size}");
+    assert_eq!(stdout.matches("| completed |").count(), 6, "{stdout}");
+    for v in [
+        "| bogie (2 wheelsets) | 1 | 2 |",
+        "| MS vehicle | 8 | 6 |",
+        "| 2 MS vehicles coupled | 16 | 12 |",
+    ] {
+        assert!(stdout.contains(v), "{v}: {stdout}");
+    }
+    let out = kecsim(&["bench", "scaling", "--rtol", "1e-3"], &dir);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("takes --duration and --km only"));
+}

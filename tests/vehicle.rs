@@ -505,6 +505,64 @@ fn parallel_wheelsets_change_nothing() {
     }
 }
 
+/// Two MS vehicles coupled (`kecsim bench scaling`'s largest vehicle): the coupler is a pinned rod
+/// along the track, internal to the pair — the axle loads add up to twice the single vehicle's,
+/// each within 0.2 % of its single-vehicle value — and over the first second of the irregular track
+/// the rear unit, which starts where the single vehicle starts, moves as it does within 0.1 mm and
+/// 0.1 mrad (the coupler's longitudinal force barely reaches the lateral dynamics).
+#[test]
+fn two_coupled_ms_vehicles_settle_and_run() {
+    let text = kecsim::bench::scaling::coupled_ms(2).unwrap();
+    let pair = kecsim::scenario::Scenario::parse(&text, "coupled")
+        .unwrap()
+        .compile("coupled", Path::new("."))
+        .unwrap();
+    let single = scene("ms_vehicle_tab6.toml");
+    let (one, two) = (multibody(&single, "kec", false), multibody(&pair, "kec", false));
+    let q1 = &one.settling.axle_loads;
+    let q2 = &two.settling.axle_loads;
+    assert_eq!((q1.len(), q2.len()), (6, 12));
+    // The coupler is internal: the pair weighs twice the single vehicle, exactly.
+    let (w1, w2): (f64, f64) = (q1.iter().sum(), q2.iter().sum());
+    assert!((w2 - 2.0 * w1).abs() < 1e-9 * w2, "{w2} vs 2 x {w1}");
+    // Each wheelset as the single vehicle's but for the settled rod's small force (the end points
+    // move along x as the carbodies pitch on their suspensions).
+    for (k, q) in q2.iter().enumerate() {
+        let hand = q1[k % 6];
+        assert!((q - hand).abs() < 2e-3 * hand, "wheelset {k}: {q} vs {hand}");
+    }
+    let go = |sc: &Scene| run_scene(sc, "kec", |s| s.duration_s = 1.0);
+    let (a, b) = (go(&single), go(&pair));
+    assert_eq!(b.summary.outcome, "completed", "{:?}", b.summary.error);
+    assert_eq!(b.wheelsets.len(), 12);
+    // Both runs start with their rearmost body at the track's start: the rear unit of the pair
+    // runs where the single vehicle runs; the coupler's pull on its front carbody is all that
+    // differs.
+    let (mut dy, mut dpsi) = (0.0f64, 0.0f64);
+    for k in 0..6 {
+        let (single, rear) = (&a.wheelsets[k], &b.wheelsets[6 + k]);
+        assert_eq!(rear.0, format!("{}_2", single.0));
+        for (p, q) in single.1.iter().zip(&rear.1) {
+            assert!(
+                (p.s - q.s).abs() < 1e-3,
+                "{} at {} s: s {} vs {}",
+                rear.0,
+                p.t,
+                p.s,
+                q.s
+            );
+            dy = dy.max((p.y - q.y).abs());
+            dpsi = dpsi.max((p.yaw - q.yaw).abs());
+        }
+    }
+    println!(
+        "2 MS vehicles, rear unit vs the single vehicle over 1 s: {:.4} mm, {:.4} mrad",
+        dy * 1e3,
+        dpsi * 1e3
+    );
+    assert!(dy < 0.1e-3 && dpsi < 0.1e-3, "{dy} m, {dpsi} rad");
+}
+
 /// The same bogie on IRW-wheelsets (independently rotating wheels on non-rotating bridges) over
 /// the curve entry (2.5 s): each wheel spins at its own rate and rolls without longitudinal creep
 /// (Ω r = V per wheel), where the solid axles' wheels carry kN of longitudinal creep force.

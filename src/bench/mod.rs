@@ -3,6 +3,7 @@
 
 pub mod dynamics;
 pub mod precision;
+pub mod scaling;
 
 use std::hint::black_box;
 use std::time::Instant;

@@ -25,8 +25,13 @@ pub(super) struct BenchArgs {
     calls: usize,
     /// `precision`: simulated time, s [default: 6 s on the embedded MS scene (straight track and
     /// the first wheelsets' swing to the flange at the curve's start), else the scenario's].
+    /// `scaling`: the vehicle-size series' window, s [default: 7].
     #[arg(long, value_name = "S")]
     duration: Option<f64>,
+    /// `scaling`: the track lengths, in kilometres of the Tab. 6 track laid end to end [default:
+    /// 1, 2, 4].
+    #[arg(long, value_delimiter = ',', value_name = "K")]
+    km: Vec<usize>,
     /// `precision`: contact models swept [default: kec, lookup, lookup2, online].
     #[arg(long, value_delimiter = ',', value_parser = super::contact_model_names())]
     contact: Vec<String>,
@@ -84,6 +89,10 @@ enum BenchTarget {
     /// Work–precision of a scene: wall time against error for each contact model and integrator
     /// over a tolerance sweep, against one reference run; printed and recorded (log–log).
     Precision,
+    /// Cost against track length (the MS vehicle over 1, 2, 4 km) and against vehicle size (a
+    /// bogie, the Manchester vehicle, the MS vehicle, two coupled MS vehicles), with the fitted
+    /// exponents.
+    Scaling,
 }
 
 pub(super) fn run(a: BenchArgs) -> Result<()> {
@@ -95,6 +104,22 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         "--calls {}: expected 1..={MAX_CALLS} calls per measurement",
         a.calls
     );
+    anyhow::ensure!(
+        matches!(a.target, BenchTarget::Scaling) || a.km.is_empty(),
+        "--km applies to `kecsim bench scaling` only"
+    );
+    if matches!(a.target, BenchTarget::Scaling) {
+        anyhow::ensure!(
+            a.scenario.is_none()
+                && a.contact.is_empty()
+                && a.method.is_empty()
+                && a.rtol.is_empty()
+                && a.reference_contact.is_none()
+                && a.reference_rtol.is_none(),
+            "`kecsim bench scaling` takes --duration and --km only"
+        );
+        return scaling(a);
+    }
     let precision_only = a.scenario.is_some()
         || a.duration.is_some()
         || !a.contact.is_empty()
@@ -143,8 +168,22 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
             "{}",
             kecsim::bench::dynamics::dispatch().map_err(anyhow::Error::msg)?
         ),
-        BenchTarget::Precision => unreachable!("handled above"),
+        BenchTarget::Precision | BenchTarget::Scaling => unreachable!("handled above"),
     }
+    Ok(())
+}
+
+/// `kecsim bench scaling`.
+fn scaling(a: BenchArgs) -> Result<()> {
+    let mut settings = kecsim::bench::scaling::ScalingSettings::default();
+    if let Some(d) = a.duration {
+        settings.window_s = d;
+    }
+    if !a.km.is_empty() {
+        settings.kilometres = a.km.clone();
+    }
+    let s = kecsim::bench::scaling::scaling(&settings).map_err(anyhow::Error::msg)?;
+    print!("{}", s.markdown());
     Ok(())
 }
 
