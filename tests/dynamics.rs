@@ -403,6 +403,21 @@ fn run_interface_csv_json_and_recording() {
     }
     assert_eq!(js["contact_model"], "lookup");
     assert!((js["simulated_s"].as_f64().unwrap() - 1.0).abs() < 1e-9);
+    // Running safety (added key): Nadal's limit for the scene's friction and the pair's flange.
+    let safety = &js["safety"];
+    assert!(safety["nadal_limit"].as_f64().unwrap() > 1.0, "{safety}");
+    assert_eq!(safety["wheelsets"][0]["name"], "wheelset_1");
+    for k in [
+        "y_over_q_2m",
+        "sum_y_2m_n",
+        "prudhomme_limit_n",
+        "delta_q_over_q0",
+    ] {
+        assert!(
+            safety["wheelsets"][0][k].as_f64().is_some(),
+            "missing safety {k}: {safety}"
+        );
+    }
     let rt = js["realtime_factor"].as_f64().unwrap();
     assert!((rt - 1.0 / js["wall_s"].as_f64().unwrap()).abs() < 1e-6 * rt);
     assert!(

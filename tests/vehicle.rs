@@ -563,6 +563,59 @@ fn two_coupled_ms_vehicles_settle_and_run() {
     assert!(dy < 0.1e-3 && dpsi < 0.1e-3, "{dy} m, {dpsi} rad");
 }
 
+/// Running safety of the MS vehicle into the curve (8 s: straight, transition, the leading
+/// wheelsets' flange contact): S1002's flange angle (70°, EN 13715) gives Nadal's limit 1.34 at
+/// μ = 0.3 (the facts sheet's value); each wheelset's 2 m sliding mean of Y/Q lies between the
+/// instantaneous values it averages (below their largest, above zero); the Prud'homme limits come
+/// from the settled axle loads (10 kN + 2Q₀/3); the leading wheelsets flange harder than the
+/// trailing ones of their bogies; wheel unloading stays below the lift (ΔQ/Q₀ < 1, no lift here).
+#[test]
+fn ms_vehicle_running_safety_into_the_curve() {
+    let sc = scene("ms_vehicle_tab6.toml");
+    let out = run_scene(&sc, "kec", |s| s.duration_s = 8.0);
+    assert_eq!(out.summary.outcome, "completed");
+    let safety = out.summary.safety.as_ref().expect("safety figures");
+    println!("{safety}");
+    assert!(
+        (safety.flange_angle_deg - 70.0).abs() < 0.5,
+        "{}",
+        safety.flange_angle_deg
+    );
+    assert!(
+        (safety.nadal_limit - 1.342).abs() < 0.02,
+        "{}",
+        safety.nadal_limit
+    );
+    let loads = &multibody(&sc, "kec", false).settling.axle_loads;
+    assert_eq!(safety.wheelsets.len(), 6);
+    for ((w, (name, samples)), q) in safety.wheelsets.iter().zip(&out.wheelsets).zip(loads) {
+        assert_eq!(&w.name, name);
+        let peak = samples.iter().map(|p| p.max_abs_y_over_q()).fold(0.0, f64::max);
+        assert!(
+            w.y_over_q_2m > 0.0 && w.y_over_q_2m <= peak + 1e-12,
+            "{name}: {} vs {peak}",
+            w.y_over_q_2m
+        );
+        assert!((w.prudhomme_limit_n - (10e3 + q / 3.0)).abs() < 1e-6, "{name}");
+        assert!(
+            (0.0..1.0).contains(&w.delta_q_over_q0),
+            "{name}: {}",
+            w.delta_q_over_q0
+        );
+        assert!(
+            w.sum_y_2m_n > 0.0 && w.sum_y_2m_n < w.prudhomme_limit_n,
+            "{name}: {}",
+            w.sum_y_2m_n
+        );
+    }
+    let yq = |k: usize| safety.wheelsets[k].y_over_q_2m;
+    assert!(
+        yq(0) > yq(1) && yq(2) > yq(3),
+        "leading vs trailing: {:?}",
+        (0..6).map(yq).collect::<Vec<_>>()
+    );
+}
+
 /// The same bogie on IRW-wheelsets (independently rotating wheels on non-rotating bridges) over
 /// the curve entry (2.5 s): each wheel spins at its own rate and rolls without longitudinal creep
 /// (Ω r = V per wheel), where the solid axles' wheels carry kN of longitudinal creep force.

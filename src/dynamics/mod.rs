@@ -15,6 +15,7 @@ pub mod multibody;
 pub mod output;
 pub mod reference;
 pub mod run;
+pub mod safety;
 pub mod single_wheelset;
 pub mod system;
 pub mod wheelset;

@@ -142,6 +142,9 @@ pub struct RunSummary {
     /// A derailment (`outcome` = `derailed`): the derailing wheelset's largest |Y/Q| over its
     /// last 2 m (EN 14363's window for Y/Q), its Y/Q history's end.
     pub derailment_max_y_over_q_2m: Option<f64>,
+    /// Running safety per wheelset (Y/Q against Nadal, ΣY against Prud'homme, ΔQ/Q₀), EN 14363
+    /// style ([`super::safety`]); None where the run was not given the basis of the limits.
+    pub safety: Option<super::safety::Safety>,
     /// Physically doubtful input the run went on with (the scenario's warnings).
     pub warnings: Vec<String>,
 }
@@ -191,6 +194,9 @@ impl fmt::Display for RunSummary {
                 "hunting onset on the speed ramp (critical speed): {v:.2} m/s ({:.0} km/h)",
                 v * 3.6
             )?;
+        }
+        if let Some(safety) = &self.safety {
+            write!(f, "{safety}")?;
         }
         if let Some(note) = &self.stopped {
             writeln!(f, "stopped: {note}")?;

@@ -153,6 +153,8 @@ pub struct RunLabels {
     pub creep_model: String,
     /// Contact-model and vehicle preprocessing (tables, equivalent profiles, settling), s.
     pub preprocessing_s: f64,
+    /// Friction and flange angle for the running-safety limits (None: no safety figures).
+    pub safety: Option<super::safety::SafetyBasis>,
 }
 
 /// Hunting onset on a speed ramp: the peaks of |y| between successive zero crossings form the
@@ -186,12 +188,6 @@ pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
     (later >= growth * min.0).then_some(min.1)
 }
 
-/// Runs `vehicle` as `settings` says, handing every output time to `observers` as it is
-/// produced. The integrator steps one evaluator of the model; the outputs come from a second one
-/// (so that the integrator's warm starts are untouched by them). With a history-dependent contact
-/// model the W-method renews its Jacobian every step (the online solve's warm start makes the
-/// right-hand side depend on the evaluation history near contact jumps; with a kept Jacobian its
-/// error estimate missed 0.06 mm on the Klingel scene, measured).
 /// Makes this thread one of a thread pool of its own, once per thread and for the thread's life
 /// (rayon cannot take a thread back out of a pool): this thread and, on a machine with more than
 /// one core, one more (`KECSIM_THREADS` sets the total; 1: every run on this thread alone). The
@@ -217,6 +213,12 @@ pub fn join_run_pool() -> usize {
     POOL.with(|p| p.as_ref().map_or(1, |p| p.current_num_threads()))
 }
 
+/// Runs `vehicle` as `settings` says, handing every output time to `observers` as it is
+/// produced. The integrator steps one evaluator of the model; the outputs come from a second one
+/// (so that the integrator's warm starts are untouched by them). With a history-dependent contact
+/// model the W-method renews its Jacobian every step (the online solve's warm start makes the
+/// right-hand side depend on the evaluation history near contact jumps; with a kept Jacobian its
+/// error estimate missed 0.06 mm on the Klingel scene, measured).
 pub fn run(
     vehicle: &dyn VehicleModel,
     settings: &RunSettings,
@@ -311,6 +313,18 @@ pub fn run(
     if vehicle.reference().speed.ramp_m_s2 != 0.0 {
         summary.critical_speed_m_s = wheelsets.first().and_then(|w| hunting_onset(&w.1, 2.0));
     }
+    if let Some(basis) = labels.safety {
+        // Static wheel loads: half the settled axle load; without a settling (a single wheelset
+        // on its frame), the first sample's loads (the run starts at rest on its rails).
+        let q0: Vec<[f64; 2]> = match vehicle.settling() {
+            Some(st) => st.axle_loads.iter().map(|q| [0.5 * q, 0.5 * q]).collect(),
+            None => wheelsets
+                .iter()
+                .map(|w| w.1.first().map_or([0.0; 2], |p| p.q_force))
+                .collect(),
+        };
+        summary.safety = Some(super::safety::assess(&wheelsets, &q0, basis));
+    }
     let mut end = end;
     for o in observers.iter_mut() {
         if let Err(e) = o.finish(&summary) {
@@ -400,6 +414,7 @@ fn summarise(
         landings: landings.len(),
         max_landing_speed_m_s: landings.iter().map(|l| l.landing.speed).fold(0.0, f64::max),
         max_landing_impulse_n_s: landings.iter().map(|l| l.landing.impulse).fold(0.0, f64::max),
+        safety: None,
         derailment_max_y_over_q_2m: match end {
             RunEnd::Failed(e) => e.derailment().and_then(|name| {
                 let w = &wheelsets.iter().find(|w| w.0 == name)?.1;
