@@ -313,7 +313,7 @@ pub fn run(
     if vehicle.reference().speed.ramp_m_s2 != 0.0 {
         summary.critical_speed_m_s = wheelsets.first().and_then(|w| hunting_onset(&w.1, 2.0));
     }
-    if let Some(basis) = labels.safety {
+    if let (Some(basis), true) = (labels.safety, wheelsets.iter().any(|w| !w.1.is_empty())) {
         // Static wheel loads: half the settled axle load; without a settling (a single wheelset
         // on its frame), the first sample's loads (the run starts at rest on its rails).
         let q0: Vec<[f64; 2]> = match vehicle.settling() {
