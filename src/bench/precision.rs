@@ -84,7 +84,7 @@ pub struct Precision {
 }
 
 /// The outcome of a run in words.
-fn outcome(o: &RunOutput) -> String {
+pub(super) fn outcome(o: &RunOutput) -> String {
     let s = &o.summary;
     match (&s.error, &s.stopped) {
         (Some(e), _) => format!("failed: {e}"),

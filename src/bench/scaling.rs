@@ -20,7 +20,6 @@ use std::fmt::Write as _;
 use toml::{Table, Value};
 
 use crate::dynamics::integrator::Method;
-use crate::dynamics::RunOutput;
 use crate::scenario::{RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
 
 /// The MS scene's track length, m, and the simulated time of its run over it, s.
@@ -136,6 +135,22 @@ fn array_mut<'a>(t: &'a mut Table, key: &str, what: &str) -> Result<&'a mut Vec<
         .ok_or_else(|| format!("{what}: no {key} = [...]"))
 }
 
+/// A TOML number as f64 (integers too).
+fn number(v: &Value) -> Option<f64> {
+    v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
+}
+
+/// Sets `simulation.duration_s` to `f(speed)` (the scene's speed, m/s).
+fn set_duration(doc: &mut Table, what: &str, f: impl Fn(f64) -> f64) -> Result<(), String> {
+    let sim = table_mut(doc, "simulation", what)?;
+    let speed = sim
+        .get("speed_m_s")
+        .and_then(number)
+        .ok_or_else(|| format!("{what}: no simulation.speed_m_s"))?;
+    sim.insert("duration_s".to_string(), Value::Float(f(speed)));
+    Ok(())
+}
+
 /// Adds `dx` to the first component of the array at `key`, if the entry has one.
 fn shift_x(entry: &mut Table, key: &str, dx: f64) {
     if let Some(v) = entry
@@ -143,7 +158,7 @@ fn shift_x(entry: &mut Table, key: &str, dx: f64) {
         .and_then(Value::as_array_mut)
         .and_then(|a| a.first_mut())
     {
-        if let Some(x) = v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
+        if let Some(x) = number(v) {
             *v = Value::Float(x + dx);
         }
     }
@@ -167,7 +182,7 @@ pub fn ms_on_longer_track(k: usize) -> Result<String, String> {
             for key in ["from_m", "to_m"] {
                 let v = s
                     .get(key)
-                    .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
+                    .and_then(number)
                     .ok_or_else(|| format!("{what}: a horizontal section without {key}"))?;
                 s.insert(key.to_string(), Value::Float(v + copy as f64 * MS_TRACK_M));
             }
@@ -180,15 +195,9 @@ pub fn ms_on_longer_track(k: usize) -> Result<String, String> {
             s.insert("to_m".to_string(), Value::Float(k as f64 * MS_TRACK_M));
         }
     }
-    let sim = table_mut(&mut doc, "simulation", what)?;
-    let speed = sim
-        .get("speed_m_s")
-        .and_then(Value::as_float)
-        .ok_or_else(|| format!("{what}: no simulation.speed_m_s"))?;
-    sim.insert(
-        "duration_s".to_string(),
-        Value::Float(MS_DURATION_S + (k as f64 - 1.0) * MS_TRACK_M / speed),
-    );
+    set_duration(&mut doc, what, |speed| {
+        MS_DURATION_S + (k as f64 - 1.0) * MS_TRACK_M / speed
+    })?;
     toml::to_string(&doc).map_err(|e| format!("{what}: {e}"))
 }
 
@@ -215,7 +224,7 @@ pub fn coupled_ms(units: usize) -> Result<String, String> {
             b.get("position_m")
                 .and_then(Value::as_array)
                 .and_then(|a| a.first())
-                .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64))),
+                .and_then(number),
         ) else {
             return Err(format!("{what}: a body without name or position_m"));
         };
@@ -275,7 +284,7 @@ pub fn coupled_ms(units: usize) -> Result<String, String> {
                     shift_x(&mut e, k, dx);
                 }
                 if let Some(v) = e.get_mut("x_m") {
-                    if let Some(x) = v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
+                    if let Some(x) = number(v) {
                         *v = Value::Float(x + dx);
                     }
                 }
@@ -323,15 +332,9 @@ pub fn coupled_ms(units: usize) -> Result<String, String> {
         }
         vehicle.insert(key.to_string(), Value::Array(all));
     }
-    let sim = table_mut(&mut doc, "simulation", what)?;
-    let speed = sim
-        .get("speed_m_s")
-        .and_then(Value::as_float)
-        .ok_or_else(|| format!("{what}: no simulation.speed_m_s"))?;
-    sim.insert(
-        "duration_s".to_string(),
-        Value::Float(MS_DURATION_S - (units as f64 - 1.0) * pitch / speed),
-    );
+    set_duration(&mut doc, what, |speed| {
+        MS_DURATION_S - (units as f64 - 1.0) * pitch / speed
+    })?;
     if let Some(v) = doc.get_mut("name") {
         *v = Value::String(format!(
             "{units} MS vehicles coupled on the Tab. 6 track with irregularities"
@@ -344,15 +347,6 @@ fn compile(text: &str, name: &str) -> Result<Scene, String> {
     Scenario::parse(text, name)
         .and_then(|s| s.compile(name, std::path::Path::new(".")))
         .map_err(|e| format!("{name}: {e}"))
-}
-
-fn outcome(o: &RunOutput) -> String {
-    let s = &o.summary;
-    match (&s.error, &s.stopped) {
-        (Some(e), _) => format!("failed: {e}"),
-        (None, Some(st)) => format!("stopped: {st}"),
-        _ => s.outcome.to_string(),
-    }
 }
 
 /// Runs `scene` with KEC (over `window` s where given, with the integrator edited by `bdf`), no
@@ -397,7 +391,7 @@ fn measure(
         wall_s: s.wall_s,
         steps: s.steps,
         rhs_evaluations: s.rhs_evaluations,
-        outcome: outcome(&o),
+        outcome: super::precision::outcome(&o),
     })
 }
 

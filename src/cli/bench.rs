@@ -189,12 +189,7 @@ fn scaling(a: BenchArgs) -> Result<()> {
 
 /// `kecsim bench precision [SCENARIO]`.
 fn precision(a: BenchArgs) -> Result<()> {
-    if let Some(d) = a.duration {
-        anyhow::ensure!(
-            d.is_finite() && d > 0.0 && d <= 1e5,
-            "--duration {d}: expected a positive time in s, at most 1e5"
-        );
-    }
+    super::check_duration(a.duration)?;
     let sink = a.sink.sink();
     check_sink(&sink)?;
     let (scene, default_window) = match &a.scenario {

@@ -37,12 +37,7 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
     } else {
         a.contact.clone()
     };
-    if let Some(d) = a.duration {
-        anyhow::ensure!(
-            d.is_finite() && d > 0.0 && d <= 1e5,
-            "--duration {d}: expected a positive time in s, at most 1e5"
-        );
-    }
+    super::check_duration(a.duration)?;
     let sink = a.sink.sink();
     check_sink(&sink)?;
     let origin = a.scenario.display().to_string();

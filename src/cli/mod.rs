@@ -346,6 +346,17 @@ fn sink_file(sink: &Sink) -> Option<&Path> {
     }
 }
 
+/// `--duration S` (compare, bench precision): a positive simulated time, at most 1e5 s.
+fn check_duration(d: Option<f64>) -> Result<()> {
+    if let Some(d) = d {
+        anyhow::ensure!(
+            d.is_finite() && d > 0.0 && d <= 1e5,
+            "--duration {d}: expected a positive time in s, at most 1e5"
+        );
+    }
+    Ok(())
+}
+
 /// The sink's own output file, checked as [`check_output_file`] does.
 fn check_sink(sink: &Sink) -> Result<()> {
     match sink {

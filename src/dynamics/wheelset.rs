@@ -571,24 +571,6 @@ pub fn evaluate(
     start: &mut NormalForceStart,
     track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
-    let r = evaluate_from(inertia, state, kin, frame, load, forces, start, track)?;
-    start.lambda = r.normal;
-    Ok(r)
-}
-
-/// [`evaluate`] but for the update of `start.lambda` (its secant matrix is updated by the
-/// both-wheels solve).
-#[allow(clippy::too_many_arguments)]
-fn evaluate_from(
-    inertia: &WheelsetInertia,
-    state: &WheelsetState,
-    kin: &WheelsetKinematics,
-    frame: &FrameMotion,
-    load: &Load,
-    forces: &ContactForceSettings,
-    start: &mut NormalForceStart,
-    track: Option<&LateralFlexibility>,
-) -> Result<WheelsetDynamics, WheelsetError> {
     let lambda_guess = start.lambda;
     let lifted = |l: Lift, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
         let mut fresh = -Matrix2::identity();
@@ -614,46 +596,52 @@ fn evaluate_from(
         }
         Ok(r)
     };
-    if let Some(l) = Lift::of(state, kin)? {
-        let mut guess = lambda_guess;
-        guess[l.side] = 0.0;
-        return lifted(l, guess);
-    }
-    let r = solve(
-        inertia,
-        state,
-        kin,
-        frame,
-        load,
-        forces,
-        lambda_guess,
-        &mut start.secant,
-        None,
-        track,
-    )?;
-    let side = if r.normal[0] <= r.normal[1] { 0 } else { 1 };
-    if r.normal[side] > 0.0 {
-        return Ok(r);
-    }
-    if r.normal[1 - side] <= 0.0 {
-        return Err(WheelsetError::Flight {
-            side: Side::BOTH[side].name(),
-            gap_mm: 0.0,
-            normal: r.normal[1 - side],
-        });
-    }
-    // Lift-off: release the unloaded wheel.
-    let mut guess = r.normal;
-    guess[side] = 0.0;
-    let free = lifted(Lift::at_rest(side, state.y, kin)?, guess)?;
-    if free.lift_accel[side] < 0.0 {
-        return Err(WheelsetError::Lift {
-            side: Side::BOTH[side].name(),
-            normal: r.normal[side],
-            lift_accel: free.lift_accel[side],
-        });
-    }
-    Ok(free)
+    // The result; the next evaluation starts from its normal forces (the secant matrix is
+    // updated by the both-wheels solve).
+    let r = 'result: {
+        if let Some(l) = Lift::of(state, kin)? {
+            let mut guess = lambda_guess;
+            guess[l.side] = 0.0;
+            break 'result lifted(l, guess)?;
+        }
+        let r = solve(
+            inertia,
+            state,
+            kin,
+            frame,
+            load,
+            forces,
+            lambda_guess,
+            &mut start.secant,
+            None,
+            track,
+        )?;
+        let side = if r.normal[0] <= r.normal[1] { 0 } else { 1 };
+        if r.normal[side] > 0.0 {
+            break 'result r;
+        }
+        if r.normal[1 - side] <= 0.0 {
+            return Err(WheelsetError::Flight {
+                side: Side::BOTH[side].name(),
+                gap_mm: 0.0,
+                normal: r.normal[1 - side],
+            });
+        }
+        // Lift-off: release the unloaded wheel.
+        let mut guess = r.normal;
+        guess[side] = 0.0;
+        let free = lifted(Lift::at_rest(side, state.y, kin)?, guess)?;
+        if free.lift_accel[side] < 0.0 {
+            return Err(WheelsetError::Lift {
+                side: Side::BOTH[side].name(),
+                normal: r.normal[side],
+                lift_accel: free.lift_accel[side],
+            });
+        }
+        free
+    };
+    start.lambda = r.normal;
+    Ok(r)
 }
 
 /// The equations at one contact state (both wheels on their rails, or `lift`'s wheel free).
