@@ -412,21 +412,8 @@ fn ms_vehicle_kec_and_table_match_online_until_the_first_contact_jump() {
         assert_eq!(o.summary.outcome, "completed", "{:?}", o.summary.error);
         assert_eq!(o.wheelsets.len(), 6);
     }
-    // The first jump of a run's real contact point on any wheel: the last sample before it.
-    let first_jump = |o: &RunOutput| {
-        let mut jump: Option<(f64, String)> = None;
-        for (name, samples) in &o.wheelsets {
-            let moved = samples
-                .windows(2)
-                .find(|w| (0..2).any(|i| (w[1].s_wheel[i] - w[0].s_wheel[i]).abs() > 5e-3));
-            if let Some(w) = moved {
-                if jump.as_ref().is_none_or(|(t, _)| w[0].t < *t) {
-                    jump = Some((w[0].t, name.clone()));
-                }
-            }
-        }
-        jump.expect("the window reaches a contact jump")
-    };
+    let first_jump =
+        |o: &RunOutput| kecsim::compare::first_contact_jump(o).expect("the window reaches a contact jump");
     let (t_jump, at) = first_jump(&online);
     // Largest |Δy|, |Δψ| (mm, mrad) over every wheelset's samples up to the first jump of either.
     let before = |a: &RunOutput, b: &RunOutput| {
