@@ -39,9 +39,14 @@ pub const SCENES: [(&str, &str, f64); 3] = [
 
 /// Largest |Δy| and |Δψ| over all wheelsets and samples between two runs of one scene.
 pub fn differences(a: &RunOutput, b: &RunOutput) -> (f64, f64) {
+    differences_until(a, b, f64::INFINITY)
+}
+
+/// [`differences`] over the samples up to time `t_end`, s.
+pub fn differences_until(a: &RunOutput, b: &RunOutput, t_end: f64) -> (f64, f64) {
     let (mut dy, mut dpsi) = (0.0_f64, 0.0_f64);
     for ((_, sa), (_, sb)) in a.wheelsets.iter().zip(&b.wheelsets) {
-        for (p, q) in sa.iter().zip(sb) {
+        for (p, q) in sa.iter().zip(sb).take_while(|(p, _)| p.t <= t_end + 1e-9) {
             dy = dy.max((p.y - q.y).abs());
             dpsi = dpsi.max((p.yaw - q.yaw).abs());
         }

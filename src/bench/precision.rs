@@ -16,7 +16,7 @@ use crate::dynamics::integrator::Method;
 use crate::dynamics::RunOutput;
 use crate::scenario::{RunOptions, Scene};
 
-use super::dynamics::differences;
+use super::dynamics::{differences, differences_until};
 
 /// What the sweep runs and what it is measured against.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,6 +64,12 @@ pub struct PrecisionRow {
     /// Largest |Δy| (m) and |Δψ| (rad) from the reference over every wheelset and sample.
     pub max_dy: f64,
     pub max_dpsi: f64,
+    /// The same up to the first real contact jump of this run or the reference
+    /// ([`crate::compare::first_contact_jump`]), and that time, s: the error in single-point
+    /// contact, apart from how the models treat the jumps.
+    pub single_point_s: f64,
+    pub single_point_max_dy: f64,
+    pub single_point_max_dpsi: f64,
 }
 
 impl PrecisionRow {
@@ -132,12 +138,17 @@ pub fn precision(scene: &Scene, settings: &PrecisionSettings) -> Result<Precisio
             "the reference run ({rc}, {rm:?} rtol {rr:.0e}) did not complete: {reference_outcome}"
         ));
     }
+    let jump = |o: &RunOutput| crate::compare::first_contact_jump(o).map_or(f64::INFINITY, |j| j.0);
+    let reference_jump = jump(&reference);
     let mut rows = Vec::new();
     for contact in &settings.contacts {
         for &method in &settings.methods {
             for &rtol in &settings.rtols {
                 let o = run(contact, method, rtol)?;
                 let (max_dy, max_dpsi) = differences(&reference, &o);
+                let single_point_s = jump(&o).min(reference_jump).min(o.summary.simulated_s);
+                let (single_point_max_dy, single_point_max_dpsi) =
+                    differences_until(&reference, &o, single_point_s);
                 let s = &o.summary;
                 rows.push(PrecisionRow {
                     contact: contact.clone(),
@@ -152,6 +163,9 @@ pub fn precision(scene: &Scene, settings: &PrecisionSettings) -> Result<Precisio
                     outcome: outcome(&o),
                     max_dy,
                     max_dpsi,
+                    single_point_s,
+                    single_point_max_dy,
+                    single_point_max_dpsi,
                 });
             }
         }
@@ -196,11 +210,11 @@ impl Precision {
             "# kecsim bench precision: {}\n\n{:.2} s simulated; error = largest |Δy|, |Δψ| over every wheelset and output sample against the reference run ({}, {:.2} s wall); wall = integration time (preprocessing apart)\n\n",
             self.scene, self.simulated_s, self.reference, self.reference_wall_s
         );
-        s += "| contact model | integrator | rtol | wall s | real-time factor | preprocessing s | steps | right-hand sides | max \\|Δy\\| [mm] | max \\|Δψ\\| [mrad] | outcome |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+        s += "| contact model | integrator | rtol | wall s | real-time factor | preprocessing s | steps | right-hand sides | max \\|Δy\\| [mm] | max \\|Δψ\\| [mrad] | outcome | to the first contact jump [s] | max \\|Δy\\| to it [mm] | max \\|Δψ\\| to it [mrad] |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
         for r in &self.rows {
             let _ = writeln!(
                 s,
-                "| {} | {:?} | {:.0e} | {:.3} | {:.2} | {:.2} | {} | {} | {:.4} | {:.4} | {} |",
+                "| {} | {:?} | {:.0e} | {:.3} | {:.2} | {:.2} | {} | {} | {:.4} | {:.4} | {} | {:.2} | {:.4} | {:.4} |",
                 r.contact,
                 r.method,
                 r.rtol,
@@ -211,7 +225,10 @@ impl Precision {
                 r.rhs_evaluations,
                 r.max_dy * 1e3,
                 r.max_dpsi * 1e3,
-                r.outcome
+                r.outcome,
+                r.single_point_s,
+                r.single_point_max_dy * 1e3,
+                r.single_point_max_dpsi * 1e3
             );
         }
         let contacts = self.contacts();
