@@ -190,10 +190,15 @@ pub fn ms_on_longer_track(k: usize) -> Result<String, String> {
         }
     }
     track.insert("horizontal".to_string(), Value::Array(laid));
-    for section in array_mut(track, "vertical", what)? {
-        if let Some(s) = section.as_table_mut() {
-            s.insert("to_m".to_string(), Value::Float(k as f64 * MS_TRACK_M));
+    // The scene's level track is one vertical section: lengthened to the whole track.
+    let vertical = array_mut(track, "vertical", what)?;
+    match vertical.as_mut_slice() {
+        [section] => {
+            if let Some(s) = section.as_table_mut() {
+                s.insert("to_m".to_string(), Value::Float(k as f64 * MS_TRACK_M));
+            }
         }
+        _ => return Err(format!("{what}: expected one vertical section to lengthen")),
     }
     set_duration(&mut doc, what, |speed| {
         MS_DURATION_S + (k as f64 - 1.0) * MS_TRACK_M / speed
@@ -214,8 +219,8 @@ pub fn coupled_ms(units: usize) -> Result<String, String> {
     let mut doc = parse(DEFAULT_SCENARIO, what)?;
     let vehicle = table_mut(&mut doc, "vehicle", what)?;
     let bodies = array_mut(vehicle, "bodies", what)?.clone();
-    // The vehicle's extent: the carbodies' ends are their centres ± half a module; the paper's
-    // vehicle runs from b_c1 ahead of b1 to as far behind b3 (Tab. 5: 2.762 m).
+    // The frontmost and the rearmost body (by their centres' x): the coupler joins the rear one of
+    // a unit to the front one of the next.
     let (mut front, mut rear) = (f64::NEG_INFINITY, f64::INFINITY);
     let mut first_last = (String::new(), String::new());
     for b in &bodies {
@@ -237,8 +242,8 @@ pub fn coupled_ms(units: usize) -> Result<String, String> {
             first_last.1 = name.to_string();
         }
     }
-    // Ends of the vehicle: the bogie centre ± (wheelbase/2 + the Tab. 5 overhang b_c1 = 2.762 m);
-    // with the bogies at ±11.024 m this is ±13.786 m.
+    // Ends of the vehicle (the scene's reading of Tab. 5): the end bogies' centres at ±11.024 m
+    // plus b_c1 = 2.762 m from the bogie centre to the vehicle's end: ±13.786 m.
     let end = 11.024 + 2.762;
     let pitch = 2.0 * end + COUPLER_LENGTH_M;
     let names: Vec<String> = ["bodies", "wheelsets"]

@@ -175,6 +175,9 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
 
 /// `kecsim bench scaling`.
 fn scaling(a: BenchArgs) -> Result<()> {
+    if a.calls != DEFAULT_CALLS {
+        eprintln!("kecsim: bench: --calls does not apply to this target (it times whole runs)");
+    }
     let mut settings = kecsim::bench::scaling::ScalingSettings::default();
     if let Some(d) = a.duration {
         settings.window_s = d;

@@ -151,7 +151,8 @@ impl RunOutput {
 pub struct RunLabels {
     pub contact_model: String,
     pub creep_model: String,
-    /// Contact-model and vehicle preprocessing (tables, equivalent profiles, settling), s.
+    /// Contact-model and vehicle preprocessing (tables, equivalent profiles, settling, the flange
+    /// angle of the safety figures), s.
     pub preprocessing_s: f64,
     /// Friction and flange angle for the running-safety limits (None: no safety figures).
     pub safety: Option<super::safety::SafetyBasis>,
@@ -190,7 +191,8 @@ pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
 
 /// Makes this thread one of a thread pool of its own, once per thread and for the thread's life
 /// (rayon cannot take a thread back out of a pool): this thread and, on a machine with more than
-/// one core, one more (`KECSIM_THREADS` sets the total; 1: every run on this thread alone). The
+/// one core, one more (`KECSIM_THREADS` sets the total; 1: every run on this thread alone; 0 or
+/// not a number: the default). The
 /// right-hand side's parallel parts (a vehicle's wheelsets) then split between the cores without
 /// handing each evaluation to another thread. Where the pool cannot be made (this thread already
 /// in another pool), runs go on as they are. Returns the pool's number of threads (1 without one).

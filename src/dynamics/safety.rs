@@ -2,7 +2,8 @@
 //! the output samples' wheel–rail forces in the track frame (Y lateral, Q vertical):
 //!
 //! - **Y/Q** of each wheel (flange climb), as the largest 2 m sliding mean along the track of
-//!   |Y|/Q, against **Nadal's limit** for the friction the run uses and the flange angle of its
+//!   |Y|/Q (a sample with Q ≤ 0, a lifted wheel, counts as 0: the lift is reported by ΔQ/Q₀ = 1
+//!   and the run's lift figures), against **Nadal's limit** for the friction the run uses and the flange angle of its
 //!   profiles, (Y/Q)_lim = (tan γ − μ)/(1 + μ tan γ);
 //! - **ΣY** (Prud'homme, track shift): the sum of both wheels' lateral forces, its largest 2 m
 //!   sliding mean in magnitude, against α (10 kN + 2Q₀/3) with 2Q₀ the static axle load (α = 1,
@@ -12,7 +13,8 @@
 //!   quasi-statically, which a 2 m mean of the same samples approaches at low speed).
 //!
 //! EN 14363 takes the 99.85 % value of the sliding means over a test zone; a simulation's one run
-//! gives the largest, which is on the safe side. The sliding mean is over the samples whose arc
+//! gives the largest, which is on the safe side. Only full windows count: the means start 2 m after
+//! the first sample (a run shorter than that has none: its figures are 0). The sliding mean is over the samples whose arc
 //! length lies within the window ending at each sample (the output rate sets its resolution:
 //! 100 Hz at 19 m/s is a sample every 0.19 m).
 
@@ -107,6 +109,8 @@ pub fn assess(
         .filter(|((_, samples), _)| !samples.is_empty())
         .map(|((name, samples), q0)| {
             let s: Vec<f64> = samples.iter().map(|p| p.s).collect();
+            // Only full windows count (EN 14363): from 2 m after the first sample on.
+            let full = |(k, _): &(usize, f64)| s[*k] - s[0] >= WINDOW_M;
             let mut w = WheelsetSafety {
                 name: name.clone(),
                 y_over_q_2m: 0.0,
@@ -130,7 +134,11 @@ pub fn assess(
                         }
                     })
                     .collect();
-                for (k, m) in sliding_mean(&s, &ratio, WINDOW_M).into_iter().enumerate() {
+                for (k, m) in sliding_mean(&s, &ratio, WINDOW_M)
+                    .into_iter()
+                    .enumerate()
+                    .filter(full)
+                {
                     if m > w.y_over_q_2m {
                         (w.y_over_q_2m, w.y_over_q_wheel, w.y_over_q_at_s_m) = (m, wheel, s[k]);
                     }
@@ -145,7 +153,11 @@ pub fn assess(
                 }
             }
             let sum_y: Vec<f64> = samples.iter().map(|p| p.y_force[0] + p.y_force[1]).collect();
-            for (k, m) in sliding_mean(&s, &sum_y, WINDOW_M).into_iter().enumerate() {
+            for (k, m) in sliding_mean(&s, &sum_y, WINDOW_M)
+                .into_iter()
+                .enumerate()
+                .filter(full)
+            {
                 if m.abs() > w.sum_y_2m_n {
                     (w.sum_y_2m_n, w.sum_y_at_s_m) = (m.abs(), s[k]);
                 }
@@ -254,7 +266,8 @@ mod tests {
     }
 
     /// A flange force pulse on the right wheel over 1 m of 40 m: its 2 m mean is half its peak;
-    /// the left wheel unloads to 30 kN of 50 kN; ΣY's mean where the pulse is.
+    /// the left wheel unloads to 30 kN of 50 kN; ΣY's mean where the pulse is; a larger spike in
+    /// the first sample, whose windows are not full, is not counted.
     #[test]
     fn assess_a_pulse() {
         // Samples every 0.125 m (exact in binary): 16 in a 2 m window, the pulse 8 of them.
@@ -262,7 +275,12 @@ mod tests {
             .map(|k| {
                 let s = 0.125 * k as f64;
                 let pulse = (160..168).contains(&k);
-                let (yr, qr) = if pulse { (-40e3, 60e3) } else { (-2e3, 50e3) };
+                // A spike at the start, in a window not yet full: not counted.
+                let (yr, qr) = match (pulse, k) {
+                    (true, _) => (-40e3, 60e3),
+                    (false, 0) => (-100e3, 50e3),
+                    _ => (-2e3, 50e3),
+                };
                 let ql = if pulse { 30e3 } else { 50e3 };
                 sample(s, [1e3, yr], [ql, qr])
             })

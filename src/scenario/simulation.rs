@@ -459,7 +459,9 @@ impl super::Scene {
         crate::dynamics::run::join_run_pool();
         let t = Instant::now();
         let model = contact.build(&self.pair)?;
-        let flange_angle_rad = flange_angle(&self.pair)?;
+        // The safety figures' flange angle; a pair whose contact cannot be followed up the flange
+        // on the ideal track runs without them.
+        let flange_angle_rad = flange_angle(&self.pair).ok();
         let vehicle = build_vehicle(
             vehicle,
             model,
@@ -474,7 +476,7 @@ impl super::Scene {
                 contact_model: contact.name().to_string(),
                 creep_model: self.contact_forces.model.name().to_string(),
                 preprocessing_s: t.elapsed().as_secs_f64(),
-                safety: Some(SafetyBasis {
+                safety: flange_angle_rad.map(|flange_angle_rad| SafetyBasis {
                     friction: self.contact_forces.friction,
                     flange_angle_rad,
                 }),
