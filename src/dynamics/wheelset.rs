@@ -572,20 +572,13 @@ pub fn evaluate(
     track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
     let lambda_guess = start.lambda;
+    let solve_at = |guess: [f64; 2], secant: &mut Matrix2<f64>, lift: Option<&Lift>| {
+        solve(
+            inertia, state, kin, frame, load, forces, guess, secant, lift, track,
+        )
+    };
     let lifted = |l: Lift, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
-        let mut fresh = -Matrix2::identity();
-        let r = solve(
-            inertia,
-            state,
-            kin,
-            frame,
-            load,
-            forces,
-            guess,
-            &mut fresh,
-            Some(&l),
-            track,
-        )?;
+        let r = solve_at(guess, &mut -Matrix2::identity(), Some(&l))?;
         let p = 1 - l.side;
         if r.normal[p] <= 0.0 {
             return Err(WheelsetError::Flight {
@@ -604,18 +597,7 @@ pub fn evaluate(
             guess[l.side] = 0.0;
             break 'result lifted(l, guess)?;
         }
-        let r = solve(
-            inertia,
-            state,
-            kin,
-            frame,
-            load,
-            forces,
-            lambda_guess,
-            &mut start.secant,
-            None,
-            track,
-        )?;
+        let r = solve_at(lambda_guess, &mut start.secant, None)?;
         let side = if r.normal[0] <= r.normal[1] { 0 } else { 1 };
         if r.normal[side] > 0.0 {
             break 'result r;
