@@ -6,7 +6,7 @@
 use std::path::Path;
 
 mod common;
-use common::{kecsim, rerun_verify, scene, tmpdir};
+use common::{kecsim, kecsim_ok, rerun_verify, scene, tmpdir};
 
 use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};
 use kecsim::contact::geometry::ContactGeometry;
@@ -621,7 +621,7 @@ fn compare_reports_the_differences_of_the_runs() {
     let dir = tmpdir("compare");
     let rrd = dir.join("c.rrd");
     let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wheelset_klingel.toml");
-    let out = kecsim(
+    let stdout = kecsim_ok(
         &[
             "compare",
             scene_path.to_str().unwrap(),
@@ -634,8 +634,6 @@ fn compare_reports_the_differences_of_the_runs() {
         ],
         &dir,
     );
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(
         stdout.contains("within the paper's bounds") && stdout.contains("| lookup |"),
         "{stdout}"
@@ -714,7 +712,7 @@ fn precision_sweep_measures_error_against_the_reference() {
     let dir = tmpdir("precision");
     let rrd = dir.join("p.rrd");
     let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/wheelset_klingel.toml");
-    let out = kecsim(
+    let stdout = kecsim_ok(
         &[
             "bench",
             "precision",
@@ -736,8 +734,6 @@ fn precision_sweep_measures_error_against_the_reference() {
         ],
         &dir,
     );
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(
         stdout.contains("| kec | Dopri5 | 1e-6 |") && stdout.contains("Cost at equal error"),
         "{stdout}"
@@ -760,9 +756,7 @@ fn precision_sweep_measures_error_against_the_reference() {
 #[test]
 fn bench_scaling_measures_both_series() {
     let dir = tmpdir("scaling");
-    let out = kecsim(&["bench", "scaling", "--km", "1,2", "--duration", "0.5"], &dir);
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = kecsim_ok(&["bench", "scaling", "--km", "1,2", "--duration", "0.5"], &dir);
     println!("{stdout}");
     let exponent = |prefix: &str| -> f64 {
         let line = stdout

@@ -108,27 +108,22 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         matches!(a.target, BenchTarget::Scaling) || a.km.is_empty(),
         "--km applies to `kecsim bench scaling` only"
     );
-    if matches!(a.target, BenchTarget::Scaling) {
-        anyhow::ensure!(
-            a.scenario.is_none()
-                && a.contact.is_empty()
-                && a.method.is_empty()
-                && a.rtol.is_empty()
-                && a.reference_contact.is_none()
-                && a.reference_rtol.is_none(),
-            "`kecsim bench scaling` takes --duration and --km only"
-        );
-        return scaling(a);
-    }
-    let precision_only = a.scenario.is_some()
-        || a.duration.is_some()
+    // The sweep's options (`precision` only); --duration is precision's and scaling's.
+    let sweep_options = a.scenario.is_some()
         || !a.contact.is_empty()
         || !a.method.is_empty()
         || !a.rtol.is_empty()
         || a.reference_contact.is_some()
         || a.reference_rtol.is_some();
+    if matches!(a.target, BenchTarget::Scaling) {
+        anyhow::ensure!(
+            !sweep_options,
+            "`kecsim bench scaling` takes --duration and --km only"
+        );
+        return scaling(a);
+    }
     anyhow::ensure!(
-        matches!(a.target, BenchTarget::Precision) || !precision_only,
+        matches!(a.target, BenchTarget::Precision) || !(sweep_options || a.duration.is_some()),
         "a scenario, --duration, --contact, --method, --rtol and --reference-* apply to `kecsim bench precision` only"
     );
     if matches!(a.target, BenchTarget::Precision) {

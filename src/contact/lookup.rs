@@ -222,47 +222,23 @@ pub struct LookupTable1 {
     pub l_r: f64,
 }
 
-/// The y at which flange contact is reached on the left (the contact angle reaches its largest
-/// value on the flange flank; beyond it the wheel would climb the flange), by a 0.1 mm scan from
-/// y = 0, refined by golden-section search. By symmetry of use, the table spans ±this on a
-/// symmetric pair; for an asymmetric pair both sides are scanned.
-pub fn flange_contact_limit(
-    geom: &ContactGeometry,
-    off: &RailOffsets,
-    left: bool,
-) -> Result<f64, TableError> {
-    let sign = if left { 1.0 } else { -1.0 };
-    let angle = |y: f64| -> Result<f64, TableError> {
-        let s = geom.solve(sign * y, off)?;
-        Ok(if left {
-            s.left.contact_angle
-        } else {
-            s.right.contact_angle
-        })
-    };
-    let step = 1e-4;
+/// The 0.1 mm scan up the flange from y = 0 shared by [`flange_contact_limit`] and
+/// [`flange_angle`]: the contact angles of one side until they fall again past 45° (or the wheel
+/// leaves the profile there). Returns the y (≥ 0, towards that side) of the largest sampled angle,
+/// that angle, and whether the scan ended on a falling angle (else the profile ended).
+fn flange_scan(angle: &impl Fn(f64) -> Result<f64, TableError>) -> Result<(f64, f64, bool), TableError> {
+    let step = FLANGE_SCAN_STEP_M;
     let mut prev = angle(0.0)?;
     let mut y = 0.0;
     loop {
         let next_y = y + step;
         let a = match angle(next_y) {
             Ok(a) => a,
-            Err(_) if prev > 45f64.to_radians() => return Ok(y),
+            Err(_) if prev > 45f64.to_radians() => return Ok((y, prev, false)),
             Err(e) => return Err(e),
         };
         if prev > 45f64.to_radians() && a < prev {
-            // Maximum between y − step and y + step: golden section.
-            let (mut lo, mut hi) = (y - step, next_y);
-            let g = 0.5 * (5f64.sqrt() - 1.0);
-            while hi - lo > 1e-7 {
-                let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
-                if angle(c)? > angle(d)? {
-                    hi = d
-                } else {
-                    lo = c
-                }
-            }
-            return Ok(0.5 * (lo + hi));
+            return Ok((y, prev, true));
         }
         if next_y > 0.05 {
             return Err(TableError::Invalid(
@@ -272,6 +248,64 @@ pub fn flange_contact_limit(
         prev = a;
         y = next_y;
     }
+}
+
+/// Step of [`flange_scan`], m.
+const FLANGE_SCAN_STEP_M: f64 = 1e-4;
+
+/// The contact angle of one side at |y| towards that side.
+fn side_angle(
+    geom: &ContactGeometry,
+    off: RailOffsets,
+    left: bool,
+) -> impl Fn(f64) -> Result<f64, TableError> + '_ {
+    move |y: f64| {
+        let s = geom.solve(if left { y } else { -y }, &off)?;
+        Ok(if left {
+            s.left.contact_angle
+        } else {
+            s.right.contact_angle
+        })
+    }
+}
+
+/// The y at which flange contact is reached on the left (the contact angle reaches its largest
+/// value on the flange flank; beyond it the wheel would climb the flange), by a 0.1 mm scan from
+/// y = 0, refined by golden-section search. By symmetry of use, the table spans ±this on a
+/// symmetric pair; for an asymmetric pair both sides are scanned.
+pub fn flange_contact_limit(
+    geom: &ContactGeometry,
+    off: &RailOffsets,
+    left: bool,
+) -> Result<f64, TableError> {
+    let angle = side_angle(geom, *off, left);
+    let (y, _, falls) = flange_scan(&angle)?;
+    if !falls {
+        return Ok(y);
+    }
+    // Maximum between y − step and y + step: golden section.
+    let (mut lo, mut hi) = (y - FLANGE_SCAN_STEP_M, y + FLANGE_SCAN_STEP_M);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    while hi - lo > 1e-7 {
+        let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if angle(c)? > angle(d)? {
+            hi = d
+        } else {
+            lo = c
+        }
+    }
+    Ok(0.5 * (lo + hi))
+}
+
+/// The flange angle of a pair for Nadal's limit: the largest contact angle, reached where the
+/// contact climbs the flange — on the ideal track, the larger of both sides' sampled maxima of the
+/// [`flange_scan`] (near its maximum the angle is flat: the sampled one is within hundredths of a
+/// degree of the true one), rad.
+pub fn flange_angle(geom: &ContactGeometry) -> Result<f64, TableError> {
+    let off = RailOffsets::default();
+    let side = |left: bool| flange_scan(&side_angle(geom, off, left)).map(|(_, a, _)| a);
+    let (l, r) = rayon::join(|| side(true), || side(false));
+    Ok(l?.max(r?))
 }
 
 /// One grid interval of a table being built: its solutions after the left node (up to and

@@ -10,7 +10,7 @@ use thiserror::Error;
 
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::geometry::ContactGeometry;
-use crate::contact::lookup::TableError;
+use crate::contact::lookup::flange_angle;
 use crate::contact::{ContactBuildError, ContactModel, ContactModelSpec};
 use crate::dynamics::integrator::{Method, Settings};
 use crate::dynamics::multibody::Multibody;
@@ -22,8 +22,6 @@ use crate::dynamics::wheelset::WheelsetInertia;
 use crate::dynamics::{
     run, DynamicsError, InitialDisturbance, RunLabels, RunOutput, RunSettings, StopConditions, VehicleModel,
 };
-use crate::profile::placement::WheelRailPair;
-use crate::track::RailOffsets;
 use crate::vehicle::VehicleSpec;
 
 /// `[simulation]`: what to run and how.
@@ -278,36 +276,6 @@ impl BuiltRun {
     }
 }
 
-/// The flange angle of a wheel–rail pair for Nadal's limit: the largest contact angle, reached
-/// where the contact climbs the flange — on the ideal track, the larger of both sides, from the
-/// contact angles every 0.1 mm of lateral displacement until they fall again past 45° (near its
-/// maximum the angle is flat: the sampled maximum is within hundredths of a degree of the true one).
-pub fn flange_angle(pair: &WheelRailPair) -> Result<f64, ContactBuildError> {
-    let geom = ContactGeometry::with_defaults(pair.clone());
-    let off = RailOffsets::default();
-    let side = |left: bool| -> Result<f64, ContactBuildError> {
-        let sign = if left { 1.0 } else { -1.0 };
-        let mut best = 0.0f64;
-        for k in 0..=500 {
-            let y = sign * 1e-4 * k as f64;
-            let angle = match geom.solve(y, &off) {
-                Ok(sol) if left => sol.left.contact_angle,
-                Ok(sol) => sol.right.contact_angle,
-                // Past the flange the wheel has left the profile: the climb ended.
-                Err(_) if best > 45f64.to_radians() => break,
-                Err(e) => return Err(TableError::from(e).into()),
-            };
-            if best > 45f64.to_radians() && angle < best {
-                break;
-            }
-            best = best.max(angle);
-        }
-        Ok(best)
-    };
-    let (l, r) = rayon::join(|| side(true), || side(false));
-    Ok(l?.max(r?))
-}
-
 /// The vehicle system of a `[vehicle]` table with `contact`, `forces` and the reference motion
 /// (a multibody vehicle is settled here: its elements' static preloads).
 pub fn build_vehicle(
@@ -461,7 +429,7 @@ impl super::Scene {
         let model = contact.build(&self.pair)?;
         // The safety figures' flange angle; a pair whose contact cannot be followed up the flange
         // on the ideal track runs without them.
-        let flange_angle_rad = flange_angle(&self.pair).ok();
+        let flange_angle_rad = flange_angle(&ContactGeometry::with_defaults(self.pair.clone())).ok();
         let vehicle = build_vehicle(
             vehicle,
             model,

@@ -13,6 +13,13 @@ pub fn kecsim(args: &[&str], cwd: &Path) -> Output {
         .expect("kecsim runs")
 }
 
+/// Runs the kecsim binary, which must succeed (else the test fails with its stderr); its stdout.
+pub fn kecsim_ok(args: &[&str], cwd: &Path) -> String {
+    let out = kecsim(args, cwd);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// A fresh temporary directory for one test.
 pub fn tmpdir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("kecsim-test-{name}-{}", std::process::id()));
