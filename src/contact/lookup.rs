@@ -299,8 +299,8 @@ pub fn flange_contact_limit(
 
 /// The flange angle of a pair for Nadal's limit: the largest contact angle, reached where the
 /// contact climbs the flange — on the ideal track, the larger of both sides' sampled maxima of the
-/// [`flange_scan`] (near its maximum the angle is flat: the sampled one is within hundredths of a
-/// degree of the true one), rad.
+/// 0.1 mm scan up the flange that [`flange_contact_limit`] also uses (near its maximum the angle
+/// is flat: the sampled one is within hundredths of a degree of the true one), rad.
 pub fn flange_angle(geom: &ContactGeometry) -> Result<f64, TableError> {
     let off = RailOffsets::default();
     let side = |left: bool| flange_scan(&side_angle(geom, off, left)).map(|(_, a, _)| a);
