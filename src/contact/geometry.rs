@@ -260,17 +260,17 @@ impl ContactGeometry {
         Self::new(pair, ContactSettings::default())
     }
 
-    fn l_w(&self) -> f64 {
+    pub(crate) fn l_w(&self) -> f64 {
         self.pair.wheelset.l_w()
     }
 
     /// Rotation angle α = σβ + δ of a side's rail profile frame.
-    fn alpha(&self, side: Side, off: &RailOffsets) -> f64 {
+    pub(crate) fn alpha(&self, side: Side, off: &RailOffsets) -> f64 {
         side.sign() * self.pair.rail_placement.inclination_rad + off.delta(self.pair.rail_placement.lateral_m)
     }
 
     /// Origin of a side's rail profile frame in the wheelset-track frame.
-    fn rail_origin(&self, side: Side, off: &RailOffsets) -> (f64, f64) {
+    pub(crate) fn rail_origin(&self, side: Side, off: &RailOffsets) -> (f64, f64) {
         let rp = &self.pair.rail_placement;
         let (dy, dz) = off.side(side);
         (side.sign() * rp.lateral_m + dy, rp.vertical_m + dz)
@@ -278,13 +278,13 @@ impl ContactGeometry {
 
     /// Wheel radius h^w and its first two derivatives at s^w (paper convention).
     #[inline]
-    fn wheel(&self, side: Side, s: f64) -> (f64, f64, f64) {
+    pub(crate) fn wheel(&self, side: Side, s: f64) -> (f64, f64, f64) {
         self.pair.wheelset.wheel_radius(&self.pair.wheel, side, s)
     }
 
     /// Rail head h^r and derivatives at s^r (paper convention).
     #[inline]
-    fn rail(&self, side: Side, s: f64) -> (f64, f64, f64) {
+    pub(crate) fn rail(&self, side: Side, s: f64) -> (f64, f64, f64) {
         let p = self.pair.rail.eval_side(side, s);
         (p.z, p.dz, p.d2z)
     }
@@ -755,7 +755,7 @@ impl ContactGeometry {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn contact_point(
+    pub(crate) fn contact_point(
         &self,
         side: Side,
         off: &RailOffsets,

@@ -2,6 +2,8 @@
 //!
 //! * [`geometry`]: the approximate contact constraints (Eq. 35–42) solved online by Newton,
 //!   seeded by a global minimum-gap search; contact jumps and two-point contact.
+//! * [`elastic`]: the interpenetration of the real profiles at a free wheelset pose (the elastic
+//!   contact model's search).
 //!
 //! Conventions shared by the contact modules: the wheelset-track frame of the paper (Y to the left,
 //! Z up, origin on the track centreline at the top-of-rail plane); the wheelset centre at (y, z),
@@ -10,6 +12,7 @@
 //! own field-side coordinate).
 
 pub mod conicity;
+pub mod elastic;
 pub mod forces;
 pub mod geometry;
 pub mod kec;

@@ -27,6 +27,7 @@ use std::fmt::Debug;
 
 use thiserror::Error;
 
+use super::elastic::{ElasticContact, ElasticContacts, ElasticError};
 use super::geometry::ContactError;
 use super::kec::KecError;
 use super::lookup::TableError;
@@ -42,6 +43,8 @@ pub enum ContactModelError {
     Table(#[from] TableError),
     #[error("online contact: {0}")]
     Online(#[from] ContactError),
+    #[error("elastic contact: {0}")]
+    Elastic(#[from] ElasticError),
     /// A model outside this crate's own.
     #[error("{0}")]
     Other(Box<dyn std::error::Error + Send + Sync>),
@@ -100,6 +103,9 @@ pub struct WheelsetKinematics {
     pub contacts: [ContactPoint; 2],
     /// KEC only: the knife-edge contact parameters s^lk, s^rk on the equivalent profiles, m.
     pub s_knife: Option<[f64; 2]>,
+    /// The elastic model only: the pose is the wheelset's own (z, φ free, Z_y = Φ_y = c = 0) and
+    /// these are its contacts; `contacts` then holds each wheel's closest point.
+    pub elastic: Option<ElasticContacts>,
 }
 
 /// The contact model of a wheelset (shared by all wheelsets with the same profiles; each
@@ -130,6 +136,13 @@ pub trait ContactModel: Send + Sync + Debug {
     /// integrator must not reuse a Jacobian across steps).
     fn history_dependent(&self) -> bool {
         false
+    }
+
+    /// The elastic model: the wheelset is free in z and φ and its contacts come from
+    /// [`ElasticContact::search`] at its pose (then [`Self::configuration`] is the rigid touching
+    /// configuration, for the static settling and the initial state). `None` for a constraint model.
+    fn elastic(&self) -> Option<&ElasticContact> {
+        None
     }
 }
 
@@ -175,6 +188,7 @@ pub fn directional_differences<M: ContactModel + ?Sized>(
         c_phi: (p.phi - 2.0 * c.phi + m.phi) / (eps * eps),
         contacts: c.contacts,
         s_knife: None,
+        elastic: None,
     })
 }
 

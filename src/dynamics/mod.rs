@@ -4,12 +4,14 @@
 //! * [`system`]: the [`VehicleModel`] interface (model apart from run state), samples, errors;
 //! * [`single_wheelset`], [`multibody`]: the two vehicle systems;
 //! * [`wheelset`]: Newton–Euler of one wheelset with its contact constraints (Eq. 53);
+//! * [`elastic`](mod@elastic): a free wheelset on elastic contacts (the elastic contact model);
 //! * [`reference`](mod@reference): the reference motion along the track and the frames it gives;
 //! * [`integrator`]: DOPRI5, ROS3, ROS34PW2 with dense output and diagnosed failures;
 //! * [`run`](mod@run): the run loop, stop conditions, summary; [`output`]: samples, observers, CSV.
 //!
 //! The contact models are [`crate::contact::ContactModel`]s; the dynamics never knows which one.
 
+pub mod elastic;
 pub mod integrator;
 pub mod multibody;
 pub mod output;

@@ -37,6 +37,7 @@ use rayon::prelude::*;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Vector3, Vector6};
 
+use super::elastic::{contact_kinematics, initial_free_pose};
 use super::reference::{FrameAt, Reference, G};
 use super::system::{
     BodySample, DynamicsError, InitialDisturbance, Settling, VehicleData, VehicleModel, VehicleSample,
@@ -280,9 +281,7 @@ impl Multibody {
     ) -> Result<(WheelsetKinematics, FrameAt, f64), DynamicsError> {
         let s = s_ref + self.wheelsets[j].d + st.x;
         let f = self.frame_at(s, v, v_dot)?;
-        let kin = self
-            .contact
-            .kinematics(st.y, st.y_dot, &st.shifted_rails(&f.rails), warm)
+        let kin = contact_kinematics(self.contact.as_ref(), st, &st.shifted_rails(&f.rails), warm)
             .map_err(DynamicsError::contact(&self.wheelsets[j].name, st.y, s))?;
         Ok((kin, f, s))
     }
@@ -297,22 +296,39 @@ impl Multibody {
     fn initial(&self, y0: f64, psi0: f64) -> Vec<f64> {
         let mut x = vec![0.0; self.dim()];
         let mut warm = WarmStart::default();
-        let r_mean = self
+        let rigid = self
             .contact
             .kinematics(y0, 0.0, &RailMotion::default(), &mut warm)
+            .ok();
+        let r_mean = rigid
             .map(|k| 0.5 * (k.contacts[0].rolling_radius + k.contacts[1].rolling_radius))
             .unwrap_or(self.r0);
+        let mut sink = 0.0;
         for j in 0..self.wheelsets.len() {
             let o = self.wheelset_offset(j);
             let omega = self.reference.speed.at(0.0) / r_mean;
+            // The elastic model: the free z, φ in the lift slots, sunk by the static approach
+            // (where the rigid solve fails at y₀, the run's first evaluation reports it).
+            let q = 0.5 * self.settling.axle_loads[j];
+            let free = initial_free_pose(self.contact.as_ref(), y0, [q, q], &self.forces)
+                .ok()
+                .flatten();
+            if let (Some((z, _)), Some(k)) = (free, rigid) {
+                sink += (k.z - z) / self.wheelsets.len() as f64;
+            }
             WheelsetState {
                 y: y0,
                 psi: psi0,
                 omega,
                 omega_right: omega,
+                lift: free.map_or([0.0; 2], |(z, phi)| [z, phi]),
                 ..WheelsetState::default()
             }
             .write(&mut x[o..], self.is_irw(j));
+        }
+        // The bodies sink with the wheelsets (their preloads were settled on rigid contacts).
+        for i in 0..self.bodies.len() {
+            x[self.body_offset(i) + 2] -= sink;
         }
         x
     }
@@ -930,7 +946,11 @@ impl VehicleModel for Multibody {
         groups
     }
 
+    /// None with the elastic model (its slots hold the free pose; no landing events).
     fn lift_offsets(&self) -> Vec<usize> {
+        if self.contact.elastic().is_some() {
+            return Vec::new();
+        }
         (0..self.wheelsets.len())
             .map(|j| self.wheelset_offset(j) + WheelsetState::lift_index(self.is_irw(j)))
             .collect()

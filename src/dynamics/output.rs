@@ -49,16 +49,8 @@ impl Sample {
     /// The output sample of one wheelset evaluation (Y and Q per wheel in the track frame).
     pub fn new(t: f64, s: &WheelsetSample, r0: f64) -> Sample {
         let d = &s.dynamics;
-        let mut y_force = [0.0; 2];
-        let mut q_force = [0.0; 2];
-        for i in 0..2 {
-            // Normal force along the rail normal plus the creep force's lateral/vertical
-            // components (the contact frame's t₂ lies in the cross-section: (0, n_z, −n_y) up to
-            // the yaw).
-            let (ny, nz) = s.kin.contacts[i].normal;
-            y_force[i] = d.normal[i] * ny + d.creep[i].fy * nz;
-            q_force[i] = d.normal[i] * nz - d.creep[i].fy * ny;
-        }
+        let y_force = [d.wheel_force[0].0, d.wheel_force[1].0];
+        let q_force = [d.wheel_force[0].1, d.wheel_force[1].1];
         Sample {
             t,
             s: s.s,

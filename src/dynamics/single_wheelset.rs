@@ -11,6 +11,7 @@
 
 use std::sync::Arc;
 
+use super::elastic::{contact_kinematics, initial_free_pose};
 use super::reference::FrameAt;
 use super::reference::{Reference, G};
 use super::system::{
@@ -63,9 +64,7 @@ impl SingleWheelset {
             .reference
             .frame(s, v, v_dot)
             .map_err(|source| DynamicsError::Track { s, source })?;
-        let kin = self
-            .contact
-            .kinematics(st.y, st.y_dot, &st.shifted_rails(&frame.rails), &mut data.warm[0])
+        let kin = contact_kinematics(self.contact.as_ref(), st, &st.shifted_rails(&frame.rails), &mut data.warm[0])
             .map_err(DynamicsError::contact(&self.name, st.y, s))?;
         data.contact_evaluations += 1;
         Ok((kin, frame, s))
@@ -134,13 +133,19 @@ impl VehicleModel for SingleWheelset {
         Vec::new()
     }
 
-    /// Lateral offset y₀, yaw ψ₀, rolling at V₀/r0.
+    /// Lateral offset y₀, yaw ψ₀, rolling at V₀/r0 (the elastic model: z, φ sunk by the static
+    /// approach; where the rigid solve fails at y₀, the run's first evaluation reports it).
     fn initial_state(&self, initial: &InitialDisturbance) -> Vec<f64> {
         let mut x = vec![0.0; self.dim()];
+        let q = 0.5 * (self.axle_load_n + self.inertia.mass_kg * G);
+        let free = initial_free_pose(self.contact.as_ref(), initial.lateral_m, [q, q], &self.forces)
+            .ok()
+            .flatten();
         WheelsetState {
             y: initial.lateral_m,
             psi: initial.yaw_rad,
             omega: self.reference.speed.at(0.0) / self.r0,
+            lift: free.map_or([0.0; 2], |(z, phi)| [z, phi]),
             ..WheelsetState::default()
         }
         .write(&mut x, false);
@@ -170,7 +175,11 @@ impl VehicleModel for SingleWheelset {
         vec![(0, self.dim())]
     }
 
+    /// None with the elastic model (its slots hold the free pose; no landing events).
     fn lift_offsets(&self) -> Vec<usize> {
+        if self.contact.elastic().is_some() {
+            return Vec::new();
+        }
         vec![WheelsetState::lift_index(false)]
     }
 

@@ -188,11 +188,16 @@ impl WheelsetState {
         if irw {
             d[7] = dynamics.spin_accel_right;
         }
+        let pose_accel = if dynamics.free_pose {
+            [a[2], a[3]]
+        } else {
+            dynamics.lift_accel
+        };
         d[l..l + 6].copy_from_slice(&[
             x[l + 2],
             x[l + 3],
-            dynamics.lift_accel[0],
-            dynamics.lift_accel[1],
+            pose_accel[0],
+            pose_accel[1],
             x[l + 5],
             dynamics.track_accel,
         ]);
@@ -228,6 +233,11 @@ pub struct WheelsetDynamics {
     pub lift_gap: [f64; 2],
     /// d̈ of the track's lateral shift (0 on a rigid track), m/s².
     pub track_accel: f64,
+    /// Lateral (Y) and vertical (Q) force of each rail on its wheel, track frame, N (normal and
+    /// creep forces of all the wheel's contacts).
+    pub wheel_force: [(f64, f64); 2],
+    /// The elastic model: the slot's lift entries are the free z, φ, ż, φ̇ (z̈, φ̈ in `accel`).
+    pub free_pose: bool,
 }
 
 /// Dynamics failures.
@@ -390,6 +400,9 @@ pub fn pose_kinematics(
     state: &WheelsetState,
     kin: &WheelsetKinematics,
 ) -> Result<WheelsetKinematics, WheelsetError> {
+    if kin.elastic.is_some() {
+        return Ok(*kin);
+    }
     Ok(match Lift::of(state, kin)? {
         Some(l) => l.apply(kin),
         None => *kin,
@@ -422,42 +435,51 @@ impl Geometry {
     /// `kin`: the pose kinematics (lift applied).
     fn new(state: &WheelsetState, kin: &WheelsetKinematics) -> Result<Geometry, WheelsetError> {
         let centre = Vector3::new(state.x, state.y, kin.z);
-        let axle = Vector3::new(-state.psi, 1.0, kin.phi).normalize();
-        let mut arm = [Vector3::zeros(); 2];
-        let mut normal = [Vector3::zeros(); 2];
-        let mut frames = [None; 2];
-        for (i, c) in kin.contacts.iter().enumerate() {
-            // Longitudinal position on the yawed wheel: the wheel is a surface of revolution about
-            // the axle a, and the point where its normal equals the rail's normal n (n_x = 0) lies
-            // where n · (a × u) = 0 (n in the wheel's meridian plane): with u = (u_x, u_Y, u_Z),
-            // u_x = ψ (n_Z u_Y − n_Y u_Z) / (n_Y φ − n_Z) ≈ −ψ (u_Y + r n_Y / n_Z) — the yaw-induced
-            // contact shift. Without it the rolling wheel's normal force would do work of order
-            // λ Ω r ψ n_Y (see the energy test).
-            let (u_y, u_z) = (c.position.0 - state.y, c.position.1 - kin.z);
-            let (n_y, n_z) = c.normal;
-            let u_x = state.psi * (n_z * u_y - n_y * u_z) / (n_y * kin.phi - n_z);
-            let p = Vector3::new(state.x + u_x, c.position.0, c.position.1);
-            arm[i] = p - centre;
-            normal[i] = Vector3::new(0.0, c.normal.0, c.normal.1);
-            frames[i] = Some(ContactFrame::new(normal[i], axle, Vector3::x()).map_err(|e| {
-                WheelsetError::Contact {
-                    side: Side::BOTH[i].name(),
-                    message: e.to_string(),
-                }
-            })?);
-        }
-        let [Some(f0), Some(f1)] = frames else {
-            return Err(WheelsetError::Singular);
-        };
-        let frames = [f0, f1];
+        let axle = axle_direction(state.psi, kin.phi);
+        let [(a0, n0, f0), (a1, n1, f1)] = [0, 1].map(|i| contact_geometry(state, kin.z, kin.phi, axle, &kin.contacts[i], i));
         Ok(Geometry {
             centre,
             axle,
-            arm,
-            normal,
-            frames,
+            arm: [a0, a1],
+            normal: [n0, n1],
+            frames: [f0?, f1?],
         })
     }
+}
+
+/// The axle direction a of the linearised rotation, (−ψ, 1, φ) normalised.
+pub(crate) fn axle_direction(psi: f64, phi: f64) -> Vector3<f64> {
+    Vector3::new(-psi, 1.0, phi).normalize()
+}
+
+/// A contact point's arm from the wheelset centre, its rail normal (3-D) and its contact frame,
+/// wheel `i` (0 left, 1 right) at centre height `z` and roll `phi`.
+///
+/// Longitudinal position on the yawed wheel: the wheel is a surface of revolution about the axle
+/// a, and the point where its normal equals the rail's normal n (n_x = 0) lies where
+/// n · (a × u) = 0 (n in the wheel's meridian plane): with u = (u_x, u_Y, u_Z),
+/// u_x = ψ (n_Z u_Y − n_Y u_Z) / (n_Y φ − n_Z) ≈ −ψ (u_Y + r n_Y / n_Z) — the yaw-induced contact
+/// shift. Without it the rolling wheel's normal force would do work of order λ Ω r ψ n_Y (see the
+/// energy test).
+pub(crate) fn contact_geometry(
+    state: &WheelsetState,
+    z: f64,
+    phi: f64,
+    axle: Vector3<f64>,
+    c: &crate::contact::ContactPoint,
+    i: usize,
+) -> (Vector3<f64>, Vector3<f64>, Result<ContactFrame, WheelsetError>) {
+    let centre = Vector3::new(state.x, state.y, z);
+    let (u_y, u_z) = (c.position.0 - state.y, c.position.1 - z);
+    let (n_y, n_z) = c.normal;
+    let u_x = state.psi * (n_z * u_y - n_y * u_z) / (n_y * phi - n_z);
+    let p = Vector3::new(state.x + u_x, c.position.0, c.position.1);
+    let normal = Vector3::new(0.0, n_y, n_z);
+    let frame = ContactFrame::new(normal, axle, Vector3::x()).map_err(|e| WheelsetError::Contact {
+        side: Side::BOTH[i].name(),
+        message: e.to_string(),
+    });
+    (p - centre, normal, frame)
 }
 
 /// The 10×10 matrix of [ẍ ÿ z̈ φ̈ ψ̈ Ω̇_l λl λr d̈ Ω̇_r] (a lifted wheel: its λ column is its θ̈;
@@ -571,6 +593,11 @@ pub fn evaluate(
     start: &mut NormalForceStart,
     track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
+    if let Some(contacts) = &kin.elastic {
+        let r = super::elastic::evaluate_free(inertia, state, kin, contacts, frame, load, forces, track)?;
+        start.lambda = r.normal;
+        return Ok(r);
+    }
     let lambda_guess = start.lambda;
     let solve_at = |guess: [f64; 2], secant: &mut Matrix2<f64>, lift: Option<&Lift>| {
         solve(
@@ -798,6 +825,8 @@ fn solve(
             lift_accel,
             lift_gap,
             track_accel: if track.is_some() { sol[8] } else { 0.0 },
+            wheel_force: [(0.0, 0.0); 2],
+            free_pose: false,
         })
     };
     // Solve G(λ) = Φ(λ) − λ = 0 by Broyden's method. Its matrix B ≈ ∂G/∂λ starts from `secant`,
@@ -863,6 +892,14 @@ fn solve(
     } else {
         fresh
     };
+    let mut result = result;
+    for i in 0..2 {
+        // Normal force along the rail normal plus the creep force's lateral/vertical components
+        // (the contact frame's t₂ lies in the cross-section: (0, n_z, −n_y) up to the yaw).
+        let (ny, nz) = (geo.normal[i].y, geo.normal[i].z);
+        let (n, fy) = (result.normal[i], result.creep[i].fy);
+        result.wheel_force[i] = (n * ny + fy * nz, n * nz - fy * ny);
+    }
     Ok(result)
 }
 
@@ -883,6 +920,9 @@ pub fn land(
     kin: &WheelsetKinematics,
     track: Option<&LateralFlexibility>,
 ) -> Result<Option<Landing>, WheelsetError> {
+    if kin.elastic.is_some() {
+        return Ok(None);
+    }
     let Some(l) = Lift::of(state, kin)? else {
         return Ok(None);
     };
@@ -912,7 +952,7 @@ pub fn land(
 
 /// The contact angle relative to the wheel's radial direction: the track-frame angle minus the
 /// wheelset roll (left), plus it (right).
-fn side_roll(i: usize, phi: f64) -> f64 {
+pub(crate) fn side_roll(i: usize, phi: f64) -> f64 {
     if i == 0 {
         phi
     } else {

@@ -198,6 +198,7 @@ impl ContactModel for KecContact {
             c_phi,
             contacts: self.contacts(&s, &rails.q),
             s_knife: Some(s.s_k),
+            elastic: None,
         })
     }
 }

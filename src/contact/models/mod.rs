@@ -4,7 +4,7 @@
 //!
 //! ```toml
 //! [simulation.contact]
-//! model = "kec"                   # kec | lookup | lookup2 | online
+//! model = "kec"                   # kec | lookup | lookup2 | online | elastic
 //! two_point_approach_m = 5e-5     # that model's own keys (see each model's settings)
 //! ```
 //!
@@ -14,6 +14,7 @@
 //! `history_dependent` if needed), then add one line to the list below. The scenario files, the
 //! command line (`--contact`), the runs and `kecsim bench dynamics` take it from there.
 
+pub mod elastic;
 pub mod kec;
 pub mod lookup;
 pub mod lookup2;
@@ -100,6 +101,8 @@ contact_models! {
     Lookup2 = "lookup2" => lookup2::Lookup2Settings,
     /// The approximate contact constraints (Eq. 35–42) solved at every evaluation.
     Online = "online" => online::OnlineSettings,
+    /// The wheelset free, Hertz normal forces wherever the real profiles interpenetrate.
+    Elastic = "elastic" => elastic::ElasticSettings,
 }
 
 impl Default for ContactModelSpec {

@@ -1,0 +1,404 @@
+//! Elastic wheel–rail contact: the interpenetration of the real profiles at a free wheelset pose
+//! (issue 14; not in the paper, which constrains the wheelset to the rails — the commercial codes'
+//! "elastic" or penalty contact, here the independent reference for two-point contact, wheel lift
+//! and flange impacts).
+//!
+//! The wheelset is free in all its coordinates: given y, z, φ (and their rates) and the displaced
+//! rails, each wheel is searched for the regions where it interpenetrates its rail. In each rail's
+//! own profile frame (origin O and rotation α = σβ + δ of Eq. 38) the rail head is the graph
+//! h^r(s); a wheel point W(s^w) of Eq. (37) lands at (p_s, p_h) = A(α)ᵀ (W − O) and its gap along the
+//! rail frame's vertical is
+//!
+//! ```text
+//! g(s^w) = p_h(s^w) − h^r(p_s(s^w))
+//! ```
+//!
+//! Every local minimum of g below zero is a contact: there the wheel and rail are parallel
+//! (g' = 0), so the normal approach of the two locally parallel surfaces is
+//! δ = −g cos γ_r, with tan γ_r = h^r'(p_s) the rail's slope in its frame.
+//!
+//! **One region, shared contacts.** On near-conformal treads (S1002 on 60E1) one interpenetration
+//! region can hold two minima of g with a shallow hump between them, and which is deeper swaps as
+//! the wheelset moves. Counting both in full would double the wheel's load; counting only the
+//! deepest would make the load jump at the swap (the two points' curvatures, so their Hertz
+//! stiffnesses, differ) and where the hump breaks the surface. So each minimum m of depth D_m
+//! carries the share w_m of its own Hertz force: with P_m the depth of its deepest pass (the
+//! highest gap on the way) to another minimum of its region, ρ_m = (D_m − P_m)/D_m its prominence
+//! ratio and μ = 1 + Σρ − max ρ the region's multiplicity, w_m = μ ρ_m / Σρ. A region of one
+//! minimum, or minima parted by a pass above zero, count in full (w = 1); a shoulder (ρ = 0) not
+//! at all; two equal minima over a shallow hump half each; and every share is continuous in the
+//! pose. A departure from the multi-Hertzian codes, which separate regions only; stated, tested. The contact point is the
+//! wheel point there, the normal the rail's (Eq. 40), the curvatures the profiles' (the Hertz
+//! ellipse, normal force δ → N and its damping are the dynamics' business:
+//! [`crate::dynamics::elastic`]). The approach rate δ̇ is the closing speed of the wheel point on
+//! the rail along the normal: the wheel point moves at (ẏ − φ̇ u_z, ż + φ̇ u_y) (u from the centre),
+//! the rail at its irregularity rates (its roll rate δ̇ neglected: below 1e-4 m/s at the contact).
+//!
+//! **Search**: g sampled every [`ElasticContact::scan_step_m`] over the wheel where it lies over the
+//! rail (the rail head tabulated on a 25 µm grid, linear between: ≤ 1e-8 m from the spline on a
+//! 13 mm gauge corner); each sampled local minimum below [`CANDIDATE_GAP_M`] and the global minimum
+//! are polished by golden-section search on the exact g (splines of both profiles) to 1e-9 m in
+//! s^w. Two minima that polish to the same point count once; a wheel keeps its
+//! [`MAX_POINTS_PER_WHEEL`] deepest contacts (tread and flange: more are reported as dropped).
+//! The yaw is neglected in the search, as in the online constraints (§4.2); the dynamics moves the
+//! point along the rail by the yaw as for the constraint models.
+
+use super::geometry::ContactGeometry;
+use super::point::ContactPoint;
+use crate::profile::Side;
+use crate::track::{RailMotion, RailOffsets};
+
+/// Contacts a wheel keeps (the deepest).
+pub const MAX_POINTS_PER_WHEEL: usize = 4;
+/// A sampled local minimum of the gap below this is polished (the sampled gap overstates the
+/// exact one by at most ~ step² κ / 8: 0.1 mm covers a 0.5 mm step on a 10 mm radius), m.
+pub const CANDIDATE_GAP_M: f64 = 1e-4;
+/// The rail head's tabulation step for the scan, m.
+const RAIL_TABLE_STEP_M: f64 = 2.5e-5;
+
+/// The wheelset's free pose and its rates in the wheelset-track frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FreePose {
+    pub y: f64,
+    /// Centre height z (the contact geometry's convention: 0 where the nominal wheel touches the
+    /// undisplaced rail), m.
+    pub z: f64,
+    pub phi: f64,
+    pub y_dot: f64,
+    pub z_dot: f64,
+    pub phi_dot: f64,
+}
+
+/// One region where a wheel and its rail interpenetrate.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Penetration {
+    /// The wheel point of deepest penetration, with the rail's normal and both curvatures.
+    pub point: ContactPoint,
+    /// Normal approach δ > 0, m.
+    pub depth: f64,
+    /// Its rate δ̇ (positive closing), m/s.
+    pub rate: f64,
+    /// The share w of its Hertz force the contact carries (1 for a region of its own; see the
+    /// module doc).
+    pub share: f64,
+}
+
+/// Everything the elastic search found at one pose.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ElasticContacts {
+    /// Per wheel (left, right) its contacts, deepest first.
+    pub points: [[Option<Penetration>; MAX_POINTS_PER_WHEEL]; 2],
+    /// Each wheel's smallest normal gap to its rail (negative: the deepest approach), m.
+    pub gap: [f64; 2],
+    /// The point of smallest gap of each wheel (its deepest contact, or where a lifted wheel is
+    /// closest to its rail).
+    pub closest: [ContactPoint; 2],
+    /// Contacts found beyond [`MAX_POINTS_PER_WHEEL`] on a wheel, dropped.
+    pub dropped: usize,
+    /// The normal damping χ of the Hunt–Crossley law (N = K δ^{3/2} (1 + χ δ̇)), s/m.
+    pub damping_s_per_m: f64,
+}
+
+impl ElasticContacts {
+    /// The contacts of wheel `i` (0 left, 1 right).
+    pub fn of(&self, i: usize) -> impl Iterator<Item = &Penetration> {
+        self.points[i].iter().flatten()
+    }
+}
+
+/// The elastic contact search of a placed wheel–rail pair.
+#[derive(Debug, Clone)]
+pub struct ElasticContact {
+    pub geometry: ContactGeometry,
+    /// Sampling step of the wheel in the scan, m.
+    pub scan_step_m: f64,
+    /// Hunt–Crossley damping χ, s/m.
+    pub damping_s_per_m: f64,
+    /// Per side: wheel samples (s^w, h^w).
+    wheel: [Vec<(f64, f64)>; 2],
+    /// Rail head h^r on a uniform grid in s (left orientation): s₀, 1/Δs, values.
+    rail: (f64, f64, Vec<f64>),
+}
+
+/// A polished minimum: s^w, s^r, vertical gap g (rail frame).
+#[derive(Debug, Clone, Copy)]
+struct Minimum {
+    sw: f64,
+    sr: f64,
+    g: f64,
+}
+
+impl ElasticContact {
+    /// The search for `geometry`'s pair, the wheel sampled every `scan_step_m`.
+    pub fn new(geometry: ContactGeometry, scan_step_m: f64, damping_s_per_m: f64) -> ElasticContact {
+        let pair = &geometry.pair;
+        let mut wheel = [Vec::new(), Vec::new()];
+        for side in Side::BOTH {
+            let (a, b) = pair.wheel.domain_side(side);
+            let n = ((b - a) / scan_step_m).ceil().max(1.0) as usize;
+            wheel[side_index(side)] = (0..=n)
+                .map(|k| {
+                    let s = a + (b - a) * k as f64 / n as f64;
+                    (s, geometry.wheel(side, s).0)
+                })
+                .collect();
+        }
+        let (a, b) = pair.rail.domain();
+        let n = ((b - a) / RAIL_TABLE_STEP_M).ceil().max(1.0) as usize;
+        let ds = (b - a) / n as f64;
+        let values = (0..=n).map(|k| pair.rail.eval(a + ds * k as f64).z).collect();
+        ElasticContact {
+            geometry,
+            scan_step_m,
+            damping_s_per_m,
+            wheel,
+            rail: (a, 1.0 / ds, values),
+        }
+    }
+
+    /// The tabulated rail head of side `side` at s (paper convention), `None` off the rail.
+    #[inline]
+    fn rail_table(&self, side: Side, s: f64) -> Option<f64> {
+        let s_left = if side == Side::Left { s } else { -s };
+        let (s0, inv, v) = (&self.rail.0, &self.rail.1, &self.rail.2);
+        let u = (s_left - s0) * inv;
+        if u < 0.0 {
+            return None;
+        }
+        let k = u as usize;
+        if k + 1 >= v.len() {
+            return None;
+        }
+        let t = u - k as f64;
+        Some(v[k] + t * (v[k + 1] - v[k]))
+    }
+
+    /// The exact gap of wheel point s^w: (g, p_s) in side `side`'s rail frame.
+    fn exact_gap(&self, side: Side, frame: &RailFrame, pose: &FreePose, sw: f64) -> (f64, f64) {
+        let (hw, _, _) = self.geometry.wheel(side, sw);
+        let (ps, ph) = frame.to_rail(self.wheel_point(side, pose, sw, hw));
+        (ph - self.geometry.rail(side, ps).0, ps)
+    }
+
+    /// Wheel point W(s^w) of Eq. (37) in the wheelset-track frame.
+    #[inline]
+    fn wheel_point(&self, side: Side, pose: &FreePose, sw: f64, hw: f64) -> (f64, f64) {
+        let lat = side.sign() * self.geometry.l_w() + sw;
+        (pose.y + lat + pose.phi * hw, pose.z + pose.phi * lat - hw)
+    }
+
+    /// The contacts at `pose` on rails moving as `rails`.
+    pub fn search(&self, pose: &FreePose, rails: &RailMotion) -> Result<ElasticContacts, ElasticError> {
+        let off = RailOffsets::from_array(rails.q);
+        let mut out = ElasticContacts {
+            damping_s_per_m: self.damping_s_per_m,
+            ..ElasticContacts::default()
+        };
+        for side in Side::BOTH {
+            let i = side_index(side);
+            let frame = RailFrame::new(&self.geometry, side, &off);
+            // The sampled gap over the rail.
+            let samples = &self.wheel[i];
+            let mut gaps = Vec::with_capacity(samples.len());
+            for &(sw, hw) in samples {
+                let (ps, ph) = frame.to_rail(self.wheel_point(side, pose, sw, hw));
+                gaps.push(self.rail_table(side, ps).map(|h| ph - h));
+            }
+            let mut global: Option<usize> = None;
+            let mut candidates = Vec::new();
+            for (k, g) in gaps.iter().enumerate() {
+                let Some(g) = *g else { continue };
+                if global.is_none_or(|m| gaps[m].is_some_and(|gm| g < gm)) {
+                    global = Some(k);
+                }
+                let before = k.checked_sub(1).and_then(|j| gaps[j]);
+                let after = gaps.get(k + 1).copied().flatten();
+                if g < CANDIDATE_GAP_M && before.is_none_or(|b| g <= b) && after.is_none_or(|a| g < a) {
+                    candidates.push(k);
+                }
+            }
+            let Some(global) = global else {
+                return Err(ElasticError::OffRail {
+                    side: side.name(),
+                    y_mm: pose.y * 1e3,
+                });
+            };
+            if !candidates.contains(&global) {
+                candidates.push(global);
+            }
+            // Polish each candidate on the exact gap between its neighbours.
+            let mut minima: Vec<(usize, Minimum)> = Vec::with_capacity(candidates.len());
+            for k in candidates {
+                let lo = samples[k.saturating_sub(1)].0;
+                let hi = samples[(k + 1).min(samples.len() - 1)].0;
+                let m = self.polish(side, &frame, pose, lo, hi);
+                if !minima.iter().any(|(_, o)| (o.sw - m.sw).abs() < 0.5 * self.scan_step_m) {
+                    minima.push((k, m));
+                }
+            }
+            minima.sort_by(|a, b| a.1.g.total_cmp(&b.1.g));
+            let deepest = minima[0].1;
+            let normal_gap = |m: &Minimum| {
+                let slope = self.geometry.rail(side, m.sr).1;
+                m.g / (1.0 + slope * slope).sqrt()
+            };
+            out.gap[i] = normal_gap(&deepest);
+            out.closest[i] = self.point(side, &off, pose, &deepest);
+            // The minima below zero, their passes and shares (see the module doc).
+            let inside: Vec<(usize, Minimum)> = minima.iter().copied().filter(|(_, m)| m.g < 0.0).collect();
+            let pass = |a: usize, b: usize| {
+                let (a, b) = if a < b { (a, b) } else { (b, a) };
+                gaps[a..=b]
+                    .iter()
+                    .map(|g| g.unwrap_or(f64::INFINITY))
+                    .fold(f64::NEG_INFINITY, f64::max)
+            };
+            let shares = shares(&inside.iter().map(|(k, m)| (*k, -m.g)).collect::<Vec<_>>(), pass);
+            let mut found: Vec<(f64, Minimum)> = inside
+                .iter()
+                .zip(shares)
+                .filter(|(_, w)| *w > 0.0)
+                .map(|((_, m), w)| (w, *m))
+                .collect();
+            // Deepest first.
+            found.sort_by(|a, b| a.1.g.total_cmp(&b.1.g));
+            let mut slot = 0;
+            for (share, m) in &found {
+                if slot == MAX_POINTS_PER_WHEEL {
+                    out.dropped += 1;
+                    continue;
+                }
+                let point = self.point(side, &off, pose, m);
+                // Closing speed of the wheel point on the rail along the normal.
+                let (uy, uz) = (point.position.0 - pose.y, point.position.1 - pose.z);
+                let (vy, vz) = (pose.y_dot - pose.phi_dot * uz, pose.z_dot + pose.phi_dot * uy);
+                let (ry, rz) = (rails.q_dot[2 * i], rails.q_dot[2 * i + 1]);
+                let (ny, nz) = point.normal;
+                let slope = self.geometry.rail(side, m.sr).1;
+                out.points[i][slot] = Some(Penetration {
+                    point,
+                    depth: -m.g / (1.0 + slope * slope).sqrt(),
+                    share: *share,
+                    rate: -((vy - ry) * ny + (vz - rz) * nz),
+                });
+                slot += 1;
+            }
+        }
+        Ok(out)
+    }
+
+    fn point(&self, side: Side, off: &RailOffsets, pose: &FreePose, m: &Minimum) -> ContactPoint {
+        self.geometry
+            .contact_point(side, off, pose.y, pose.z, pose.phi, m.sw, m.sr)
+    }
+
+    /// Golden-section search of the exact gap on [lo, hi] to 1e-9 m in s^w.
+    fn polish(&self, side: Side, frame: &RailFrame, pose: &FreePose, mut lo: f64, mut hi: f64) -> Minimum {
+        let r = 0.5 * (5f64.sqrt() - 1.0);
+        let f = |s: f64| self.exact_gap(side, frame, pose, s);
+        let mut c = hi - r * (hi - lo);
+        let mut d = lo + r * (hi - lo);
+        let (mut fc, mut fd) = (f(c).0, f(d).0);
+        while hi - lo > 1e-9 {
+            if fc < fd {
+                hi = d;
+                d = c;
+                fd = fc;
+                c = hi - r * (hi - lo);
+                fc = f(c).0;
+            } else {
+                lo = c;
+                c = d;
+                fc = fd;
+                d = lo + r * (hi - lo);
+                fd = f(d).0;
+            }
+        }
+        let sw = 0.5 * (lo + hi);
+        let (g, sr) = f(sw);
+        Minimum { sw, sr, g }
+    }
+}
+
+/// The shares w_m of the minima `(sample index, depth D_m > 0)` of one wheel, `pass(a, b)` the
+/// highest sampled gap between samples a and b (the pass; < 0: the minima lie in one region).
+/// Within a region (minima joined by passes below zero), with P_m the depth of m's deepest pass
+/// to another minimum, ρ_m = (D_m − P_m) / D_m ∈ [0, 1] its prominence ratio and
+/// μ = 1 + Σρ − max ρ the region's multiplicity: w_m = μ ρ_m / Σρ.
+fn shares(minima: &[(usize, f64)], pass: impl Fn(usize, usize) -> f64) -> Vec<f64> {
+    let n = minima.len();
+    // Regions by union of the minima joined below zero.
+    let mut region: Vec<usize> = (0..n).collect();
+    let mut pass_depth = vec![0.0_f64; n];
+    for a in 0..n {
+        for b in a + 1..n {
+            let p = pass(minima[a].0, minima[b].0);
+            if p < 0.0 {
+                pass_depth[a] = pass_depth[a].max(-p);
+                pass_depth[b] = pass_depth[b].max(-p);
+                let (ra, rb) = (region[a], region[b]);
+                for r in region.iter_mut() {
+                    if *r == rb {
+                        *r = ra;
+                    }
+                }
+            }
+        }
+    }
+    let rho: Vec<f64> = minima
+        .iter()
+        .zip(&pass_depth)
+        .map(|(&(_, d), &p)| ((d - p) / d).clamp(0.0, 1.0))
+        .collect();
+    (0..n)
+        .map(|m| {
+            let members = (0..n).filter(|&k| region[k] == region[m]);
+            let (sum, max) = members.fold((0.0, 0.0_f64), |(s, x), k| (s + rho[k], x.max(rho[k])));
+            if sum <= 0.0 {
+                // A flat region (every minimum at its pass): one contact, shared equally.
+                let count = (0..n).filter(|&k| region[k] == region[m]).count();
+                return 1.0 / count as f64;
+            }
+            (1.0 + sum - max) * rho[m] / sum
+        })
+        .collect()
+}
+
+/// A rail's profile frame: origin O and rotation α (Eq. 38).
+struct RailFrame {
+    origin: (f64, f64),
+    sin: f64,
+    cos: f64,
+}
+
+impl RailFrame {
+    fn new(geometry: &ContactGeometry, side: Side, off: &RailOffsets) -> RailFrame {
+        let (sin, cos) = geometry.alpha(side, off).sin_cos();
+        RailFrame {
+            origin: geometry.rail_origin(side, off),
+            sin,
+            cos,
+        }
+    }
+
+    /// (p_s, p_h) = A(α)ᵀ (p − O).
+    #[inline]
+    fn to_rail(&self, p: (f64, f64)) -> (f64, f64) {
+        let (dy, dz) = (p.0 - self.origin.0, p.1 - self.origin.1);
+        (self.cos * dy + self.sin * dz, -self.sin * dy + self.cos * dz)
+    }
+}
+
+fn side_index(side: Side) -> usize {
+    match side {
+        Side::Left => 0,
+        Side::Right => 1,
+    }
+}
+
+/// Elastic-search failures.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ElasticError {
+    #[error("the {side} wheel is off its rail laterally (no wheel point over the rail head at y = {y_mm:.2} mm): the wheelset has derailed")]
+    OffRail { side: &'static str, y_mm: f64 },
+}
