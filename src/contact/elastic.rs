@@ -402,3 +402,150 @@ pub enum ElasticError {
     #[error("the {side} wheel is off its rail laterally (no wheel point over the rail head at y = {y_mm:.2} mm): the wheelset has derailed")]
     OffRail { side: &'static str, y_mm: f64 },
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::placement::WheelRailPair;
+    use crate::profile::StandardProfile;
+
+    fn search(rail: StandardProfile, incl: &str) -> ElasticContact {
+        let pair = WheelRailPair::standard(StandardProfile::S1002, rail, incl).unwrap();
+        ElasticContact::new(ContactGeometry::with_defaults(pair), 2.5e-4, 2.0)
+    }
+
+    fn rails(off: &RailOffsets) -> RailMotion {
+        RailMotion {
+            q: [off.y_left, off.z_left, off.y_right, off.z_right],
+            ..RailMotion::default()
+        }
+    }
+
+    /// At the online constraints' solution (Newton on Eq. 35–36, an independent solver seeded by
+    /// its own global search) every wheel just touches: the search finds a gap of zero there, at
+    /// the same wheel point (away from the contact jumps), on ideal and on displaced rails; sunk
+    /// by Δ, each wheel's deepest contact approaches by Δ n_Z along its normal (closed form for
+    /// locally parallel surfaces).
+    #[test]
+    fn the_rigid_solution_touches_and_a_sink_approaches_by_its_normal_component() {
+        for (rail, incl) in [
+            (StandardProfile::Rail60E1, "1:40"),
+            (StandardProfile::Rail54E1, "1:20"),
+        ] {
+            let e = search(rail, incl);
+            for off in [
+                RailOffsets::default(),
+                RailOffsets::from_irregularities(0.001, 0.002, 0.0015, -0.001),
+            ] {
+                for y in [-6e-3, -4e-3, -1.5e-3, 0.0, 2.5e-3, 4.5e-3, 6e-3] {
+                    let sol = e.geometry.solve(y, &off).unwrap();
+                    let pose = FreePose {
+                        y,
+                        z: sol.z,
+                        phi: sol.phi,
+                        ..FreePose::default()
+                    };
+                    let c = e.search(&pose, &rails(&off)).unwrap();
+                    for (i, point) in [sol.left, sol.right].iter().enumerate() {
+                        assert!(c.gap[i].abs() < 2e-7, "{incl} y = {y}: wheel {i} gap {:.3e} m", c.gap[i]);
+                        if sol.secondary.is_empty() {
+                            assert!(
+                                (c.closest[i].s_wheel - point.s_wheel).abs() < 1e-4,
+                                "{incl} y = {y}: wheel {i} at s^w {:.5} vs online {:.5}",
+                                c.closest[i].s_wheel,
+                                point.s_wheel
+                            );
+                        }
+                    }
+                    let sink = 5e-5;
+                    let c = e
+                        .search(&FreePose { z: sol.z - sink, ..pose }, &rails(&off))
+                        .unwrap();
+                    for i in 0..2 {
+                        let p = c.points[i][0].unwrap();
+                        let expected = sink * p.point.normal.1;
+                        assert!(
+                            (p.depth - expected).abs() < 0.02 * expected,
+                            "{incl} y = {y}: wheel {i} depth {:.4e} vs Δ n_Z {:.4e}",
+                            p.depth,
+                            expected
+                        );
+                        // The deepest of a wheel's contacts is in a region of its own or shares it.
+                        assert!(p.share > 0.0 && p.share <= 1.0 + 1e-12);
+                    }
+                }
+            }
+        }
+    }
+
+    /// A wheel lifted by h above the touching pose has no contact and a gap of h n_Z.
+    #[test]
+    fn a_lifted_wheel_has_no_contact_and_its_gap() {
+        let e = search(StandardProfile::Rail60E1, "1:40");
+        let sol = e.geometry.solve(0.0, &RailOffsets::default()).unwrap();
+        // Roll about the right contact so that the left wheel rises by ~0.3 mm.
+        let lift = 3e-4;
+        let arm = sol.left.position.0 - sol.right.position.0;
+        let pose = FreePose {
+            y: 0.0,
+            z: sol.z + 0.5 * lift,
+            phi: sol.phi + lift / arm,
+            ..FreePose::default()
+        };
+        let c = e.search(&pose, &RailMotion::default()).unwrap();
+        assert!(c.of(0).next().is_none(), "{:?}", c.points[0]);
+        let expected = lift * sol.left.normal.1;
+        assert!((c.gap[0] - expected).abs() < 0.03 * expected, "gap {:.4e} vs {expected:.4e}", c.gap[0]);
+    }
+
+    /// The approach rate is the closing speed along the normal: sinking at ż gives δ̇ = −ż n_Z; a
+    /// rail rising at ż_r gives +ż_r n_Z.
+    #[test]
+    fn the_approach_rate_is_the_closing_speed() {
+        let e = search(StandardProfile::Rail60E1, "1:40");
+        let sol = e.geometry.solve(1e-3, &RailOffsets::default()).unwrap();
+        let pose = FreePose {
+            y: 1e-3,
+            z: sol.z - 5e-5,
+            phi: sol.phi,
+            z_dot: -0.01,
+            ..FreePose::default()
+        };
+        let mut moving = RailMotion::default();
+        moving.q_dot[1] = 0.02;
+        let c = e.search(&pose, &moving).unwrap();
+        let l = c.points[0][0].unwrap();
+        let r = c.points[1][0].unwrap();
+        assert!((l.rate - 0.03 * l.point.normal.1).abs() < 1e-9, "{}", l.rate);
+        assert!((r.rate - 0.01 * r.point.normal.1).abs() < 1e-9, "{}", r.rate);
+    }
+
+    /// The shares: separate regions in full, a shoulder not at all, two equal minima over a shallow
+    /// hump half each, and continuity where a region splits and where the deeper one swaps.
+    #[test]
+    fn shares_count_regions_once_and_are_continuous() {
+        // Two minima at samples 0 and 10 with depths d0, d1 and the pass gap p between them.
+        let w = |d0: f64, d1: f64, p: f64| shares(&[(0, d0), (10, d1)], |_, _| p);
+        assert_eq!(w(5e-5, 3e-5, 1e-6), vec![1.0, 1.0]);
+        let shoulder = w(5e-5, 3e-5, -3e-5);
+        assert!((shoulder[0] - 1.0).abs() < 1e-12 && shoulder[1].abs() < 1e-12, "{shoulder:?}");
+        let flat = w(5e-5, 5e-5, -4.99e-5);
+        assert!(flat.iter().all(|s| (s - 0.501).abs() < 1e-3), "{flat:?}");
+        // Splitting: the pass crossing zero.
+        let (a, b) = (w(5e-5, 3e-5, -1e-12), w(5e-5, 3e-5, 1e-12));
+        assert!((a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6, "{a:?} {b:?}");
+        // Swapping: equal depths from either side.
+        let (a, b) = (w(4e-5 + 1e-12, 4e-5, -2e-5), w(4e-5, 4e-5 + 1e-12, -2e-5));
+        assert!((a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6, "{a:?} {b:?}");
+        // A region of its own beside a shared one keeps its full share.
+        let three = shares(&[(0, 5e-5), (10, 4e-5), (20, 4e-5)], |a, b| {
+            if a.max(b) == 20 && a.min(b) == 10 {
+                -3.9e-5
+            } else {
+                1e-6
+            }
+        });
+        assert!((three[0] - 1.0).abs() < 1e-12, "{three:?}");
+        assert!(three[1] > 0.4 && three[1] < 0.6 && (three[1] - three[2]).abs() < 1e-12, "{three:?}");
+    }
+}

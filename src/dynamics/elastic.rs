@@ -60,20 +60,21 @@ pub fn contact_kinematics(
     }
 }
 
-/// The elastic model's initial pose at lateral displacement `y` on ideal rails under the static
-/// wheel loads `loads` (left, right; N, vertical): the rigid touching configuration lowered by each
+/// The elastic model's initial pose at lateral displacement `y` on rails displaced by `rails` under
+/// the static wheel loads `loads` (left, right; N, vertical): the rigid touching configuration lowered by each
 /// wheel's Hertz approach (a wheel sinks δ / n_Z to approach δ along its normal). `None` for a
 /// constraint model.
 pub fn initial_free_pose(
     model: &dyn ContactModel,
     y: f64,
+    rails: &RailOffsets,
     loads: [f64; 2],
     forces: &ContactForceSettings,
 ) -> Result<Option<(f64, f64)>, ContactModelError> {
     if model.elastic().is_none() {
         return Ok(None);
     }
-    let c = model.configuration(y, &RailOffsets::default(), &mut WarmStart::default())?;
+    let c = model.configuration(y, rails, &mut WarmStart::default())?;
     let mut sink = [0.0; 2];
     let mut arm = [0.0; 2];
     for i in 0..2 {

@@ -49,7 +49,7 @@ use super::wheelset::{
 };
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::{ContactModel, WarmStart, WheelsetKinematics};
-use crate::track::RailMotion;
+use crate::track::{RailMotion, RailOffsets};
 use crate::vehicle::elements::{BodyRef, Element, ElementLoad, FrameLoads, Pose};
 use crate::vehicle::spec::MultibodySpec;
 
@@ -310,7 +310,12 @@ impl Multibody {
             // The elastic model: the free z, φ in the lift slots, sunk by the static approach
             // (where the rigid solve fails at y₀, the run's first evaluation reports it).
             let q = 0.5 * self.settling.axle_loads[j];
-            let free = initial_free_pose(self.contact.as_ref(), y0, [q, q], &self.forces)
+            let v0 = self.reference.speed.at(0.0);
+            let rails = self
+                .frame_at(self.reference.s_ref(0.0) + self.wheelsets[j].d, v0, 0.0)
+                .map(|f| RailOffsets::from_array(f.rails.q))
+                .unwrap_or_default();
+            let free = initial_free_pose(self.contact.as_ref(), y0, &rails, [q, q], &self.forces)
                 .ok()
                 .flatten();
             if let (Some((z, _)), Some(k)) = (free, rigid) {

@@ -21,6 +21,7 @@ use super::wheelset::{evaluate, land, pose_kinematics, Landing, Load, WheelsetIn
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::ContactModel;
 use crate::contact::WheelsetKinematics;
+use crate::track::RailOffsets;
 
 /// The tie between the wheelset and the moving frame, per axle box.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -138,7 +139,12 @@ impl VehicleModel for SingleWheelset {
     fn initial_state(&self, initial: &InitialDisturbance) -> Vec<f64> {
         let mut x = vec![0.0; self.dim()];
         let q = 0.5 * (self.axle_load_n + self.inertia.mass_kg * G);
-        let free = initial_free_pose(self.contact.as_ref(), initial.lateral_m, [q, q], &self.forces)
+        let rails = self
+            .reference
+            .frame(self.reference.s_ref(0.0), self.reference.speed.at(0.0), 0.0)
+            .map(|f| RailOffsets::from_array(f.rails.q))
+            .unwrap_or_default();
+        let free = initial_free_pose(self.contact.as_ref(), initial.lateral_m, &rails, [q, q], &self.forces)
             .ok()
             .flatten();
         WheelsetState {
