@@ -232,7 +232,10 @@ impl ElasticContact {
                 let lo = samples[k.saturating_sub(1)].0;
                 let hi = samples[(k + 1).min(samples.len() - 1)].0;
                 let m = self.polish(side, &frame, pose, lo, hi);
-                if !minima.iter().any(|(_, o)| (o.sw - m.sw).abs() < 0.5 * self.scan_step_m) {
+                if !minima
+                    .iter()
+                    .any(|(_, o)| (o.sw - m.sw).abs() < 0.5 * self.scan_step_m)
+                {
                     minima.push((k, m));
                 }
             }
@@ -447,7 +450,11 @@ mod tests {
                     };
                     let c = e.search(&pose, &rails(&off)).unwrap();
                     for (i, point) in [sol.left, sol.right].iter().enumerate() {
-                        assert!(c.gap[i].abs() < 2e-7, "{incl} y = {y}: wheel {i} gap {:.3e} m", c.gap[i]);
+                        assert!(
+                            c.gap[i].abs() < 2e-7,
+                            "{incl} y = {y}: wheel {i} gap {:.3e} m",
+                            c.gap[i]
+                        );
                         if sol.secondary.is_empty() {
                             assert!(
                                 (c.closest[i].s_wheel - point.s_wheel).abs() < 1e-4,
@@ -459,7 +466,13 @@ mod tests {
                     }
                     let sink = 5e-5;
                     let c = e
-                        .search(&FreePose { z: sol.z - sink, ..pose }, &rails(&off))
+                        .search(
+                            &FreePose {
+                                z: sol.z - sink,
+                                ..pose
+                            },
+                            &rails(&off),
+                        )
                         .unwrap();
                     for i in 0..2 {
                         let p = c.points[i][0].unwrap();
@@ -495,7 +508,11 @@ mod tests {
         let c = e.search(&pose, &RailMotion::default()).unwrap();
         assert!(c.of(0).next().is_none(), "{:?}", c.points[0]);
         let expected = lift * sol.left.normal.1;
-        assert!((c.gap[0] - expected).abs() < 0.03 * expected, "gap {:.4e} vs {expected:.4e}", c.gap[0]);
+        assert!(
+            (c.gap[0] - expected).abs() < 0.03 * expected,
+            "gap {:.4e} vs {expected:.4e}",
+            c.gap[0]
+        );
     }
 
     /// The approach rate is the closing speed along the normal: sinking at ż gives δ̇ = −ż n_Z; a
@@ -528,15 +545,24 @@ mod tests {
         let w = |d0: f64, d1: f64, p: f64| shares(&[(0, d0), (10, d1)], |_, _| p);
         assert_eq!(w(5e-5, 3e-5, 1e-6), vec![1.0, 1.0]);
         let shoulder = w(5e-5, 3e-5, -3e-5);
-        assert!((shoulder[0] - 1.0).abs() < 1e-12 && shoulder[1].abs() < 1e-12, "{shoulder:?}");
+        assert!(
+            (shoulder[0] - 1.0).abs() < 1e-12 && shoulder[1].abs() < 1e-12,
+            "{shoulder:?}"
+        );
         let flat = w(5e-5, 5e-5, -4.99e-5);
         assert!(flat.iter().all(|s| (s - 0.501).abs() < 1e-3), "{flat:?}");
         // Splitting: the pass crossing zero.
         let (a, b) = (w(5e-5, 3e-5, -1e-12), w(5e-5, 3e-5, 1e-12));
-        assert!((a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6, "{a:?} {b:?}");
+        assert!(
+            (a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6,
+            "{a:?} {b:?}"
+        );
         // Swapping: equal depths from either side.
         let (a, b) = (w(4e-5 + 1e-12, 4e-5, -2e-5), w(4e-5, 4e-5 + 1e-12, -2e-5));
-        assert!((a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6, "{a:?} {b:?}");
+        assert!(
+            (a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6,
+            "{a:?} {b:?}"
+        );
         // A region of its own beside a shared one keeps its full share.
         let three = shares(&[(0, 5e-5), (10, 4e-5), (20, 4e-5)], |a, b| {
             if a.max(b) == 20 && a.min(b) == 10 {
@@ -546,6 +572,9 @@ mod tests {
             }
         });
         assert!((three[0] - 1.0).abs() < 1e-12, "{three:?}");
-        assert!(three[1] > 0.4 && three[1] < 0.6 && (three[1] - three[2]).abs() < 1e-12, "{three:?}");
+        assert!(
+            three[1] > 0.4 && three[1] < 0.6 && (three[1] - three[2]).abs() < 1e-12,
+            "{three:?}"
+        );
     }
 }

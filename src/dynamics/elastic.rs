@@ -80,8 +80,13 @@ pub fn initial_free_pose(
     for i in 0..2 {
         let p = &c.contacts[i];
         let n_z = p.normal.1;
-        let hertz = HertzContact::solve(curvature(p, i, c.phi), loads[i].max(1.0) / n_z, &forces.material, &forces.material)
-            .map_err(|e| ContactModelError::Other(Box::new(e)))?;
+        let hertz = HertzContact::solve(
+            curvature(p, i, c.phi),
+            loads[i].max(1.0) / n_z,
+            &forces.material,
+            &forces.material,
+        )
+        .map_err(|e| ContactModelError::Other(Box::new(e)))?;
         sink[i] = hertz.penetration / n_z;
         arm[i] = p.position.0 - y;
     }
@@ -161,15 +166,25 @@ pub fn evaluate_free(
                 deepest = false;
             }
             // Hertz: δ ∝ N^{2/3}, so N = (δ / δ₁)^{3/2} with δ₁ the approach at 1 N.
-            let unit = HertzContact::solve(curvature(&p.point, i, phi), 1.0, &forces.material, &forces.material)
-                .map_err(|e| err(e.to_string()))?;
+            let unit = HertzContact::solve(
+                curvature(&p.point, i, phi),
+                1.0,
+                &forces.material,
+                &forces.material,
+            )
+            .map_err(|e| err(e.to_string()))?;
             let elastic = p.share * (p.depth / unit.penetration).powf(1.5);
             let normal = (elastic * (1.0 + contacts.damping_s_per_m * p.rate)).max(0.0);
             if normal <= 0.0 {
                 continue;
             }
-            let patch = ContactPatch::from_hertz(&unit.scaled(normal), &forces.material, forces.friction, &forces.kalker)
-                .map_err(|e| err(e.to_string()))?;
+            let patch = ContactPatch::from_hertz(
+                &unit.scaled(normal),
+                &forces.material,
+                forces.friction,
+                &forces.kalker,
+            )
+            .map_err(|e| err(e.to_string()))?;
             let creep = forces
                 .model
                 .forces(&patch, &creepage, frame.speed)

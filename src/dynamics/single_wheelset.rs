@@ -65,8 +65,13 @@ impl SingleWheelset {
             .reference
             .frame(s, v, v_dot)
             .map_err(|source| DynamicsError::Track { s, source })?;
-        let kin = contact_kinematics(self.contact.as_ref(), st, &st.shifted_rails(&frame.rails), &mut data.warm[0])
-            .map_err(DynamicsError::contact(&self.name, st.y, s))?;
+        let kin = contact_kinematics(
+            self.contact.as_ref(),
+            st,
+            &st.shifted_rails(&frame.rails),
+            &mut data.warm[0],
+        )
+        .map_err(DynamicsError::contact(&self.name, st.y, s))?;
         data.contact_evaluations += 1;
         Ok((kin, frame, s))
     }
@@ -144,9 +149,15 @@ impl VehicleModel for SingleWheelset {
             .frame(self.reference.s_ref(0.0), self.reference.speed.at(0.0), 0.0)
             .map(|f| RailOffsets::from_array(f.rails.q))
             .unwrap_or_default();
-        let free = initial_free_pose(self.contact.as_ref(), initial.lateral_m, &rails, [q, q], &self.forces)
-            .ok()
-            .flatten();
+        let free = initial_free_pose(
+            self.contact.as_ref(),
+            initial.lateral_m,
+            &rails,
+            [q, q],
+            &self.forces,
+        )
+        .ok()
+        .flatten();
         WheelsetState {
             y: initial.lateral_m,
             psi: initial.yaw_rad,

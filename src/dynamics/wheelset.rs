@@ -436,7 +436,8 @@ impl Geometry {
     fn new(state: &WheelsetState, kin: &WheelsetKinematics) -> Result<Geometry, WheelsetError> {
         let centre = Vector3::new(state.x, state.y, kin.z);
         let axle = axle_direction(state.psi, kin.phi);
-        let [(a0, n0, f0), (a1, n1, f1)] = [0, 1].map(|i| contact_geometry(state, kin.z, kin.phi, axle, &kin.contacts[i], i));
+        let [(a0, n0, f0), (a1, n1, f1)] =
+            [0, 1].map(|i| contact_geometry(state, kin.z, kin.phi, axle, &kin.contacts[i], i));
         Ok(Geometry {
             centre,
             axle,

@@ -58,7 +58,8 @@ impl Default for ElasticSettings {
 impl ContactModelSettings for ElasticSettings {
     fn problems(&self) -> Vec<String> {
         let mut p = Vec::new();
-        if !(self.damping_s_per_m.is_finite() && self.damping_s_per_m > 0.0 && self.damping_s_per_m <= 100.0) {
+        if !(self.damping_s_per_m.is_finite() && self.damping_s_per_m > 0.0 && self.damping_s_per_m <= 100.0)
+        {
             p.push(format!(
                 "simulation.contact.damping_s_per_m = {}: the contact damping must be positive (at most 100 s/m)",
                 self.damping_s_per_m
