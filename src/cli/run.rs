@@ -28,7 +28,7 @@ use super::{
 pub(super) struct RunArgs {
     /// Scenario file (TOML); omit to run the embedded default.
     scenario: Option<PathBuf>,
-    /// Contact model, overriding the scenario's: kec, lookup (1-entry), lookup2 (y, gv) or online.
+    /// Contact model, overriding the scenario's: kec, lookup (1-entry), lookup2 (y, gv), online or elastic (the wheelset free on Hertz contacts).
     #[arg(long, value_parser = contact_model_names())]
     contact: Option<String>,
     /// Initial forward speed, m/s, overriding the scenario's.
