@@ -281,3 +281,74 @@ fn run_any(sc: &Scene, contact: &str, edit: impl Fn(&mut SimulationSpec)) -> Run
     assert!(out.summary.error.is_none(), "{contact}: {:?}", out.summary.error);
     out
 }
+
+/// The paper's case over the whole kilometre, KEC against the elastic reference. In the curve
+/// (150–600 m) the paths agree to a tenth of a millimetre most of the way; where a leading
+/// IRW-wheelset crosses its clearance from flange to flange (it is not held against one: its wheels
+/// roll independently) the two cross a few metres apart, and on the straights the wheelsets,
+/// without lateral guidance, wander on their own ways (millimetres: the README). So the comparison
+/// asserted is the share of the curve within 0.5 mm (≥ 90 % for every wheelset) and the
+/// running-safety figures engineers read (EN 14363 style sliding means): every wheelset's Y/Q and
+/// ΣY within a few per cent. Both complete with no wheel lifting.
+#[test]
+fn ms_vehicle_kilometre_kec_against_elastic() {
+    let sc = scene("ms_vehicle_tab6.toml");
+    let (elastic, kec) = (run(&sc, "elastic", |_| {}), run(&sc, "kec", |_| {}));
+    let mut least_share = 1.0f64;
+    let mut median_curve = 0.0f64;
+    for ((_, a), (_, b)) in elastic.wheelsets.iter().zip(&kec.wheelsets) {
+        let mut d: Vec<f64> = a
+            .iter()
+            .zip(b)
+            .filter(|(p, _)| (160.0..590.0).contains(&p.s))
+            .map(|(p, q)| {
+                assert!((p.t - q.t).abs() < 1e-9);
+                (p.y - q.y).abs()
+            })
+            .collect();
+        assert!(d.len() > 1000, "{} curve samples", d.len());
+        let close = d.iter().filter(|v| **v < 5e-4).count() as f64 / d.len() as f64;
+        least_share = least_share.min(close);
+        d.sort_by(f64::total_cmp);
+        median_curve = median_curve.max(d[d.len() / 2]);
+    }
+    let (se, sk) = (
+        elastic.summary.safety.as_ref().unwrap(),
+        kec.summary.safety.as_ref().unwrap(),
+    );
+    let mut worst_yq = 0.0f64;
+    let mut worst_sum_y = 0.0f64;
+    for (e, k) in se.wheelsets.iter().zip(&sk.wheelsets) {
+        println!(
+            "{}: Y/Q {:.3} / {:.3}, ΣY {:.1} / {:.1} kN (elastic / KEC)",
+            e.name,
+            e.y_over_q_2m,
+            k.y_over_q_2m,
+            e.sum_y_2m_n * 1e-3,
+            k.sum_y_2m_n * 1e-3
+        );
+        worst_yq = worst_yq.max((e.y_over_q_2m / k.y_over_q_2m - 1.0).abs());
+        worst_sum_y = worst_sum_y.max((e.sum_y_2m_n / k.sum_y_2m_n - 1.0).abs());
+    }
+    println!(
+        "MS kilometre, elastic vs KEC: in the curve ≥ {:.1} % of every wheelset's samples within 0.5 mm, median |Δy| ≤ {:.3} mm; Y/Q within {:.1} %, ΣY within {:.1} %; wall {:.1} s vs {:.1} s",
+        least_share * 100.0,
+        median_curve * 1e3,
+        worst_yq * 100.0,
+        worst_sum_y * 100.0,
+        elastic.summary.wall_s,
+        kec.summary.wall_s
+    );
+    assert!(
+        least_share > 0.9 && median_curve < 1e-4,
+        "in the curve: {least_share}, {median_curve} m"
+    );
+    assert!(
+        worst_yq < 0.06 && worst_sum_y < 0.10,
+        "Y/Q {worst_yq}, ΣY {worst_sum_y}"
+    );
+    for o in [&elastic, &kec] {
+        assert_eq!(o.summary.landings, 0, "{}", o.summary.contact_model);
+        assert!(o.summary.min_normal_n > 20e3, "{}", o.summary.min_normal_n);
+    }
+}
