@@ -241,11 +241,8 @@ impl ElasticContact {
             }
             minima.sort_by(|a, b| a.1.g.total_cmp(&b.1.g));
             let deepest = minima[0].1;
-            let normal_gap = |m: &Minimum| {
-                let slope = self.geometry.rail(side, m.sr).1;
-                m.g / (1.0 + slope * slope).sqrt()
-            };
-            out.gap[i] = normal_gap(&deepest);
+            let slope = self.geometry.rail(side, deepest.sr).1;
+            out.gap[i] = deepest.g / (1.0 + slope * slope).sqrt();
             out.closest[i] = self.point(side, &off, pose, &deepest);
             // The minima below zero, their passes and shares (see the module doc).
             let inside: Vec<(usize, Minimum)> = minima.iter().copied().filter(|(_, m)| m.g < 0.0).collect();
