@@ -116,6 +116,8 @@ pub struct ElasticContact {
     pub damping_s_per_m: f64,
     /// Per side: wheel samples (s^w, h^w).
     wheel: [Vec<(f64, f64)>; 2],
+    /// Per side: s^w of the flange's steepest point (its largest contact angle), and that angle.
+    flange: [(f64, f64); 2],
     /// Rail head h^r on a uniform grid in s (left orientation): s₀, 1/Δs, values.
     rail: (f64, f64, Vec<f64>),
 }
@@ -147,11 +149,26 @@ impl ElasticContact {
         let n = ((b - a) / RAIL_TABLE_STEP_M).ceil().max(1.0) as usize;
         let ds = (b - a) / n as f64;
         let values = (0..=n).map(|k| pair.rail.eval(a + ds * k as f64).z).collect();
+        // The flange's steepest point: the radius grows fastest towards the track centre (−σ dh/ds
+        // largest), sampled every 10 µm.
+        let mut flange = [(0.0, 0.0); 2];
+        for side in Side::BOTH {
+            let (a, b) = pair.wheel.domain_side(side);
+            let n = ((b - a) / 1e-5).ceil() as usize;
+            let steepest = (0..=n)
+                .map(|k| {
+                    let s = a + (b - a) * k as f64 / n as f64;
+                    (s, -side.sign() * geometry.wheel(side, s).1)
+                })
+                .fold((a, f64::NEG_INFINITY), |m, v| if v.1 > m.1 { v } else { m });
+            flange[side_index(side)] = (steepest.0, steepest.1.atan());
+        }
         ElasticContact {
             geometry,
             scan_step_m,
             damping_s_per_m,
             wheel,
+            flange,
             rail: (a, 1.0 / ds, values),
         }
     }
@@ -187,7 +204,15 @@ impl ElasticContact {
         (pose.y + lat + pose.phi * hw, pose.z + pose.phi * lat - hw)
     }
 
-    /// The contacts at `pose` on rails moving as `rails`.
+    /// The s^w of side `side`'s flange at its largest contact angle, and that angle (rad): a
+    /// contact beyond it, towards the flange tip, is a wheel climbing its flange.
+    pub fn flange_limit(&self, side: Side) -> (f64, f64) {
+        self.flange[side_index(side)]
+    }
+
+    /// The contacts at `pose` on rails moving as `rails`. A contact past its flange's largest
+    /// contact angle (towards the tip) is a flange climb ([`ElasticError::FlangeClimb`]): the
+    /// constraint models' profiles end there too, and Nadal's limit is taken there.
     pub fn search(&self, pose: &FreePose, rails: &RailMotion) -> Result<ElasticContacts, ElasticError> {
         let off = RailOffsets::from_array(rails.q);
         let mut out = ElasticContacts {
@@ -282,6 +307,16 @@ impl ElasticContact {
                     rate: -((vy - ry) * ny + (vz - rz) * nz),
                 });
                 slot += 1;
+            }
+            let (limit, angle) = self.flange[i];
+            if let Some(p) = out.of(i).find(|p| side.sign() * (p.point.s_wheel - limit) < 0.0) {
+                return Err(ElasticError::FlangeClimb {
+                    side: side.name(),
+                    y_mm: pose.y * 1e3,
+                    s_wheel_mm: p.point.s_wheel * 1e3,
+                    limit_mm: limit * 1e3,
+                    angle_deg: angle.to_degrees(),
+                });
             }
         }
         Ok(out)
@@ -401,6 +436,14 @@ fn side_index(side: Side) -> usize {
 pub enum ElasticError {
     #[error("the {side} wheel is off its rail laterally (no wheel point over the rail head at y = {y_mm:.2} mm): the wheelset has derailed")]
     OffRail { side: &'static str, y_mm: f64 },
+    #[error("the {side} wheel climbs its flange: a contact at s^w = {s_wheel_mm:.2} mm, past the flange's largest contact angle ({angle_deg:.1}° at {limit_mm:.2} mm), at y = {y_mm:.2} mm")]
+    FlangeClimb {
+        side: &'static str,
+        y_mm: f64,
+        s_wheel_mm: f64,
+        limit_mm: f64,
+        angle_deg: f64,
+    },
 }
 
 #[cfg(test)]
@@ -532,6 +575,38 @@ mod tests {
         let r = c.points[1][0].unwrap();
         assert!((l.rate - 0.03 * l.point.normal.1).abs() < 1e-9, "{}", l.rate);
         assert!((r.rate - 0.01 * r.point.normal.1).abs() < 1e-9, "{}", r.rate);
+    }
+
+    /// The flange's largest contact angle from the wheel profile's steepest point agrees with the
+    /// contact geometry's flange scan (the largest contact angle the online solution reaches,
+    /// `lookup::flange_angle`); a wheelset pushed past the online flange-contact limit has its
+    /// contact past that point — a flange climb, reported as such (the left wheel at +y) — and
+    /// short of it none.
+    #[test]
+    fn a_contact_past_the_flanges_largest_angle_is_a_flange_climb() {
+        let e = search(StandardProfile::Rail60E1, "1:40");
+        let scan = crate::contact::lookup::flange_angle(&e.geometry).unwrap();
+        for side in Side::BOTH {
+            let (_, angle) = e.flange_limit(side);
+            assert!((angle - scan).abs() < 0.5f64.to_radians(), "{side:?}: {} vs {}", angle.to_degrees(), scan.to_degrees());
+        }
+        let off = RailOffsets::default();
+        let limit = crate::contact::lookup::flange_contact_limit(&e.geometry, &off, true).unwrap();
+        let at = |y: f64| {
+            let sol = e.geometry.solve(y, &off).unwrap();
+            let pose = FreePose {
+                y,
+                z: sol.z - 2e-5,
+                phi: sol.phi,
+                ..FreePose::default()
+            };
+            e.search(&pose, &RailMotion::default())
+        };
+        assert!(at(limit - 5e-4).is_ok());
+        match at(limit + 1e-3) {
+            Err(ElasticError::FlangeClimb { side, .. }) => assert_eq!(side, "left"),
+            other => panic!("past the limit {limit}: {other:?}"),
+        }
     }
 
     /// The shares: separate regions in full, a shoulder not at all, two equal minima over a shallow

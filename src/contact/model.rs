@@ -54,7 +54,8 @@ impl ContactModelError {
     /// Whether the wheelset has left the model's range beyond flange contact — the equivalent
     /// profiles and the tables end where the flange's contact angle is largest (past it the
     /// wheel climbs the flange): the wheel whose flange it is, `"left"` (the wheelset moved to
-    /// +y) or `"right"`. `None` for any other failure (and for the online model, which has no
+    /// +y) or `"right"`; the elastic model's contact past its flange's largest angle, or a wheel
+    /// off its rail. `None` for any other failure (and for the online model, which has no
     /// such range).
     pub fn flange_climb(&self) -> Option<&'static str> {
         let side = |beyond_positive: bool| if beyond_positive { "left" } else { "right" };
@@ -66,6 +67,9 @@ impl ContactModelError {
                 min_mm,
                 max_mm,
             }) if *value_mm > *max_mm || *value_mm < *min_mm => Some(side(*value_mm > *max_mm)),
+            ContactModelError::Elastic(ElasticError::FlangeClimb { side, .. } | ElasticError::OffRail { side, .. }) => {
+                Some(side)
+            }
             _ => None,
         }
     }
