@@ -67,9 +67,9 @@ impl ContactModelError {
                 min_mm,
                 max_mm,
             }) if *value_mm > *max_mm || *value_mm < *min_mm => Some(side(*value_mm > *max_mm)),
-            ContactModelError::Elastic(ElasticError::FlangeClimb { side, .. } | ElasticError::OffRail { side, .. }) => {
-                Some(side)
-            }
+            ContactModelError::Elastic(
+                ElasticError::FlangeClimb { side, .. } | ElasticError::OffRail { side, .. },
+            ) => Some(side),
             _ => None,
         }
     }
