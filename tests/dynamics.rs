@@ -147,6 +147,7 @@ fn energy_is_conserved_without_creep() {
         let x0 = model.initial_state(&InitialDisturbance {
             lateral_m: 0.004,
             yaw_rad: 0.002,
+            ..InitialDisturbance::default()
         });
         let mut energies = Vec::new();
         let mut kinetic_max: f64 = 0.0;

@@ -2,6 +2,7 @@
 //! error that goes with it, in release builds. Not timed assertions: numbers for people.
 
 pub mod dynamics;
+pub mod hard;
 pub mod precision;
 pub mod scaling;
 

@@ -26,6 +26,7 @@ pub(super) struct BenchArgs {
     /// `precision`: simulated time, s [default: 6 s on the embedded MS scene (straight track and
     /// the first wheelsets' swing to the flange at the curve's start), else the scenario's].
     /// `scaling`: the vehicle-size series' window, s [default: 7].
+    /// `hard`: at most this much simulated time per scene [default: each scene's].
     #[arg(long, value_name = "S")]
     duration: Option<f64>,
     /// `scaling`: the track lengths, in kilometres of the Tab. 6 track laid end to end [default:
@@ -93,6 +94,10 @@ enum BenchTarget {
     /// bogie, the Manchester vehicle, the MS vehicle, two coupled MS vehicles), with the fitted
     /// exponents.
     Scaling,
+    /// The hard-case suite: flange impact, hunting with flange contact, tight curves, a gauge
+    /// widening — each with the elastic contact model (the reference) and the constraint models
+    /// beside it: outcome, steps, smallest step, max |y|, Y/Q, lift, cost, difference to elastic.
+    Hard,
 }
 
 pub(super) fn run(a: BenchArgs) -> Result<()> {
@@ -115,6 +120,15 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         || !a.rtol.is_empty()
         || a.reference_contact.is_some()
         || a.reference_rtol.is_some();
+    if matches!(a.target, BenchTarget::Hard) {
+        anyhow::ensure!(!sweep_options, "`kecsim bench hard` takes --duration only");
+        super::check_duration(a.duration)?;
+        print!(
+            "{}",
+            kecsim::bench::hard::hard(a.duration).map_err(anyhow::Error::msg)?
+        );
+        return Ok(());
+    }
     if matches!(a.target, BenchTarget::Scaling) {
         anyhow::ensure!(
             !sweep_options,
@@ -163,7 +177,7 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
             "{}",
             kecsim::bench::dynamics::dispatch().map_err(anyhow::Error::msg)?
         ),
-        BenchTarget::Precision | BenchTarget::Scaling => unreachable!("handled above"),
+        BenchTarget::Precision | BenchTarget::Scaling | BenchTarget::Hard => unreachable!("handled above"),
     }
     Ok(())
 }

@@ -911,7 +911,14 @@ impl VehicleModel for Multibody {
     }
 
     fn initial_state(&self, initial: &InitialDisturbance) -> Vec<f64> {
-        self.initial(initial.lateral_m, initial.yaw_rad)
+        let mut x = self.initial(initial.lateral_m, initial.yaw_rad);
+        for j in 0..self.wheelsets.len() {
+            x[self.wheelset_offset(j) + 4] = initial.lateral_velocity_m_s;
+        }
+        for i in 0..self.bodies.len() {
+            x[self.body_offset(i) + 7] = initial.lateral_velocity_m_s;
+        }
+        x
     }
 
     /// Fresh warm starts; each wheel's normal force starts from half its static axle load.

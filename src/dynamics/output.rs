@@ -100,6 +100,8 @@ pub struct RunSummary {
     pub realtime_factor: f64,
     pub steps: usize,
     pub rejected_steps: usize,
+    /// The smallest accepted step, s (0 when none was taken).
+    pub smallest_step_s: f64,
     pub rhs_evaluations: usize,
     /// Jacobians evaluated (implicit and linearly implicit methods; their finite-difference
     /// right-hand sides are counted in `rhs_evaluations`).

@@ -395,6 +395,11 @@ fn summarise(
         realtime_factor: if wall_s > 0.0 { simulated_s / wall_s } else { 0.0 },
         steps: stats.accepted,
         rejected_steps: stats.rejected,
+        smallest_step_s: if stats.smallest_step.is_finite() {
+            stats.smallest_step
+        } else {
+            0.0
+        },
         rhs_evaluations: stats.rhs_evaluations,
         jacobians: stats.jacobians,
         preprocessing_s: labels.preprocessing_s,

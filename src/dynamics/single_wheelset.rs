@@ -161,6 +161,7 @@ impl VehicleModel for SingleWheelset {
         WheelsetState {
             y: initial.lateral_m,
             psi: initial.yaw_rad,
+            y_dot: initial.lateral_velocity_m_s,
             omega: self.reference.speed.at(0.0) / self.r0,
             lift: free.map_or([0.0; 2], |(z, phi)| [z, phi]),
             ..WheelsetState::default()

@@ -92,6 +92,8 @@ pub struct InitialDisturbance {
     pub lateral_m: f64,
     /// Yaw, rad.
     pub yaw_rad: f64,
+    /// Lateral velocity ẏ, m/s (a wheelset thrown at its flange).
+    pub lateral_velocity_m_s: f64,
 }
 
 /// The static settling of a multibody vehicle: what the elements' preloads came from.

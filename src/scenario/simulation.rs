@@ -130,6 +130,9 @@ pub struct InitialSpec {
     pub lateral_m: f64,
     #[serde(default)]
     pub yaw_rad: f64,
+    /// Lateral velocity ẏ of every wheelset (and body), m/s.
+    #[serde(default)]
+    pub lateral_velocity_m_s: f64,
 }
 
 impl SimulationSpec {
@@ -206,6 +209,12 @@ impl SimulationSpec {
         }
         check("initial.lateral_m", self.initial.lateral_m, -0.02, 0.02);
         check("initial.yaw_rad", self.initial.yaw_rad, -0.05, 0.05);
+        check(
+            "initial.lateral_velocity_m_s",
+            self.initial.lateral_velocity_m_s,
+            -2.0,
+            2.0,
+        );
         if let Some(v) = self.start_m {
             check("start_m", v, -1e7, 1e7);
         }
@@ -229,6 +238,7 @@ impl SimulationSpec {
             initial: InitialDisturbance {
                 lateral_m: self.initial.lateral_m,
                 yaw_rad: self.initial.yaw_rad,
+                lateral_velocity_m_s: self.initial.lateral_velocity_m_s,
             },
             stop: StopConditions {
                 lateral_m: self.stop_lateral_m,
