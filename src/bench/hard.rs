@@ -1,4 +1,5 @@
-//! `kecsim bench hard`: the hard-case suite (issue 14) — flange impact, hunting with flange
+//! `kecsim bench hard`: the hard-case suite (issue 14) — flange impacts (one that lifts the far
+//! wheel and lands it), hunting with flange
 //! contact, tight curves at low and line speed, a gauge widening past the tables' range — each
 //! scene run with the elastic contact model (the reference: two-point contact, lift and landing
 //! come from the real profiles) and with the constraint models named beside it. One table: how
@@ -24,10 +25,16 @@ pub struct HardScene {
 }
 
 /// The suite.
-pub const HARD_SCENES: [HardScene; 5] = [
+pub const HARD_SCENES: [HardScene; 6] = [
     HardScene {
         name: "flange_impact",
         text: include_str!("../../assets/scenes/hard/flange_impact.toml"),
+        files: &[],
+        also: &["kec"],
+    },
+    HardScene {
+        name: "flange_lift",
+        text: include_str!("../../assets/scenes/hard/flange_lift.toml"),
         files: &[],
         also: &["kec"],
     },
