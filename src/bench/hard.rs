@@ -1,6 +1,7 @@
 //! `kecsim bench hard`: the hard-case suite (issue 14) — flange impacts (one that lifts the far
 //! wheel and lands it), hunting with flange
-//! contact, tight curves at low and line speed, a gauge widening past the tables' range — each
+//! contact, tight curves at low and line speed, a start from standstill, a gauge widening past the tables'
+//! range — each
 //! scene run with the elastic contact model (the reference: two-point contact, lift and landing
 //! come from the real profiles) and with the constraint models named beside it. One table: how
 //! each run ended (completed, stopped, derailed with the reason, or the model's own limit), its
@@ -25,7 +26,7 @@ pub struct HardScene {
 }
 
 /// The suite.
-pub const HARD_SCENES: [HardScene; 6] = [
+pub const HARD_SCENES: [HardScene; 7] = [
     HardScene {
         name: "flange_impact",
         text: include_str!("../../assets/scenes/hard/flange_impact.toml"),
@@ -53,6 +54,12 @@ pub const HARD_SCENES: [HardScene; 6] = [
     HardScene {
         name: "tight_curve_line",
         text: include_str!("../../assets/scenes/hard/tight_curve_line.toml"),
+        files: &[],
+        also: &["kec"],
+    },
+    HardScene {
+        name: "standstill",
+        text: include_str!("../../assets/scenes/hard/standstill.toml"),
         files: &[],
         also: &["kec"],
     },
