@@ -1,7 +1,7 @@
 //! `kecsim bench hard`: the hard-case suite (issue 14) — flange impacts (one that lifts the far
 //! wheel and lands it), hunting with flange
 //! contact, tight curves at low and line speed, a start from standstill, a gauge widening past the tables'
-//! range — each
+//! range, an alignment kink that makes a flange climb — each
 //! scene run with the elastic contact model (the reference: two-point contact, lift and landing
 //! come from the real profiles) and with the constraint models named beside it. One table: how
 //! each run ended (completed, stopped, derailed with the reason, or the model's own limit), its
@@ -26,7 +26,7 @@ pub struct HardScene {
 }
 
 /// The suite.
-pub const HARD_SCENES: [HardScene; 7] = [
+pub const HARD_SCENES: [HardScene; 8] = [
     HardScene {
         name: "flange_impact",
         text: include_str!("../../assets/scenes/hard/flange_impact.toml"),
@@ -71,6 +71,15 @@ pub const HARD_SCENES: [HardScene; 7] = [
             include_str!("../../assets/scenes/hard/gauge_widening.csv"),
         )],
         also: &["kec", "lookup2"],
+    },
+    HardScene {
+        name: "alignment_kink",
+        text: include_str!("../../assets/scenes/hard/alignment_kink.toml"),
+        files: &[(
+            "alignment_kink.csv",
+            include_str!("../../assets/scenes/hard/alignment_kink.csv"),
+        )],
+        also: &["kec"],
     },
 ];
 
