@@ -1,7 +1,8 @@
 //! `kecsim bench hard`: the hard-case suite (issue 14) — flange impacts (one that lifts the far
 //! wheel and lands it), hunting with flange
 //! contact, tight curves at low and line speed, a start from standstill, a gauge widening past the tables'
-//! range, an alignment kink that makes a flange climb — each
+//! range, an alignment kink that makes a flange climb, the Manchester vehicle's kilometre under the
+//! German high-disturbance spectrum and under FRA class 4 at 30 m/s — each
 //! scene run with the elastic contact model (the reference: two-point contact, lift and landing
 //! come from the real profiles) and with the constraint models named beside it. One table: how
 //! each run ended (completed, stopped, derailed with the reason, or the model's own limit), its
@@ -26,7 +27,7 @@ pub struct HardScene {
 }
 
 /// The suite.
-pub const HARD_SCENES: [HardScene; 8] = [
+pub const HARD_SCENES: [HardScene; 10] = [
     HardScene {
         name: "flange_impact",
         text: include_str!("../../assets/scenes/hard/flange_impact.toml"),
@@ -79,6 +80,18 @@ pub const HARD_SCENES: [HardScene; 8] = [
             "alignment_kink.csv",
             include_str!("../../assets/scenes/hard/alignment_kink.csv"),
         )],
+        also: &["kec"],
+    },
+    HardScene {
+        name: "manchester_high",
+        text: include_str!("../../assets/scenes/hard/manchester_high.toml"),
+        files: &[],
+        also: &["kec"],
+    },
+    HardScene {
+        name: "manchester_fra4",
+        text: include_str!("../../assets/scenes/hard/manchester_fra4.toml"),
+        files: &[],
         also: &["kec"],
     },
 ];

@@ -200,6 +200,7 @@ pub struct Stats {
     pub rejected: usize,
     pub rhs_evaluations: usize,
     pub jacobians: usize,
+    /// The smallest accepted step but for the last one (cut to land on the end).
     pub smallest_step: f64,
     pub largest_step: f64,
     /// Events located and applied ([`OdeSystem::jump`]).
@@ -490,7 +491,10 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
         if settings.method == Method::Bdf {
             stepper.bdf_accepted(t + h, &x1, err, h, settings);
         }
-        stats.smallest_step = stats.smallest_step.min(h);
+        if !last || stats.accepted == 1 {
+            // The last step, cut to land on the end, says nothing of the step control.
+            stats.smallest_step = stats.smallest_step.min(h);
+        }
         stats.largest_step = stats.largest_step.max(h);
         if let Some((k, s)) = event {
             // The state at the event, changed by the jump; f there afresh (no FSAL across it).

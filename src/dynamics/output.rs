@@ -100,7 +100,8 @@ pub struct RunSummary {
     pub realtime_factor: f64,
     pub steps: usize,
     pub rejected_steps: usize,
-    /// The smallest accepted step, s (0 when none was taken).
+    /// The smallest accepted step but for the last one (cut to land on the end), s (0 when none
+    /// was taken).
     pub smallest_step_s: f64,
     pub rhs_evaluations: usize,
     /// Jacobians evaluated (implicit and linearly implicit methods; their finite-difference
