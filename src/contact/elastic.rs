@@ -53,6 +53,9 @@ pub const MAX_POINTS_PER_WHEEL: usize = 4;
 /// A sampled local minimum of the gap below this is polished (the sampled gap overstates the
 /// exact one by at most ~ step² κ / 8: 0.1 mm covers a 0.5 mm step on a 10 mm radius), m.
 pub const CANDIDATE_GAP_M: f64 = 1e-4;
+/// The largest approach taken as contact, m: a wheel 2 mm into its rail (the Hertz approach of a
+/// 1 MN impact is ~0.4 mm) is an initial state or a pose far off, reported.
+pub const MAX_APPROACH_M: f64 = 2e-3;
 /// The rail head's tabulation step for the scan, m.
 const RAIL_TABLE_STEP_M: f64 = 2.5e-5;
 
@@ -327,6 +330,13 @@ impl ElasticContact {
                 });
                 slot += 1;
             }
+            if let Some(p) = out.of(i).find(|p| p.depth > MAX_APPROACH_M) {
+                return Err(ElasticError::Interpenetration {
+                    side: side.name(),
+                    depth_mm: p.depth * 1e3,
+                    y_mm: pose.y * 1e3,
+                });
+            }
             let (limit, angle) = self.flange[i];
             if let Some(p) = out.of(i).find(|p| side.sign() * (p.point.s_wheel - limit) < 0.0) {
                 return Err(ElasticError::FlangeClimb {
@@ -455,6 +465,12 @@ fn side_index(side: Side) -> usize {
 pub enum ElasticError {
     #[error("the {side} wheel is off its rail laterally (no wheel point over the rail head at y = {y_mm:.2} mm): the wheelset has derailed")]
     OffRail { side: &'static str, y_mm: f64 },
+    #[error("the {side} wheel is {depth_mm:.2} mm inside its rail at y = {y_mm:.2} mm: no contact approach (a Hertz approach is tenths of a millimetre) — an initial state or a pose off the profiles")]
+    Interpenetration {
+        side: &'static str,
+        depth_mm: f64,
+        y_mm: f64,
+    },
     #[error("the {side} wheel climbs its flange: a contact at s^w = {s_wheel_mm:.2} mm, past the flange's largest contact angle ({angle_deg:.1}° at {limit_mm:.2} mm), at y = {y_mm:.2} mm")]
     FlangeClimb {
         side: &'static str,
@@ -638,6 +654,27 @@ mod tests {
         match at(limit + 1e-3) {
             Err(ElasticError::FlangeClimb { side, .. }) => assert_eq!(side, "left"),
             other => panic!("past the limit {limit}: {other:?}"),
+        }
+    }
+
+    /// A wheel millimetres inside its rail is no contact approach: reported, not turned into a
+    /// force of meganewtons.
+    #[test]
+    fn a_wheel_deep_inside_its_rail_is_an_error() {
+        let e = search(StandardProfile::Rail60E1, "1:40");
+        let sol = e.geometry.solve(0.0, &RailOffsets::default()).unwrap();
+        let pose = |sink: f64| FreePose {
+            z: sol.z - sink,
+            phi: sol.phi,
+            ..FreePose::default()
+        };
+        assert!(e.search(&pose(1.5e-3), &RailMotion::default()).is_ok());
+        match e.search(&pose(3e-3), &RailMotion::default()) {
+            Err(ElasticError::Interpenetration { side, depth_mm, .. }) => {
+                assert_eq!(side, "left");
+                assert!(depth_mm > 2.0, "{depth_mm}");
+            }
+            other => panic!("{other:?}"),
         }
     }
 
