@@ -1,5 +1,5 @@
 //! `kecsim bench hard`: the hard-case suite (issue 14) — flange impacts (one that lifts the far
-//! wheel and lands it), hunting with flange
+//! wheel and lands it), a cross-level dip a wheel flies over, hunting with flange
 //! contact, tight curves at low and line speed, a start from standstill, a gauge widening past the tables'
 //! range, an alignment kink that makes a flange climb, the Manchester vehicle's kilometre under the
 //! German high-disturbance spectrum and under FRA class 4 at 30 m/s — each
@@ -27,7 +27,7 @@ pub struct HardScene {
 }
 
 /// The suite.
-pub const HARD_SCENES: [HardScene; 10] = [
+pub const HARD_SCENES: [HardScene; 11] = [
     HardScene {
         name: "flange_impact",
         text: include_str!("../../assets/scenes/hard/flange_impact.toml"),
@@ -38,6 +38,15 @@ pub const HARD_SCENES: [HardScene; 10] = [
         name: "flange_lift",
         text: include_str!("../../assets/scenes/hard/flange_lift.toml"),
         files: &[],
+        also: &["kec"],
+    },
+    HardScene {
+        name: "cross_level_dip",
+        text: include_str!("../../assets/scenes/hard/cross_level_dip.toml"),
+        files: &[(
+            "cross_level_dip.csv",
+            include_str!("../../assets/scenes/hard/cross_level_dip.csv"),
+        )],
         also: &["kec"],
     },
     HardScene {
