@@ -352,3 +352,50 @@ fn ms_vehicle_kilometre_kec_against_elastic() {
         assert!(o.summary.min_normal_n > 20e3, "{}", o.summary.min_normal_n);
     }
 }
+
+/// A wheel profile whose flange is too shallow to tell flange contact from a climb (S1002's tread
+/// with a 30° cone for a flange, 17 mm high): the elastic model refuses it at the build, naming
+/// the problem. (A profile without a flange at all is refused when it is read.)
+#[test]
+fn a_wheel_profile_with_a_shallow_flange_is_refused() {
+    let dir = tmpdir("elastic-shallow-flange");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut profile: String = std::fs::read_to_string(root.join("profiles/s1002.csv"))
+        .unwrap()
+        .lines()
+        .filter(|l| {
+            l.starts_with('#')
+                || l.starts_with("y_mm")
+                || l.split(',')
+                    .next()
+                    .and_then(|y| y.trim().parse::<f64>().ok())
+                    .is_some_and(|y| y >= -26.0)
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    // The cone: from (−26, −2.741) down at 30° to y = −50 mm, prepended in y order.
+    let slope = 30f64.to_radians().tan();
+    let cone: String = (1..=48)
+        .rev()
+        .map(|k| {
+            let y = -26.0 - 0.5 * k as f64;
+            format!("{y:.3},{:.6}\n", -2.741025090 - slope * (-26.0 - y))
+        })
+        .collect();
+    let header_end = profile.find("y_mm,z_mm\n").unwrap() + "y_mm,z_mm\n".len();
+    profile.insert_str(header_end, &cone);
+    std::fs::write(dir.join("cone.csv"), profile).unwrap();
+    let text = std::fs::read_to_string(root.join("assets/scenes/wheelset_klingel.toml"))
+        .unwrap()
+        .replace("wheel = \"s1002\"", "wheel = \"cone.csv\"")
+        .replace("model = \"kec\"", "model = \"elastic\"")
+        .replace("two_point_approach_m = 5e-5", "");
+    std::fs::write(dir.join("cone.toml"), text).unwrap();
+    let out = kecsim(&["run", "cone.toml", "--save", "x.rrd"], &dir);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("cone.toml") && err.contains("too shallow to guide the wheelset"),
+        "{err}"
+    );
+}

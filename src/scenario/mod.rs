@@ -160,6 +160,8 @@ pub enum ScenarioError {
 #[derive(Debug, Clone)]
 pub struct Scene {
     pub name: String,
+    /// Where it came from (its file, or `<embedded default>`), for errors.
+    pub origin: String,
     pub pair: WheelRailPair,
     pub contact_forces: ContactForceSettings,
     pub track: Option<Arc<crate::track::Track>>,
@@ -329,6 +331,7 @@ impl Scenario {
             .map_err(|e| invalid(vec![e.to_string()]))?;
         Ok(Scene {
             name: self.name.clone(),
+            origin: origin.to_string(),
             pair,
             contact_forces,
             track,

@@ -263,8 +263,12 @@ pub enum BuildError {
     NoSimulation,
     #[error("{0}")]
     Options(String),
-    #[error(transparent)]
-    Contact(#[from] ContactBuildError),
+    /// The contact model could not be built for the scene from the file named first.
+    #[error("{scene}: {source}")]
+    Contact {
+        scene: String,
+        source: ContactBuildError,
+    },
     #[error("vehicle: {0}")]
     Vehicle(#[from] DynamicsError),
 }
@@ -436,7 +440,10 @@ impl super::Scene {
         // right-hand sides' wheelsets split between its threads).
         crate::dynamics::run::join_run_pool();
         let t = Instant::now();
-        let model = contact.build(&self.pair)?;
+        let model = contact.build(&self.pair).map_err(|source| BuildError::Contact {
+            scene: self.origin.clone(),
+            source,
+        })?;
         // The safety figures' flange angle; a pair whose contact cannot be followed up the flange
         // on the ideal track runs without them.
         let flange_angle_rad = flange_angle(&ContactGeometry::with_defaults(self.pair.clone())).ok();

@@ -24,7 +24,11 @@ use crate::contact::elastic::ElasticContact;
 use crate::contact::geometry::{ContactGeometry, ContactSolution};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
 use crate::profile::placement::WheelRailPair;
+use crate::profile::Side;
 use crate::track::RailOffsets;
+
+/// The smallest flange angle a wheel profile must reach for the elastic model, degrees.
+pub const MIN_FLANGE_ANGLE_DEG: f64 = 45.0;
 
 /// `[simulation.contact] model = "elastic"`.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -69,14 +73,26 @@ impl ContactModelSettings for ElasticSettings {
         p
     }
 
+    /// Also refuses a wheel profile whose flange is too shallow (its steepest contact angle below
+    /// [`MIN_FLANGE_ANGLE_DEG`]; a profile without a flange at all is refused when it is read):
+    /// the search would take that slope for the flange's largest angle and call every contact
+    /// there a climb.
     fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
-        Ok(Arc::new(ElasticModel {
-            search: ElasticContact::new(
-                ContactGeometry::with_defaults(pair.clone()),
-                self.scan_step_m,
-                self.damping_s_per_m,
-            ),
-        }))
+        let search = ElasticContact::new(
+            ContactGeometry::with_defaults(pair.clone()),
+            self.scan_step_m,
+            self.damping_s_per_m,
+        );
+        for side in Side::BOTH {
+            let angle = search.flange_limit(side).1.to_degrees();
+            if angle < MIN_FLANGE_ANGLE_DEG {
+                return Err(ContactBuildError::Invalid(vec![format!(
+                    "the wheel profile's flange is too shallow to guide the wheelset: its steepest contact angle on the {} wheel is {angle:.1}° (a flange reaches 60–75°; the elastic model needs at least {MIN_FLANGE_ANGLE_DEG}° to tell flange contact from a climb)",
+                    side.name()
+                )]));
+            }
+        }
+        Ok(Arc::new(ElasticModel { search }))
     }
 }
 
