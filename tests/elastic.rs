@@ -15,16 +15,9 @@ use kecsim::dynamics::reference::G;
 use kecsim::dynamics::RunOutput;
 use kecsim::scenario::{RunOptions, Scene, SimulationSpec};
 
+/// A run that must complete.
 fn run(sc: &Scene, contact: &str, edit: impl Fn(&mut SimulationSpec)) -> RunOutput {
-    let mut sc = sc.clone();
-    edit(&mut sc.simulation.as_mut().unwrap().0);
-    let out = sc
-        .build_run(&RunOptions {
-            contact: Some(contact.to_string()),
-            speed_m_s: None,
-        })
-        .unwrap()
-        .run(&mut []);
+    let out = run_any(sc, contact, edit);
     assert_eq!(
         out.summary.outcome, "completed",
         "{contact}: {:?}",

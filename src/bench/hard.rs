@@ -14,6 +14,7 @@
 
 use std::fmt::Write as _;
 
+use super::dynamics::differences;
 use crate::dynamics::RunOutput;
 use crate::scenario::{RunOptions, Scenario, Scene};
 
@@ -143,7 +144,7 @@ pub fn run_suite(window: Option<f64>) -> Result<Vec<HardRun>, String> {
         let scene = compile(hs, window)?;
         let elastic = run(&scene, "elastic")?;
         let others: Vec<RunOutput> = hs.also.iter().map(|m| run(&scene, m)).collect::<Result<_, _>>()?;
-        let dys: Vec<f64> = others.iter().map(|o| max_dy(&elastic, o)).collect();
+        let dys: Vec<f64> = others.iter().map(|o| differences(&elastic, o).0).collect();
         runs.push(HardRun {
             scene: hs.name,
             output: elastic,
@@ -168,15 +169,6 @@ fn run(scene: &Scene, contact: &str) -> Result<RunOutput, String> {
         })
         .map_err(|e| e.to_string())?
         .run(&mut []))
-}
-
-/// Largest |Δy| over every wheelset's common samples (up to the shorter run's end), m.
-fn max_dy(a: &RunOutput, b: &RunOutput) -> f64 {
-    a.wheelsets
-        .iter()
-        .zip(&b.wheelsets)
-        .flat_map(|((_, sa), (_, sb))| sa.iter().zip(sb).map(|(p, q)| (p.y - q.y).abs()))
-        .fold(0.0, f64::max)
 }
 
 /// How a run ended, in a few words: `completed`, `stopped: …`, `derailed at t s: …`, `failed at

@@ -288,8 +288,7 @@ impl ElasticContact {
             }
             minima.sort_by(|a, b| a.1.g.total_cmp(&b.1.g));
             let deepest = minima[0].1;
-            let slope = self.geometry.rail(side, deepest.sr).1;
-            out.gap[i] = deepest.g / (1.0 + slope * slope).sqrt();
+            out.gap[i] = self.normal_gap(side, &deepest);
             out.closest[i] = self.point(side, &off, pose, &deepest);
             // The minima below zero, their passes and shares (see the module doc).
             let inside: Vec<(usize, Minimum)> = minima.iter().copied().filter(|(_, m)| m.g < 0.0).collect();
@@ -321,10 +320,9 @@ impl ElasticContact {
                 let (vy, vz) = (pose.y_dot - pose.phi_dot * uz, pose.z_dot + pose.phi_dot * uy);
                 let (ry, rz) = (rails.q_dot[2 * i], rails.q_dot[2 * i + 1]);
                 let (ny, nz) = point.normal;
-                let slope = self.geometry.rail(side, m.sr).1;
                 out.points[i][slot] = Some(Penetration {
                     point,
-                    depth: -m.g / (1.0 + slope * slope).sqrt(),
+                    depth: -self.normal_gap(side, m),
                     share: *share,
                     rate: -((vy - ry) * ny + (vz - rz) * nz),
                 });
@@ -349,6 +347,12 @@ impl ElasticContact {
             }
         }
         Ok(out)
+    }
+
+    /// The normal gap at a minimum of the vertical gap: g cos γ_r, tan γ_r the rail's slope there.
+    fn normal_gap(&self, side: Side, m: &Minimum) -> f64 {
+        let slope = self.geometry.rail(side, m.sr).1;
+        m.g / (1.0 + slope * slope).sqrt()
     }
 
     fn point(&self, side: Side, off: &RailOffsets, pose: &FreePose, m: &Minimum) -> ContactPoint {

@@ -21,14 +21,12 @@
 use nalgebra::Vector3;
 
 use super::wheelset::{
-    axle_direction, contact_geometry, side_roll, FrameMotion, Load, WheelsetDynamics, WheelsetError,
-    WheelsetInertia, WheelsetState,
+    axle_direction, contact_curvature, contact_geometry, gyroscopic, FrameMotion, Load, WheelsetDynamics,
+    WheelsetError, WheelsetInertia, WheelsetState,
 };
 use crate::contact::elastic::{ElasticContacts, FreePose};
-use crate::contact::forces::{
-    ContactForceSettings, ContactPatch, CreepForce, Creepage, HertzContact, RelativeCurvature,
-};
-use crate::contact::{ContactModel, ContactModelError, ContactPoint, WarmStart, WheelsetKinematics};
+use crate::contact::forces::{ContactForceSettings, ContactPatch, CreepForce, Creepage, HertzContact};
+use crate::contact::{ContactModel, ContactModelError, WarmStart, WheelsetKinematics};
 use crate::profile::Side;
 use crate::track::{LateralFlexibility, RailMotion, RailOffsets};
 
@@ -81,7 +79,7 @@ pub fn initial_free_pose(
         let p = &c.contacts[i];
         let n_z = p.normal.1;
         let hertz = HertzContact::solve(
-            curvature(p, i, c.phi),
+            contact_curvature(p, i, c.phi),
             loads[i].max(1.0) / n_z,
             &forces.material,
             &forces.material,
@@ -94,17 +92,6 @@ pub fn initial_free_pose(
     let d_phi = (sink[1] - sink[0]) / (arm[0] - arm[1]);
     let d_z = -sink[0] - d_phi * arm[0];
     Ok(Some((c.z + d_z, c.phi + d_phi)))
-}
-
-/// Relative curvatures at a contact of wheel `i`, its contact angle taken from the wheel's radial
-/// direction (the track-frame angle less the roll, as the constraint models).
-fn curvature(p: &ContactPoint, i: usize, phi: f64) -> RelativeCurvature {
-    RelativeCurvature::wheel_rail(
-        p.rolling_radius,
-        p.contact_angle - side_roll(i, phi),
-        p.wheel_curvature,
-        p.rail_curvature,
-    )
 }
 
 /// The accelerations of a free wheelset on its elastic contacts `contacts` (found at the pose
@@ -167,7 +154,7 @@ pub fn evaluate_free(
             }
             // Hertz: δ ∝ N^{2/3}, so N = (δ / δ₁)^{3/2} with δ₁ the approach at 1 N.
             let unit = HertzContact::solve(
-                curvature(&p.point, i, phi),
+                contact_curvature(&p.point, i, phi),
                 1.0,
                 &forces.material,
                 &forces.material,
@@ -209,12 +196,7 @@ pub fn evaluate_free(
         out.creep[i] = creep_sum;
         out.lift_gap[i] = contacts.gap[i].max(0.0);
     }
-    let h_spin = match inertia.irw {
-        Some(w) => w.wheel_spin_kg_m2 * (state.omega + state.omega_right),
-        None => inertia.inertia_kg_m2[1] * state.omega,
-    };
-    let gyro_x = -ix * frame.alpha[0] + h_spin * (state.psi_dot + frame.omega[2]);
-    let gyro_z = -iz * frame.alpha[2] - h_spin * (kin.phi_dot + frame.omega[0]);
+    let (gyro_x, gyro_z) = gyroscopic(inertia, state, kin.phi_dot, frame);
     // Spin rows first (each wheel's own on an IRW-wheelset), then roll and yaw with the spin
     // accelerations' gyroscopic coupling I_y Ω̇ a.
     let (spin_l, spin_r, spin_sum) = match inertia.irw {

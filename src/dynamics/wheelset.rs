@@ -673,7 +673,6 @@ fn solve(
         None => *kin2,
     };
     let m = inertia.mass_kg;
-    let [ix, _, iz] = inertia.inertia_kg_m2;
     let geo = Geometry::new(state, &kin)?;
     let (centre, axle, arm) = (geo.centre, geo.axle, geo.arm);
     let r_dot = Vector3::new(state.x_dot, state.y_dot, kin.z_dot);
@@ -710,14 +709,7 @@ fn solve(
     let g = Vector3::from(frame.gravity);
     let a_t = Vector3::from(frame.accel);
     let f_known = Vector3::from(load.force) + m * g - m * (a_t + 2.0 * w_t.cross(&r_dot));
-    // Spin angular momentum about the axle, H_s a.
-    let h_spin = match inertia.irw {
-        Some(irw) => irw.wheel_spin_kg_m2 * (state.omega + state.omega_right),
-        None => inertia.inertia_kg_m2[1] * state.omega,
-    };
-    // Frame and gyroscopic terms of the roll and yaw rows.
-    let gyro_x = -ix * frame.alpha[0] + h_spin * (state.psi_dot + frame.omega[2]);
-    let gyro_z = -iz * frame.alpha[2] - h_spin * (kin.phi_dot + frame.omega[0]);
+    let (gyro_x, gyro_z) = gyroscopic(inertia, state, kin.phi_dot, frame);
     // Applied loads reach the wheels through bearings, which transmit no moment about the axle:
     // remove that component (else e.g. a yaw spring's moment would spin the wheels through the
     // roll angle, φ M_z). On an IRW-wheelset it pitches the bridge instead.
@@ -730,14 +722,13 @@ fn solve(
     for i in (0..2).filter(|&i| on_rail(i)) {
         let side = Side::BOTH[i].name();
         let c = &kin.contacts[i];
-        let curv = RelativeCurvature::wheel_rail(
-            c.rolling_radius,
-            c.contact_angle - side_roll(i, kin.phi),
-            c.wheel_curvature,
-            c.rail_curvature,
-        );
-        let hertz = HertzContact::solve(curv, lambda_guess[i].max(1.0), &forces.material, &forces.material)
-            .map_err(|e| WheelsetError::Contact {
+        let hertz = HertzContact::solve(
+            contact_curvature(c, i, kin.phi),
+            lambda_guess[i].max(1.0),
+            &forces.material,
+            &forces.material,
+        )
+        .map_err(|e| WheelsetError::Contact {
             side,
             message: e.to_string(),
         })?;
@@ -951,9 +942,40 @@ pub fn land(
     }))
 }
 
+/// The frame and gyroscopic terms of the roll and yaw rows (x, z), with the spin angular
+/// momentum about the axle H_s (an IRW-wheelset: both wheels'):
+/// −I_x α_tx + H_s (ψ̇ + ω_tz) and −I_z α_tz − H_s (φ̇ + ω_tx).
+pub(crate) fn gyroscopic(
+    inertia: &WheelsetInertia,
+    state: &WheelsetState,
+    phi_dot: f64,
+    frame: &FrameMotion,
+) -> (f64, f64) {
+    let [ix, _, iz] = inertia.inertia_kg_m2;
+    let h_spin = match inertia.irw {
+        Some(irw) => irw.wheel_spin_kg_m2 * (state.omega + state.omega_right),
+        None => inertia.inertia_kg_m2[1] * state.omega,
+    };
+    (
+        -ix * frame.alpha[0] + h_spin * (state.psi_dot + frame.omega[2]),
+        -iz * frame.alpha[2] - h_spin * (phi_dot + frame.omega[0]),
+    )
+}
+
+/// Relative curvatures at a contact of wheel `i` (0 left, 1 right) of a wheelset rolled by `phi`,
+/// its contact angle taken from the wheel's radial direction.
+pub(crate) fn contact_curvature(p: &crate::contact::ContactPoint, i: usize, phi: f64) -> RelativeCurvature {
+    RelativeCurvature::wheel_rail(
+        p.rolling_radius,
+        p.contact_angle - side_roll(i, phi),
+        p.wheel_curvature,
+        p.rail_curvature,
+    )
+}
+
 /// The contact angle relative to the wheel's radial direction: the track-frame angle minus the
 /// wheelset roll (left), plus it (right).
-pub(crate) fn side_roll(i: usize, phi: f64) -> f64 {
+fn side_roll(i: usize, phi: f64) -> f64 {
     if i == 0 {
         phi
     } else {

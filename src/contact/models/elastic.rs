@@ -21,7 +21,7 @@ use serde::Deserialize;
 
 use super::{ContactBuildError, ContactModelSettings};
 use crate::contact::elastic::ElasticContact;
-use crate::contact::geometry::{ContactGeometry, ContactSolution};
+use crate::contact::geometry::ContactGeometry;
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
 use crate::profile::placement::WheelRailPair;
 use crate::profile::Side;
@@ -109,20 +109,7 @@ impl ContactModel for ElasticModel {
         rails: &RailOffsets,
         warm: &mut WarmStart,
     ) -> Result<Configuration, ContactModelError> {
-        let geometry = &self.search.geometry;
-        let sol = match warm.get::<ContactSolution>() {
-            Some(prev) => geometry.solve_tracked(y, rails, prev)?,
-            None => geometry.solve(y, rails)?,
-        };
-        let out = Configuration {
-            z: sol.z,
-            phi: sol.phi,
-            z_y: sol.dx_dy[0],
-            phi_y: sol.dx_dy[1],
-            contacts: [sol.left, sol.right],
-        };
-        warm.set(sol);
-        Ok(out)
+        super::online::tracked_configuration(&self.search.geometry, y, rails, warm)
     }
 
     fn elastic(&self) -> Option<&ElasticContact> {

@@ -45,22 +45,33 @@ impl ContactModel for OnlineContact {
         rails: &RailOffsets,
         warm: &mut WarmStart,
     ) -> Result<Configuration, ContactModelError> {
-        let sol = match warm.get::<ContactSolution>() {
-            Some(prev) => self.geometry.solve_tracked(y, rails, prev)?,
-            None => self.geometry.solve(y, rails)?,
-        };
-        let out = Configuration {
-            z: sol.z,
-            phi: sol.phi,
-            z_y: sol.dx_dy[0],
-            phi_y: sol.dx_dy[1],
-            contacts: [sol.left, sol.right],
-        };
-        warm.set(sol);
-        Ok(out)
+        tracked_configuration(&self.geometry, y, rails, warm)
     }
 
     fn history_dependent(&self) -> bool {
         true
     }
+}
+
+/// The online constraints' configuration, warm-started from the evaluator's last solution and
+/// kept on its branch ([`ContactGeometry::solve_tracked`]); cold, the full solve.
+pub(super) fn tracked_configuration(
+    geometry: &ContactGeometry,
+    y: f64,
+    rails: &RailOffsets,
+    warm: &mut WarmStart,
+) -> Result<Configuration, ContactModelError> {
+    let sol = match warm.get::<ContactSolution>() {
+        Some(prev) => geometry.solve_tracked(y, rails, prev)?,
+        None => geometry.solve(y, rails)?,
+    };
+    let out = Configuration {
+        z: sol.z,
+        phi: sol.phi,
+        z_y: sol.dx_dy[0],
+        phi_y: sol.dx_dy[1],
+        contacts: [sol.left, sol.right],
+    };
+    warm.set(sol);
+    Ok(out)
 }
