@@ -285,7 +285,11 @@ fn integrator_convergence_on_the_scene() {
 }
 
 /// The speed ramp finds the hunting onset; runs at fixed speed confirm it: 15 % below, a 0.3 mm
-/// disturbance decays; 25 % above, it does not (it grows or settles on a limit cycle).
+/// disturbance decays; 25 % above, it does not (it grows or settles on a limit cycle). Well above
+/// (1.6×) the hunting reaches the flanges and the run ends on its stop condition (|y| > 5 mm),
+/// normally, with the samples up to it. (With the two-point transitions as wide as the elastic
+/// sharing, the ramp's own motion near the onset stays small: the centred wheelset's neutral
+/// growth starts from round-off.)
 #[test]
 fn critical_speed_by_speed_ramp() {
     let sc = scene("wheelset_critical_speed.toml");
@@ -298,16 +302,24 @@ fn critical_speed_by_speed_ramp() {
         "hunting onset on the ramp: {vc:.2} m/s; stopped: {:?}",
         ramp.summary.stopped
     );
-    // The run ended on its stop condition (|y| > 5 mm), normally, with the samples up to it.
-    match &ramp.end {
+    assert!((20.0..60.0).contains(&vc), "{vc}");
+    let hunting = simulate(
+        &sc,
+        |s| {
+            s.speed_m_s = 1.6 * vc;
+            s.speed_ramp_m_s2 = 0.0;
+            s.duration_s = 10.0;
+        },
+        "kec",
+    );
+    match &hunting.end {
         RunEnd::Stopped(Stop::Lateral { y_m, limit_m, t, .. }) => {
             assert!(y_m.abs() > *limit_m && (*limit_m - 0.005).abs() < 1e-12);
-            assert!((ramp.samples().last().unwrap().t - t).abs() < 1e-12);
+            assert!((hunting.samples().last().unwrap().t - t).abs() < 1e-12);
         }
         other => panic!("expected the lateral stop, got {other:?}"),
     }
-    assert_eq!(ramp.summary.outcome, "stopped");
-    assert!((20.0..60.0).contains(&vc), "{vc}");
+    assert_eq!(hunting.summary.outcome, "stopped");
     let envelope = |v: f64| {
         let out = simulate(
             &sc,

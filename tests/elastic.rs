@@ -229,8 +229,9 @@ fn bad_elastic_settings_are_clear_errors() {
 /// load between the two points over the Hertz approach, and so does KEC with two-point transitions
 /// as wide as that sharing (≥ 0.5 mm at the centre jump, where the slopes differ little): the two
 /// agree within 3 %, and KEC's onset is the same for every approach δ from 0.03 to 0.5 mm and every
-/// width limit from 0.5 to 2 mm. With the default limit (0.05 mm) KEC keeps the rigid jump's
-/// onset, some 24 % lower (the README: limits 0.1–0.35 mm give 29–50 m/s).
+/// width limit from 0.5 to 2 mm — so KEC's default (δ 0.05 mm, limit 2 mm) does the same. With a
+/// 0.05 mm limit (the default before) KEC keeps the rigid jump's onset, some 24 % lower (the
+/// README: limits 0.1–0.35 mm give 29–50 m/s).
 #[test]
 fn critical_speed_elastic_against_kec_transitions() {
     let sc = scene("wheelset_critical_speed.toml");
@@ -253,8 +254,10 @@ fn critical_speed_elastic_against_kec_transitions() {
         .map(|&k| onset("kec", Some(k)))
         .collect();
     let narrow = onset("kec", Some((5.7e-5, 5e-5)));
-    println!("critical speed: elastic {elastic:.2} m/s; KEC wide transitions {wide:.2?} m/s; KEC 0.05 mm limit {narrow:.2} m/s");
-    for v in &wide {
+    let d = kecsim::contact::models::kec::KecSettings::default();
+    let default = onset("kec", Some((d.two_point_approach_m, d.two_point_max_width_m)));
+    println!("critical speed: elastic {elastic:.2} m/s; KEC default {default:.2} m/s; KEC wide transitions {wide:.2?} m/s; KEC 0.05 mm limit {narrow:.2} m/s");
+    for v in wide.iter().chain([&default]) {
         assert!((v / elastic - 1.0).abs() < 0.03, "KEC {v} vs elastic {elastic}");
     }
     assert!(narrow < 0.85 * elastic, "{narrow} vs {elastic}");

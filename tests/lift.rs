@@ -17,9 +17,7 @@ use kecsim::dynamics::integrator::{integrate, Flow, Method, Settings};
 use kecsim::dynamics::reference::G;
 use kecsim::dynamics::single_wheelset::{SingleWheelset, Tie};
 use kecsim::dynamics::system::{Evaluator, InitialDisturbance, VehicleModel};
-use kecsim::dynamics::wheelset::{
-    evaluate, FrameMotion, Lift, Load, WheelsetError, WheelsetInertia, WheelsetState,
-};
+use kecsim::dynamics::wheelset::{evaluate, FrameMotion, Lift, Load, WheelsetInertia, WheelsetState};
 use kecsim::dynamics::{Reference, SpeedProfile};
 use kecsim::profile::placement::WheelRailPair;
 use kecsim::profile::{Side, StandardProfile};
@@ -105,7 +103,7 @@ fn forces(friction: f64) -> ContactForceSettings {
 /// Lift-off is the complementarity of a unilateral contact: below the roll moment where the left
 /// normal force vanishes the wheel stays on (θ̈ = 0, λ > 0), above it the wheel rises (λ = 0,
 /// θ̈ > 0), and the two solutions meet at the threshold (both linear in the moment without
-/// friction: their zeros agree). Both wheels unloaded is a flight, reported.
+/// friction: their zeros agree). Both wheels unloaded, the wheelset flies free.
 #[test]
 fn lift_off_is_continuous_at_zero_normal_force() {
     let pair = pair();
@@ -160,7 +158,7 @@ fn lift_off_is_continuous_at_zero_normal_force() {
         force: [0.0, 0.0, 2.0 * INERTIA.mass_kg * G],
         moment: [0.0; 3],
     };
-    let err = evaluate(
+    let flight = evaluate(
         &INERTIA,
         &state,
         &kin,
@@ -170,8 +168,21 @@ fn lift_off_is_continuous_at_zero_normal_force() {
         &mut [5e4, 5e4].into(),
         None,
     )
-    .unwrap_err();
-    assert!(matches!(err, WheelsetError::Flight { .. }), "{err}");
+    .unwrap();
+    // Both wheels released: no contact force, and the free body's closed form, m z̈ = 2 m g − m g
+    // upwards, φ̈ = 0 (no moment, no friction), with each wheel's θ̈ rising.
+    println!(
+        "flight: z̈ {:.6} m/s² (g {G}), φ̈ {:.2e} rad/s², θ̈ {:?} rad/s²",
+        flight.accel[2], flight.accel[3], flight.lift_accel
+    );
+    assert_eq!(flight.normal, [0.0, 0.0]);
+    assert!(
+        flight.lift_accel.iter().all(|&a| a > 0.0),
+        "{:?}",
+        flight.lift_accel
+    );
+    assert!((flight.accel[2] - G).abs() < 1e-9 * G, "{}", flight.accel[2]);
+    assert!(flight.accel[3].abs() < 1e-9, "{}", flight.accel[3]);
 }
 
 /// A wheel thrown up without friction flies a parabola in θ: θ̈ = −(W + m g) k / (I_x + m k²)
@@ -256,6 +267,104 @@ fn a_thrown_wheel_lands_after_its_ballistic_flight() {
     assert!((landing.landing.speed / (lift.gain * theta_dot0) - 1.0).abs() < 0.02);
     assert!(landing.landing.impulse > 0.0);
     // Back on the rail: both wheels loaded at the end.
+    assert_eq!(&last[l..l + 4], &[0.0; 4]);
+    let end = sys.sample(2.0 * flight, &last).unwrap();
+    assert!(end.wheelsets[0].dynamics.normal.iter().all(|&n| n > 0.0));
+}
+
+/// A wheelset thrown up off both rails (issue 14: "both wheels leave the rails" used to end the
+/// run): each wheel's θ̇₀ the same, so the wheelset rises without roll at ż₀ = (k_l − k_r) θ̇₀ and,
+/// without friction, flies the free body's parabola, z̈ = −(W + m g)/m: it lands after
+/// 2 ż₀ m/(W + m g), its peak lift ż₀²/(2|z̈|), both wheels on their own events, and the normal
+/// impulses take the vertical momentum m ż₀ (conservation; the landing leaves ż = 0).
+#[test]
+fn a_thrown_wheelset_flies_off_both_rails_and_lands() {
+    let pair = pair();
+    let contact = kec(&pair);
+    let r0 = pair.wheelset.nominal_radius_m;
+    let axle_load = 100e3;
+    let model = SingleWheelset {
+        name: "w".into(),
+        inertia: INERTIA,
+        tie: Tie {
+            longitudinal_stiffness_n_per_m: 2e5,
+            lateral_stiffness_n_per_m: 3e5,
+            longitudinal_damping_n_s_per_m: 0.0,
+            lateral_damping_n_s_per_m: 0.0,
+            half_spacing_m: 1.0,
+        },
+        axle_load_n: axle_load,
+        contact: contact.clone(),
+        forces: forces(0.0),
+        r0,
+        reference: Reference {
+            track: None,
+            s0: 0.0,
+            speed: SpeedProfile {
+                initial_m_s: 10.0,
+                ramp_m_s2: 0.0,
+            },
+        },
+    };
+    let kin = contact
+        .kinematics(0.0, 0.0, &RailMotion::default(), &mut WarmStart::default())
+        .unwrap();
+    let (left, right) = (
+        Lift::at_rest(0, 0.0, &kin).unwrap(),
+        Lift::at_rest(1, 0.0, &kin).unwrap(),
+    );
+    let theta_dot0 = 0.02;
+    // z = k_l θ_l − k_r θ_r, φ = θ_l − θ_r.
+    let z_dot0 = (left.k - right.k) * theta_dot0;
+    let m = INERTIA.mass_kg;
+    let decel = (axle_load + m * G) / m;
+    let flight = 2.0 * z_dot0 / decel;
+    let peak_z = z_dot0.powi(2) / (2.0 * decel);
+    let mut x0 = model.initial_state(&InitialDisturbance::default());
+    let l = WheelsetState::lift_index(false);
+    x0[l + 2] = theta_dot0;
+    x0[l + 3] = theta_dot0;
+    let mut sys = Evaluator::new(&model);
+    let mut peak: f64 = 0.0;
+    let mut last = x0.clone();
+    let stats = integrate(
+        &mut sys,
+        0.0,
+        &x0,
+        2.0 * flight,
+        flight / 200.0,
+        &Settings::new(Method::Dopri5, 1e-8, 1e-10),
+        &mut |_, x: &[f64]| {
+            peak = peak.max((left.k * x[l] - right.k * x[l + 1]).abs());
+            last = x.to_vec();
+            Ok(Flow::Continue)
+        },
+    )
+    .unwrap();
+    let landings = &sys.data.landings;
+    let n_z = [0, 1].map(|i| kin.contacts[i].normal.1);
+    let vertical: f64 = landings
+        .iter()
+        .map(|e| e.landing.impulse * n_z[e.landing.side] + e.landing.pivot_impulse * n_z[1 - e.landing.side])
+        .sum();
+    println!(
+        "flight {:.6} s (closed form {flight:.6} s), peak lift {:.4e} m (closed form {peak_z:.4e}); {} landings {:?}; vertical impulse {vertical:.3} N s (m ż₀ = {:.3} N s)",
+        landings.first().map_or(f64::NAN, |e| e.t),
+        peak,
+        landings.len(),
+        landings.iter().map(|e| (e.t, e.landing.side, e.landing.speed, e.landing.impulse)).collect::<Vec<_>>(),
+        m * z_dot0
+    );
+    assert_eq!(stats.events, landings.len());
+    let sides: Vec<usize> = landings.iter().map(|e| e.landing.side).collect();
+    assert!(sides.contains(&0) && sides.contains(&1), "{sides:?}");
+    for e in landings {
+        assert!((e.t / flight - 1.0).abs() < 0.01, "{} vs {flight}", e.t);
+        assert!(e.landing.impulse > 0.0);
+    }
+    assert!((peak / peak_z - 1.0).abs() < 0.01, "{peak} vs {peak_z}");
+    assert!((vertical / (m * z_dot0) - 1.0).abs() < 0.02, "{vertical}");
+    // Back on the rails: both wheels loaded at the end.
     assert_eq!(&last[l..l + 4], &[0.0; 4]);
     let end = sys.sample(2.0 * flight, &last).unwrap();
     assert!(end.wheelsets[0].dynamics.normal.iter().all(|&n| n > 0.0));

@@ -172,7 +172,7 @@ impl ElasticContact {
                     .enumerate()
                     .fold((0, &slopes[0]), |m, v| if v.1 .1 > m.1 .1 { v } else { m });
             let angle = steepest.atan();
-            let fallen = (angle - 0.5f64.to_radians()).tan();
+            let fallen = (angle - crate::contact::lookup::FLANGE_FLANK_TOLERANCE_RAD).tan();
             // Towards the tip: smaller s on the left wheel, larger on the right.
             let tip: Box<dyn Iterator<Item = &(f64, f64)>> = if side == Side::Left {
                 Box::new(slopes[..=k_max].iter().rev())

@@ -41,7 +41,7 @@ use crate::profile::Side;
 
 /// Largest width of a two-point transition (fillet) in s^k, m — see
 /// [`KecModel::with_two_point_transition`].
-pub const TWO_POINT_MAX_WIDTH_M: f64 = 5e-5;
+pub const TWO_POINT_MAX_WIDTH_M: f64 = 2e-3;
 
 /// KEC errors.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -223,23 +223,27 @@ pub struct LookupTable1 {
 }
 
 /// The 0.1 mm scan up the flange from y = 0 shared by [`flange_contact_limit`] and
-/// [`flange_angle`]: the contact angles of one side until they fall again past 45° (or the wheel
-/// leaves the profile there). Returns the y (≥ 0, towards that side) of the largest sampled angle,
-/// that angle, and whether the scan ended on a falling angle (else the profile ended).
+/// [`flange_angle`]: the contact angles of one side, past 45°, until they fall
+/// [`FLANGE_FLANK_TOLERANCE_RAD`] below the largest so far (or the wheel leaves the profile).
+/// Returns the last y (≥ 0, towards that side) whose angle is within the tolerance of the
+/// largest, the largest sampled angle, and whether the scan ended on a falling angle (else the
+/// profile ended).
 fn flange_scan(angle: &impl Fn(f64) -> Result<f64, TableError>) -> Result<(f64, f64, bool), TableError> {
     let step = FLANGE_SCAN_STEP_M;
     let mut prev = angle(0.0)?;
+    let mut largest = prev;
     let mut y = 0.0;
     loop {
         let next_y = y + step;
         let a = match angle(next_y) {
             Ok(a) => a,
-            Err(_) if prev > 45f64.to_radians() => return Ok((y, prev, false)),
+            Err(_) if prev > 45f64.to_radians() => return Ok((y, largest, false)),
             Err(e) => return Err(e),
         };
-        if prev > 45f64.to_radians() && a < prev {
-            return Ok((y, prev, true));
+        if prev > 45f64.to_radians() && a < largest - FLANGE_FLANK_TOLERANCE_RAD {
+            return Ok((y, largest, true));
         }
+        largest = largest.max(a);
         if next_y > 0.05 {
             return Err(TableError::Invalid(
                 "no flange contact found within 50 mm of the centred position".into(),
@@ -269,9 +273,12 @@ fn side_angle(
     }
 }
 
-/// The y at which flange contact is reached on the left (the contact angle reaches its largest
-/// value on the flange flank; beyond it the wheel would climb the flange), by a 0.1 mm scan from
-/// y = 0, refined by golden-section search. By symmetry of use, the table spans ±this on a
+/// The y up to which the wheelset can go towards the left before that wheel climbs its flange:
+/// the contact runs up the flange's steepest flank and leaves it towards the tip, where the
+/// contact angle has fallen [`FLANGE_FLANK_TOLERANCE_RAD`] below its largest value (S1002's flank
+/// is straight, 70°, for about 1.4 mm: the wheelset rises along it by tan 70° per mm of y before
+/// the contact reaches the flange's rounded tip — the same limit as the elastic model's). Found by
+/// a 0.1 mm scan from y = 0, refined by bisection. By symmetry of use, the table spans ±this on a
 /// symmetric pair; for an asymmetric pair both sides are scanned.
 pub fn flange_contact_limit(
     geom: &ContactGeometry,
@@ -279,23 +286,27 @@ pub fn flange_contact_limit(
     left: bool,
 ) -> Result<f64, TableError> {
     let angle = side_angle(geom, *off, left);
-    let (y, _, falls) = flange_scan(&angle)?;
+    let (y, largest, falls) = flange_scan(&angle)?;
     if !falls {
         return Ok(y);
     }
-    // Maximum between y − step and y + step: golden section.
-    let (mut lo, mut hi) = (y - FLANGE_SCAN_STEP_M, y + FLANGE_SCAN_STEP_M);
-    let g = 0.5 * (5f64.sqrt() - 1.0);
+    // The angle crosses largest − tolerance between y and y + step: bisection.
+    let threshold = largest - FLANGE_FLANK_TOLERANCE_RAD;
+    let (mut lo, mut hi) = (y, y + FLANGE_SCAN_STEP_M);
     while hi - lo > 1e-7 {
-        let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        if angle(c)? > angle(d)? {
-            hi = d
+        let mid = 0.5 * (lo + hi);
+        if angle(mid)? >= threshold {
+            lo = mid
         } else {
-            lo = c
+            hi = mid
         }
     }
-    Ok(0.5 * (lo + hi))
+    Ok(lo)
 }
+
+/// How far below its largest value the contact angle falls where the contact leaves the flange's
+/// steepest flank towards the tip (a flange climb beyond), rad: 0.5°.
+pub const FLANGE_FLANK_TOLERANCE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 /// The flange angle of a pair for Nadal's limit: the largest contact angle, reached where the
 /// contact climbs the flange — on the ideal track, the larger of both sides' sampled maxima of the

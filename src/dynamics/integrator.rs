@@ -564,51 +564,57 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
 /// is ≤ 0 at the end, the bracket is [0, 1] when it was > 0 at the start, else (it started at 0,
 /// e.g. right after its own jump) from the first of 16 samples of the step where it is > 0; the
 /// root is located by the Illinois method on `g_at(s)` (the events on the continuous extension)
-/// to 1e-10 of the step. No sample > 0 and < 0 at the end: s = 1.
+/// to 1e-10 of the step. No sample > 0 and < 0 at the end: s = 1; < 0 already at the start: s = 0.
 fn first_event(g0: &[f64], g1: &[f64], mut g_at: impl FnMut(f64) -> Vec<f64>) -> Option<(usize, f64)> {
     let mut best: Option<(usize, f64)> = None;
     for k in 0..g0.len() {
         if g1[k] > 0.0 || (g1[k] == 0.0 && g0[k] <= 0.0) {
             continue;
         }
-        let start = if g0[k] > 0.0 {
-            Some((0.0, g0[k]))
+        // Already below zero at the step's start (left there by another event's jump at the same
+        // instant, e.g. a wheelset's second wheel landing together with the first): at once.
+        let s = if g0[k] < 0.0 {
+            0.0
         } else {
-            (1..16).map(|i| i as f64 / 16.0).find_map(|s| {
-                let g = g_at(s)[k];
-                (g > 0.0).then_some((s, g))
-            })
-        };
-        let s = match start {
-            Some((a, ga)) => {
-                let (mut a, mut b, mut ga, mut gb) = (a, 1.0, ga, g1[k]);
-                let mut side = 0i8;
-                for _ in 0..60 {
-                    if b - a <= 1e-10 {
-                        break;
-                    }
-                    let c = (a * gb - b * ga) / (gb - ga);
-                    let c = if c > a && c < b { c } else { 0.5 * (a + b) };
-                    let gc = g_at(c)[k];
-                    if gc > 0.0 {
-                        a = c;
-                        ga = gc;
-                        if side == -1 {
-                            gb *= 0.5;
+            let start = if g0[k] > 0.0 {
+                Some((0.0, g0[k]))
+            } else {
+                (1..16).map(|i| i as f64 / 16.0).find_map(|s| {
+                    let g = g_at(s)[k];
+                    (g > 0.0).then_some((s, g))
+                })
+            };
+            match start {
+                Some((a, ga)) => {
+                    let (mut a, mut b, mut ga, mut gb) = (a, 1.0, ga, g1[k]);
+                    let mut side = 0i8;
+                    for _ in 0..60 {
+                        if b - a <= 1e-10 {
+                            break;
                         }
-                        side = -1;
-                    } else {
-                        b = c;
-                        gb = gc;
-                        if side == 1 {
-                            ga *= 0.5;
+                        let c = (a * gb - b * ga) / (gb - ga);
+                        let c = if c > a && c < b { c } else { 0.5 * (a + b) };
+                        let gc = g_at(c)[k];
+                        if gc > 0.0 {
+                            a = c;
+                            ga = gc;
+                            if side == -1 {
+                                gb *= 0.5;
+                            }
+                            side = -1;
+                        } else {
+                            b = c;
+                            gb = gc;
+                            if side == 1 {
+                                ga *= 0.5;
+                            }
+                            side = 1;
                         }
-                        side = 1;
                     }
+                    b
                 }
-                b
+                None => 1.0,
             }
-            None => 1.0,
         };
         if best.is_none_or(|(_, sb)| s < sb) {
             best = Some((k, s));

@@ -974,6 +974,7 @@ impl VehicleModel for Multibody {
         t: f64,
         x: &mut [f64],
         wheelset: usize,
+        side: usize,
     ) -> Result<Option<Landing>, DynamicsError> {
         let j = wheelset;
         let (o, irw) = (self.wheelset_offset(j), self.is_irw(j));
@@ -986,6 +987,7 @@ impl VehicleModel for Multibody {
             &mut st,
             &kin,
             self.reference.lateral_flexibility().as_ref(),
+            side,
         )
         .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
         st.write(&mut x[o..], irw);

@@ -17,6 +17,7 @@ use super::output::{ObserverError, OutputSample, RunObserver, RunStart, RunSumma
 use super::system::{
     BodySample, DynamicsError, Evaluator, InitialDisturbance, LandingEvent, Settling, VehicleModel,
 };
+use super::wheelset::WheelsetError;
 
 /// What to run and how (the vehicle and its track reference are the model's).
 #[derive(Debug, Clone, PartialEq)]
@@ -107,6 +108,15 @@ impl RunFailure {
         match self {
             RunFailure::Integration(IntegrationError::Model {
                 error: DynamicsError::Derailment { wheelset, .. },
+                ..
+            })
+            | RunFailure::Integration(IntegrationError::Model {
+                error:
+                    DynamicsError::Wheelset {
+                        wheelset,
+                        source: WheelsetError::LiftLimit { .. },
+                        ..
+                    },
                 ..
             }) => Some(wheelset),
             _ => None,

@@ -207,6 +207,7 @@ impl VehicleModel for SingleWheelset {
         t: f64,
         x: &mut [f64],
         wheelset: usize,
+        side: usize,
     ) -> Result<Option<Landing>, DynamicsError> {
         debug_assert_eq!(wheelset, 0);
         let mut st = Self::unpack(x);
@@ -216,6 +217,7 @@ impl VehicleModel for SingleWheelset {
             &mut st,
             &kin,
             self.reference.lateral_flexibility().as_ref(),
+            side,
         )
         .map_err(DynamicsError::wheelset(&self.name, st.y))?;
         st.write(x, false);

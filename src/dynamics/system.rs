@@ -207,14 +207,15 @@ pub trait VehicleModel: Send + Sync {
     /// Per wheelset: the index of its θ_l in the state (θ_r, θ̇_l, θ̇_r follow; see
     /// [`WheelsetState::read`]).
     fn lift_offsets(&self) -> Vec<usize>;
-    /// Lands wheelset `wheelset`'s lifted wheel at (t, x): the plastic impact of
-    /// [`super::wheelset::land`], its velocities changed in `x`.
+    /// Lands wheelset `wheelset`'s lifted wheel `side` (0 left, 1 right) at (t, x): the plastic
+    /// impact of [`super::wheelset::land`], its velocities changed in `x`.
     fn land(
         &self,
         data: &mut VehicleData,
         t: f64,
         x: &mut [f64],
         wheelset: usize,
+        side: usize,
     ) -> Result<Option<Landing>, DynamicsError>;
 }
 
@@ -304,8 +305,8 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
     }
 
     fn jump(&mut self, t: f64, event: usize, x: &mut [f64]) -> Result<(), DynamicsError> {
-        let wheelset = event / 2;
-        if let Some(landing) = self.model.land(&mut self.data, t, x, wheelset)? {
+        let (wheelset, side) = (event / 2, event % 2);
+        if let Some(landing) = self.model.land(&mut self.data, t, x, wheelset, side)? {
             self.data.landings.push(LandingEvent { t, wheelset, landing });
         }
         Ok(())

@@ -249,11 +249,11 @@ pub enum WheelsetError {
         normal: f64,
         lift_accel: f64,
     },
-    #[error("both wheels leave the rails ({side} wheel lifted {gap_mm:.3} mm, the other's normal force {normal:.1} N ≤ 0): the wheelset jumps off the track")]
-    Flight {
+    #[error("the {side} wheel lifts {gap_mm:.2} mm off its rail, beyond {limit_mm:.0} mm (EN 14363's wheel-lift limit, where the linearised lift also ends): derailment")]
+    LiftLimit {
         side: &'static str,
         gap_mm: f64,
-        normal: f64,
+        limit_mm: f64,
     },
     #[error("{side} wheel lifts at a contact where rolling about the other wheel does not open a gap (∂gap/∂θ = {gain:.3} m/rad)")]
     LiftGeometry { side: &'static str, gain: f64 },
@@ -291,6 +291,11 @@ impl From<[f64; 2]> for NormalForceStart {
 const MAX_PASSES: usize = 30;
 const LAMBDA_TOLERANCE: f64 = 1e-12;
 
+/// The largest wheel lift, m: 5 mm, the limit of EN 14363's flange-climbing (twist) test; a
+/// larger lift ends the run as a derailment ([`WheelsetError::LiftLimit`]). The lift's
+/// linearisation ([`Lift`]) is checked to 1.2 % at 0.2 mrad (~0.3 mm) and holds to a few mm.
+pub const MAX_LIFT_M: f64 = 5e-3;
+
 /// The smallest ∂gap/∂θ accepted for a lift, m/rad: rolling 1 mrad about the other wheel must open
 /// at least 0.02 mm (a wheel flange at ~80° against the rail opens less: no lift there).
 const MIN_LIFT_GAIN: f64 = 0.02;
@@ -311,7 +316,14 @@ const MIN_LIFT_GAIN: f64 = 0.02;
 /// its rail's tangent (its lateral sliding is the creep forces' business, y stays independent),
 /// the lifted wheel's point leaves its rail at G θ̇. θ ≥ 0 while lifted; a lifted wheel lands
 /// where θ returns to 0 (an event of the integrator: [`land`]). Valid for lifts small against
-/// the wheel's radius (millimetres), the physical ones short of a derailment.
+/// the wheel's radius (millimetres), the physical ones short of a derailment ([`MAX_LIFT_M`]).
+///
+/// **Both wheels off** (a wheelset thrown up by a flange impact): each wheel's lift is its own
+/// roll θ_i about the other wheel's contact point, and the two small rotations add,
+/// φ = φ₀ + Σ σ_i θ_i, z = z₀ + Σ k_i σ_i θ_i — any (z, φ) near the two-point configuration
+/// (k_l ≠ k_r: the pivots lie on either side). Rolling about one wheel's contact point leaves
+/// that wheel's gap unchanged to first order, so each gap stays G_i θ_i; each wheel lands on
+/// its own event, the other flying on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lift {
     /// The lifted wheel: 0 left, 1 right.
@@ -356,25 +368,18 @@ impl Lift {
         })
     }
 
-    /// The lift the state carries, if a wheel is off its rail (θ or θ̇ not zero).
-    pub fn of(state: &WheelsetState, kin: &WheelsetKinematics) -> Result<Option<Lift>, WheelsetError> {
-        let off = |i: usize| state.lift[i] != 0.0 || state.lift_rate[i] != 0.0;
-        let side = match (off(0), off(1)) {
-            (false, false) => return Ok(None),
-            (true, false) => 0,
-            (false, true) => 1,
-            (true, true) => {
-                return Err(WheelsetError::Flight {
-                    side: "left",
-                    gap_mm: f64::NAN,
-                    normal: 0.0,
-                })
+    /// The lifts the state carries: each wheel off its rail (θ or θ̇ not zero).
+    pub fn of(state: &WheelsetState, kin: &WheelsetKinematics) -> Result<Lifts, WheelsetError> {
+        let mut lifts = [None; 2];
+        for (side, lift) in lifts.iter_mut().enumerate() {
+            if state.lift[side] != 0.0 || state.lift_rate[side] != 0.0 {
+                let mut l = Lift::at_rest(side, state.y, kin)?;
+                l.theta = state.lift[side];
+                l.theta_dot = state.lift_rate[side];
+                *lift = Some(l);
             }
-        };
-        let mut l = Lift::at_rest(side, state.y, kin)?;
-        l.theta = state.lift[side];
-        l.theta_dot = state.lift_rate[side];
-        Ok(Some(l))
+        }
+        Ok(lifts)
     }
 
     /// The lifted wheel's gap, m.
@@ -394,6 +399,17 @@ impl Lift {
     }
 }
 
+/// Each wheel's lift, `None` for a wheel on its rail.
+pub type Lifts = [Option<Lift>; 2];
+
+/// No wheel lifted.
+const ON_RAILS: Lifts = [None, None];
+
+/// The pose kinematics with every lift of `lifts` applied (the small rotations add).
+fn apply_lifts(lifts: &Lifts, kin: &WheelsetKinematics) -> WheelsetKinematics {
+    lifts.iter().flatten().fold(*kin, |k, l| l.apply(&k))
+}
+
 /// The kinematics of the wheelset's pose: the contact model's two-point configuration `kin`, moved
 /// by the state's lift if a wheel is off its rail.
 pub fn pose_kinematics(
@@ -403,10 +419,7 @@ pub fn pose_kinematics(
     if kin.elastic.is_some() {
         return Ok(*kin);
     }
-    Ok(match Lift::of(state, kin)? {
-        Some(l) => l.apply(kin),
-        None => *kin,
-    })
+    Ok(apply_lifts(&Lift::of(state, kin)?, kin))
 }
 
 /// What a landing did.
@@ -499,7 +512,7 @@ fn matrix(
     inertia: &WheelsetInertia,
     geo: &Geometry,
     kin: &WheelsetKinematics,
-    lift: Option<&Lift>,
+    lifts: &Lifts,
     track: Option<&LateralFlexibility>,
 ) -> SMatrix<f64, 10, 10> {
     let m = inertia.mass_kg;
@@ -556,8 +569,8 @@ fn matrix(
         a[(6, 8)] = kin.z_y;
         a[(7, 8)] = kin.phi_y;
     }
-    if let Some(l) = lift {
-        // The lifted wheel carries no force; its column becomes θ̈'s.
+    for l in lifts.iter().flatten() {
+        // A lifted wheel carries no force; its column becomes θ̈'s.
         let c = 6 + l.side;
         for r in 0..10 {
             a[(r, c)] = 0.0;
@@ -581,8 +594,9 @@ fn spin_inertia(inertia: &WheelsetInertia) -> f64 {
 ///
 /// A wheel whose normal force would be ≤ 0 is released ([`Lift`]): with θ = θ̇ = 0 the equations
 /// are solved again with that wheel free, and its θ̈ (≥ 0: the two solutions meet where λ = 0)
-/// returned; a lifted wheel (θ or θ̇ ≠ 0 in the state) stays free until it lands. Both wheels
-/// off their rails is a [`WheelsetError::Flight`].
+/// returned; a lifted wheel (θ or θ̇ ≠ 0 in the state) stays free until it lands. Where the other
+/// wheel's normal force then falls ≤ 0 too, it is released as well: the wheelset flies, both
+/// wheels free, until one lands. A lift beyond [`MAX_LIFT_M`] is a [`WheelsetError::LiftLimit`].
 #[allow(clippy::too_many_arguments)]
 pub fn evaluate(
     inertia: &WheelsetInertia,
@@ -600,47 +614,61 @@ pub fn evaluate(
         return Ok(r);
     }
     let lambda_guess = start.lambda;
-    let solve_at = |guess: [f64; 2], secant: &mut Matrix2<f64>, lift: Option<&Lift>| {
+    let solve_at = |guess: [f64; 2], secant: &mut Matrix2<f64>, lifts: &Lifts| {
         solve(
-            inertia, state, kin, frame, load, forces, guess, secant, lift, track,
+            inertia, state, kin, frame, load, forces, guess, secant, lifts, track,
         )
     };
-    let lifted = |l: Lift, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
-        let r = solve_at(guess, &mut -Matrix2::identity(), Some(&l))?;
-        let p = 1 - l.side;
-        if r.normal[p] <= 0.0 {
-            return Err(WheelsetError::Flight {
-                side: Side::BOTH[l.side].name(),
-                gap_mm: l.gap() * 1e3,
+    // With `lifts` free (at least one): a wheel still on its rail whose normal force falls ≤ 0
+    // is released too (from rest: its θ̈ must be ≥ 0, else the creep forces hold it down).
+    let lifted = |lifts: Lifts, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
+        let pin = |mut g: [f64; 2]| {
+            for l in lifts.iter().flatten() {
+                g[l.side] = 0.0;
+            }
+            g
+        };
+        let r = solve_at(pin(guess), &mut -Matrix2::identity(), &lifts)?;
+        let Some(p) = (0..2).find(|&i| lifts[i].is_none() && r.normal[i] <= 0.0) else {
+            return Ok(r);
+        };
+        let mut both = lifts;
+        both[p] = Some(Lift::at_rest(p, state.y, kin)?);
+        let flight = solve_at([0.0; 2], &mut -Matrix2::identity(), &both)?;
+        if flight.lift_accel[p] < 0.0 {
+            return Err(WheelsetError::Lift {
+                side: Side::BOTH[p].name(),
                 normal: r.normal[p],
+                lift_accel: flight.lift_accel[p],
             });
         }
-        Ok(r)
+        Ok(flight)
     };
     // The result; the next evaluation starts from its normal forces (the secant matrix is
     // updated by the both-wheels solve).
     let r = 'result: {
-        if let Some(l) = Lift::of(state, kin)? {
-            let mut guess = lambda_guess;
-            guess[l.side] = 0.0;
-            break 'result lifted(l, guess)?;
+        let lifts = Lift::of(state, kin)?;
+        for l in lifts.iter().flatten() {
+            if l.gap() > MAX_LIFT_M {
+                return Err(WheelsetError::LiftLimit {
+                    side: Side::BOTH[l.side].name(),
+                    gap_mm: l.gap() * 1e3,
+                    limit_mm: MAX_LIFT_M * 1e3,
+                });
+            }
         }
-        let r = solve_at(lambda_guess, &mut start.secant, None)?;
+        if lifts.iter().any(Option::is_some) {
+            break 'result lifted(lifts, lambda_guess)?;
+        }
+        let r = solve_at(lambda_guess, &mut start.secant, &ON_RAILS)?;
         let side = if r.normal[0] <= r.normal[1] { 0 } else { 1 };
         if r.normal[side] > 0.0 {
             break 'result r;
         }
-        if r.normal[1 - side] <= 0.0 {
-            return Err(WheelsetError::Flight {
-                side: Side::BOTH[side].name(),
-                gap_mm: 0.0,
-                normal: r.normal[1 - side],
-            });
-        }
-        // Lift-off: release the unloaded wheel.
-        let mut guess = r.normal;
-        guess[side] = 0.0;
-        let free = lifted(Lift::at_rest(side, state.y, kin)?, guess)?;
+        // Lift-off: release the more unloaded wheel (and the other, should it unload too).
+        let mut lifts = ON_RAILS;
+        lifts[side] = Some(Lift::at_rest(side, state.y, kin)?);
+        let free = lifted(lifts, r.normal)?;
         if free.lift_accel[side] < 0.0 {
             return Err(WheelsetError::Lift {
                 side: Side::BOTH[side].name(),
@@ -654,7 +682,7 @@ pub fn evaluate(
     Ok(r)
 }
 
-/// The equations at one contact state (both wheels on their rails, or `lift`'s wheel free).
+/// The equations at one contact state (both wheels on their rails, or `lifts`' wheels free).
 #[allow(clippy::too_many_arguments)]
 fn solve(
     inertia: &WheelsetInertia,
@@ -665,13 +693,10 @@ fn solve(
     forces: &ContactForceSettings,
     lambda_guess: [f64; 2],
     secant: &mut Matrix2<f64>,
-    lift: Option<&Lift>,
+    lifts: &Lifts,
     track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
-    let kin = match lift {
-        Some(l) => l.apply(kin2),
-        None => *kin2,
-    };
+    let kin = apply_lifts(lifts, kin2);
     let m = inertia.mass_kg;
     let geo = Geometry::new(state, &kin)?;
     let (centre, axle, arm) = (geo.centre, geo.axle, geo.arm);
@@ -691,7 +716,7 @@ fn solve(
     let w_wheel = [w_axle + axle * omega_wheel[0], w_axle + axle * omega_wheel[1]];
     // Ground velocity of the centre: frame speed + relative (Coriolis of r dropped, see doc).
     let v_c = Vector3::new(frame.speed, 0.0, 0.0) + r_dot + w_t.cross(&centre);
-    let on_rail = |i: usize| lift.is_none_or(|l| l.side != i);
+    let on_rail = |i: usize| lifts[i].is_none();
     let mut creepage = [Creepage::default(); 2];
     for i in 0..2 {
         let v_w = v_c + w_wheel[i].cross(&arm[i]);
@@ -741,14 +766,8 @@ fn solve(
             )?,
         );
     }
-    let lu = matrix(inertia, &geo, &kin, lift, track).lu();
-    let lift_gap = {
-        let mut g = [0.0; 2];
-        if let Some(l) = lift {
-            g[l.side] = l.gap();
-        }
-        g
-    };
+    let lu = matrix(inertia, &geo, &kin, lifts, track).lu();
+    let lift_gap = lifts.map(|l| l.map_or(0.0, |l| l.gap()));
     // One pass: the creep forces at the normal forces `lambda`, then the accelerations and the
     // normal forces they give, Φ(λ).
     let pass = |lambda: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
@@ -803,7 +822,7 @@ fn solve(
         }
         let mut normal = [sol[6], sol[7]];
         let mut lift_accel = [0.0; 2];
-        if let Some(l) = lift {
+        for l in lifts.iter().flatten() {
             lift_accel[l.side] = sol[6 + l.side];
             normal[l.side] = 0.0;
         }
@@ -829,7 +848,7 @@ fn solve(
     // the secant updates making it superlinear where the plain iteration converges linearly (its
     // factor reaches ~0.3 in flange contact). A lifted wheel's λ stays 0.
     let pin = |mut l: [f64; 2]| {
-        if let Some(lf) = lift {
+        for lf in lifts.iter().flatten() {
             l[lf.side] = 0.0;
         }
         l
@@ -904,22 +923,28 @@ fn solve(
 /// Δż − Z_y Δẏ = −k σ θ̇,   Δφ̇ − Φ_y Δẏ = −σ θ̇     (θ̇ → 0)
 /// ```
 ///
-/// `kin` is the two-point configuration at the state's y. On return the state has θ = θ̇ = 0 and
+/// `kin` is the two-point configuration at the state's y, `side` the wheel that lands (0 left,
+/// 1 right). Should the other wheel be off its rail too (a flight), it stays free: no impulse on
+/// it, its θ̇ changed by the impact. On return the state has the landed wheel's θ = θ̇ = 0 and
 /// the velocities after the impact.
 pub fn land(
     inertia: &WheelsetInertia,
     state: &mut WheelsetState,
     kin: &WheelsetKinematics,
     track: Option<&LateralFlexibility>,
+    side: usize,
 ) -> Result<Option<Landing>, WheelsetError> {
     if kin.elastic.is_some() {
         return Ok(None);
     }
-    let Some(l) = Lift::of(state, kin)? else {
+    let lifts = Lift::of(state, kin)?;
+    let Some(l) = lifts[side] else {
         return Ok(None);
     };
-    let geo = Geometry::new(state, &l.apply(kin))?;
-    let a = matrix(inertia, &geo, kin, None, track);
+    let mut flying = ON_RAILS;
+    flying[1 - side] = lifts[1 - side];
+    let geo = Geometry::new(state, &apply_lifts(&lifts, kin))?;
+    let a = matrix(inertia, &geo, kin, &flying, track);
     let mut b = SVector::<f64, 10>::zeros();
     b[6] = -l.k * l.sigma * l.theta_dot;
     b[7] = -l.sigma * l.theta_dot;
@@ -934,11 +959,18 @@ pub fn land(
     }
     state.lift[l.side] = 0.0;
     state.lift_rate[l.side] = 0.0;
+    let other = 1 - l.side;
+    let pivot_impulse = if flying[other].is_some() {
+        state.lift_rate[other] += sol[6 + other];
+        0.0
+    } else {
+        sol[6 + other]
+    };
     Ok(Some(Landing {
         side: l.side,
         speed: -l.gain * l.theta_dot,
         impulse: sol[6 + l.side],
-        pivot_impulse: sol[7 - l.side],
+        pivot_impulse,
     }))
 }
 
