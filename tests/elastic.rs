@@ -224,19 +224,23 @@ fn bad_elastic_settings_are_clear_errors() {
     }
 }
 
-/// The critical speed (issue 14 item 3): the single wheelset on its speed ramp (S1002/60E1 1:40,
-/// whose contact jumps between two tread points near the centre). The elastic model shares the
-/// load between the two points over the Hertz approach, and so does KEC with two-point transitions
-/// as wide as that sharing (≥ 0.5 mm at the centre jump, where the slopes differ little): the two
-/// agree within 3 %, and KEC's onset is the same for every approach δ from 0.03 to 0.5 mm and every
-/// width limit from 0.5 to 2 mm — so KEC's default (δ 0.05 mm, limit 2 mm) does the same. With a
-/// 0.05 mm limit (the default before) KEC keeps the rigid jump's onset, some 24 % lower (the
-/// README: limits 0.1–0.35 mm give 29–50 m/s).
+/// The critical speed (issue 14 item 3), as it is usually measured for a nonlinear wheelset: the
+/// hunting limit cycle slowed down until it dies out (`wheelset_critical_speed_down.toml`, from
+/// 42 m/s at −0.5 m/s², S1002/60E1 1:40, whose contact jumps between two tread points a few tenths
+/// of a millimetre off the centre). The elastic model shares the load between the two points over
+/// the Hertz approach; KEC's two-point transitions stand for that sharing with one resultant. Once
+/// they span the sharing (the default: δ 0.05 mm, limit 2 mm) the speed no longer depends on
+/// their width: δ from 0.03 to 0.5 mm and limits from 0.5 to 2 mm give the same speed, some 13 %
+/// below elastic's; the 0.05 mm limit of before, some 23 % below. (The accelerating ramp's onset
+/// is no measure here: the centred wheelset's motion decays to round-off before the onset and
+/// what the ramp then sees grows from rounding errors.)
 #[test]
 fn critical_speed_elastic_against_kec_transitions() {
-    let sc = scene("wheelset_critical_speed.toml");
-    let onset = |contact: &str, kec: Option<(f64, f64)>| {
+    let sc = scene("wheelset_critical_speed_down.toml");
+    let extinction = |contact: &str, kec: Option<(f64, f64)>| {
         let out = run_any(&sc, contact, |s| {
+            s.speed_m_s = 42.0;
+            s.duration_s = 36.0;
             if let Some((approach, width)) = kec {
                 s.contact = Some(ContactModelSpec::Kec(kecsim::contact::models::kec::KecSettings {
                     two_point_approach_m: approach,
@@ -246,24 +250,32 @@ fn critical_speed_elastic_against_kec_transitions() {
         });
         out.summary
             .critical_speed_m_s
-            .expect("hunting onset found on the ramp")
+            .expect("the hunting cycle dies out on the ramp")
     };
-    let elastic = onset("elastic", None);
-    let wide: Vec<f64> = [(5.7e-5, 1e-3), (3e-5, 2e-3), (5e-4, 5e-4)]
-        .iter()
-        .map(|&k| onset("kec", Some(k)))
-        .collect();
-    let narrow = onset("kec", Some((5.7e-5, 5e-5)));
+    let elastic = extinction("elastic", None);
     let d = kecsim::contact::models::kec::KecSettings::default();
-    let default = onset("kec", Some((d.two_point_approach_m, d.two_point_max_width_m)));
-    println!("critical speed: elastic {elastic:.2} m/s; KEC default {default:.2} m/s; KEC wide transitions {wide:.2?} m/s; KEC 0.05 mm limit {narrow:.2} m/s");
-    for v in wide.iter().chain([&default]) {
-        assert!((v / elastic - 1.0).abs() < 0.03, "KEC {v} vs elastic {elastic}");
+    let default = extinction("kec", Some((d.two_point_approach_m, d.two_point_max_width_m)));
+    let wide: Vec<f64> = [(3e-5, 2e-3), (5e-4, 5e-4)]
+        .iter()
+        .map(|&k| extinction("kec", Some(k)))
+        .collect();
+    let narrow = extinction("kec", Some((5e-5, 5e-5)));
+    println!(
+        "nonlinear critical speed: elastic {elastic:.2} m/s; KEC default {default:.2} m/s, other wide transitions {wide:.2?} m/s; KEC 0.05 mm limit {narrow:.2} m/s"
+    );
+    for v in &wide {
+        assert!((v / default - 1.0).abs() < 0.01, "{v} vs {default}");
     }
-    assert!(narrow < 0.85 * elastic, "{narrow} vs {elastic}");
+    assert!(
+        (default / elastic - 1.0).abs() < 0.15,
+        "KEC {default} vs elastic {elastic}"
+    );
+    assert!(
+        elastic - narrow > 1.5 * (elastic - default),
+        "{narrow} {default} {elastic}"
+    );
 }
 
-/// A run that may end on its stop condition (the ramp's |y| limit).
 fn run_any(sc: &Scene, contact: &str, edit: impl Fn(&mut SimulationSpec)) -> RunOutput {
     let mut sc = sc.clone();
     edit(&mut sc.simulation.as_mut().unwrap().0);

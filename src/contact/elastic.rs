@@ -624,6 +624,46 @@ mod tests {
         assert!((r.rate - 0.01 * r.point.normal.1).abs() < 1e-9, "{}", r.rate);
     }
 
+    /// The constraint models' range (the tables', the KEC profiles') ends where the elastic model
+    /// sees a flange climb: the contact geometry's scan up the flange and the wheel profile's own
+    /// slope (independent: one solves the rigid contact, the other reads the wheel's tangent) put
+    /// the end of S1002's steepest flank towards the tip at the same wheel point, at the same
+    /// angle (in the wheel's frame: the contact angle less the roll). On these pairs the rigid
+    /// contact jumps onto the flank close to that end.
+    #[test]
+    fn the_contact_range_ends_at_the_end_of_the_flanges_steepest_flank() {
+        for (rail, inclination) in [
+            (StandardProfile::Rail60E1, "1:40"),
+            (StandardProfile::Rail54E1, "1:20"),
+        ] {
+            let e = search(rail, inclination);
+            let off = RailOffsets::default();
+            let (sw_limit, angle) = e.flange_limit(Side::Left);
+            let limit = crate::contact::lookup::flange_contact_limit(&e.geometry, &off, true).unwrap();
+            let end = e.geometry.solve(limit, &off).unwrap();
+            let wheel_angle = end.left.contact_angle - end.phi;
+            println!(
+                "{rail:?} {inclination}: range to y = {:.3} mm, contact at s^w = {:.3} mm ({:.2}° on the wheel); elastic limit s^w = {:.3} mm (largest angle {:.2}°)",
+                limit * 1e3,
+                end.left.s_wheel * 1e3,
+                wheel_angle.to_degrees(),
+                sw_limit * 1e3,
+                angle.to_degrees(),
+            );
+            assert!(
+                (end.left.s_wheel - sw_limit).abs() < 5e-5,
+                "{} vs {sw_limit}",
+                end.left.s_wheel
+            );
+            let tolerance = crate::contact::lookup::FLANGE_FLANK_TOLERANCE_RAD;
+            assert!(
+                (wheel_angle - (angle - tolerance)).abs() < 0.2f64.to_radians(),
+                "{}",
+                wheel_angle.to_degrees()
+            );
+        }
+    }
+
     /// The flange's largest contact angle from the wheel profile's steepest point agrees with the
     /// contact geometry's flange scan (the largest contact angle the online solution reaches,
     /// `lookup::flange_angle`); a wheelset pushed past the online flange-contact limit has its

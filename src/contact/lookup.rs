@@ -276,9 +276,9 @@ fn side_angle(
 /// The y up to which the wheelset can go towards the left before that wheel climbs its flange:
 /// the contact runs up the flange's steepest flank and leaves it towards the tip, where the
 /// contact angle has fallen [`FLANGE_FLANK_TOLERANCE_RAD`] below its largest value (S1002's flank
-/// is straight, 70°, for about 1.4 mm: the wheelset rises along it by tan 70° per mm of y before
-/// the contact reaches the flange's rounded tip — the same limit as the elastic model's). Found by
-/// a 0.1 mm scan from y = 0, refined by bisection. By symmetry of use, the table spans ±this on a
+/// is straight, 70°, for about 1.4 mm of the wheel; on S1002/60E1 and 54E1 the rigid contact
+/// jumps onto it close to that end — the same limit as the elastic model's). Found by a 0.1 mm
+/// scan from y = 0, refined by bisection. By symmetry of use, the table spans ±this on a
 /// symmetric pair; for an asymmetric pair both sides are scanned.
 pub fn flange_contact_limit(
     geom: &ContactGeometry,

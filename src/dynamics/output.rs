@@ -117,9 +117,14 @@ pub struct RunSummary {
     pub error: Option<String>,
     /// A stop condition that ended the run normally (`stop_lateral_m`).
     pub stopped: Option<String>,
-    /// With a speed ramp: the speed at which the lateral oscillation stopped decaying and started
-    /// to grow (hunting onset), m/s — see [`super::run::hunting_onset`].
+    /// With an accelerating speed ramp: the speed at which the lateral oscillation stopped
+    /// decaying and started to grow (hunting onset), m/s — see [`super::run::hunting_onset`];
+    /// with a decelerating one, the speed at which the hunting cycle died out (the nonlinear
+    /// critical speed, [`super::run::hunting_extinction`]).
     pub critical_speed_m_s: Option<f64>,
+    /// `critical_speed_m_s` is the decelerating ramp's (not in the JSON: the scene says so).
+    #[serde(skip)]
+    pub critical_speed_decelerating: bool,
     /// `completed`, `stopped` (a stop condition) or `failed` (`error` says why).
     pub outcome: &'static str,
     /// Output samples per wheelset.
@@ -183,12 +188,18 @@ impl fmt::Display for RunSummary {
                 self.max_landing_impulse_n_s
             )?;
         }
-        if let Some(v) = self.critical_speed_m_s {
-            writeln!(
+        match (self.critical_speed_m_s, self.critical_speed_decelerating) {
+            (Some(v), false) => writeln!(
                 f,
                 "hunting onset on the speed ramp (critical speed): {v:.2} m/s ({:.0} km/h)",
                 v * 3.6
-            )?;
+            )?,
+            (Some(v), true) => writeln!(
+                f,
+                "hunting dies out on the decelerating ramp (nonlinear critical speed): {v:.2} m/s ({:.0} km/h)",
+                v * 3.6
+            )?,
+            (None, _) => {}
         }
         if let Some(safety) = &self.safety {
             write!(f, "{safety}")?;

@@ -168,6 +168,33 @@ pub struct RunLabels {
     pub safety: Option<super::safety::SafetyBasis>,
 }
 
+/// The amplitude below which a hunting cycle has died out on a decelerating ramp, m: 0.1 mm (the
+/// cycles seen on S1002/60E1 collapse from some 0.4 mm to hundredths within 1 m/s).
+pub const HUNTING_EXTINCT_M: f64 = 1e-4;
+
+/// The nonlinear critical speed on a decelerating ramp (the usual method: start above it on the
+/// hunting limit cycle and slow down until the cycle dies): the speed at the first peak of |y|
+/// between successive zero crossings below `extinct` (m), after the cycle's peaks were above
+/// 5 × `extinct`. `None` if the cycle never reached that size or never died out.
+pub fn hunting_extinction(samples: &[Sample], extinct: f64) -> Option<f64> {
+    let mut hunted = false;
+    let mut cur = (0.0_f64, 0.0_f64);
+    for w in samples.windows(2) {
+        if w[1].y.abs() > cur.0 {
+            cur = (w[1].y.abs(), w[1].speed);
+        }
+        if w[0].y.signum() != w[1].y.signum() && w[1].y != 0.0 {
+            if cur.0 > 5.0 * extinct {
+                hunted = true;
+            } else if hunted && cur.0 > 0.0 && cur.0 < extinct {
+                return Some(cur.1);
+            }
+            cur = (0.0, 0.0);
+        }
+    }
+    None
+}
+
 /// Hunting onset on a speed ramp: the peaks of |y| between successive zero crossings form the
 /// envelope; where it is smallest the oscillation turned from decaying to growing, i.e. the
 /// damping of the hunting mode crossed zero. Returns the speed there, if the envelope afterwards
@@ -322,8 +349,14 @@ pub fn run(
     };
     let landings = std::mem::take(&mut sys.data.landings);
     let mut summary = summarise(settings, labels, &wheelsets, wall_s, &stats, &end, &landings);
-    if vehicle.reference().speed.ramp_m_s2 != 0.0 {
+    let ramp = vehicle.reference().speed.ramp_m_s2;
+    if ramp > 0.0 {
         summary.critical_speed_m_s = wheelsets.first().and_then(|w| hunting_onset(&w.1, 2.0));
+    } else if ramp < 0.0 {
+        summary.critical_speed_m_s = wheelsets
+            .first()
+            .and_then(|w| hunting_extinction(&w.1, HUNTING_EXTINCT_M));
+        summary.critical_speed_decelerating = true;
     }
     if let (Some(basis), true) = (labels.safety, wheelsets.iter().any(|w| !w.1.is_empty())) {
         // Static wheel loads: half the settled axle load; without a settling (a single wheelset
@@ -424,6 +457,7 @@ fn summarise(
         error,
         stopped,
         critical_speed_m_s: None,
+        critical_speed_decelerating: false,
         outcome,
         samples: wheelsets.first().map_or(0, |w| w.1.len()),
         max_lift_mm: fold(&|s| s.lift[0].max(s.lift[1]) * 1e3),
