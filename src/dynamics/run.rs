@@ -482,3 +482,62 @@ fn summarise(
         warnings: Vec::new(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sample of lateral displacement `y` at speed `speed`.
+    fn sample(t: f64, speed: f64, y: f64) -> Sample {
+        Sample {
+            t,
+            s: 0.0,
+            speed,
+            y,
+            yaw: 0.0,
+            z: 0.0,
+            roll: 0.0,
+            normal: [0.0; 2],
+            creep_x: [0.0; 2],
+            creep_y: [0.0; 2],
+            y_force: [0.0; 2],
+            q_force: [0.0; 2],
+            s_wheel: [0.0; 2],
+            s_rail: [0.0; 2],
+            position: [(0.0, 0.0); 2],
+            s_knife: None,
+            rails: [0.0; 4],
+            lift: [0.0; 2],
+            track_shift: 0.0,
+        }
+    }
+
+    /// A 2 Hz cycle on a decelerating ramp (50 m/s at −0.5 m/s²) whose amplitude is 2 mm until
+    /// 35 m/s and collapses there by a factor 10 per second: the extinction is reported at the
+    /// first peak below 0.1 mm, i.e. where 2 mm · 10^−(35 − v)/0.5 = 0.1 mm, 34.35 m/s within half a
+    /// cycle (0.125 m/s); a cycle that never dies out, or never was one, gives none.
+    #[test]
+    fn the_hunting_cycle_dies_out_where_its_peaks_fall_below_the_threshold() {
+        let cycle = |amplitude: &dyn Fn(f64) -> f64| -> Vec<Sample> {
+            (0..8000)
+                .map(|k| {
+                    let t = k as f64 * 0.005;
+                    let v = 50.0 - 0.5 * t;
+                    sample(t, v, amplitude(v) * (2.0 * std::f64::consts::PI * 2.0 * t).sin())
+                })
+                .collect()
+        };
+        let dying = cycle(&|v: f64| {
+            if v > 35.0 {
+                2e-3
+            } else {
+                2e-3 * 10f64.powf(-(35.0 - v) / 0.5)
+            }
+        });
+        let expected = 35.0 - 0.5 * (2e-3 / HUNTING_EXTINCT_M).log10();
+        let v = hunting_extinction(&dying, HUNTING_EXTINCT_M).expect("the cycle dies out");
+        assert!(v <= expected && v > expected - 0.125, "{v} vs {expected}");
+        assert_eq!(hunting_extinction(&cycle(&|_| 2e-3), HUNTING_EXTINCT_M), None);
+        assert_eq!(hunting_extinction(&cycle(&|_| 3e-5), HUNTING_EXTINCT_M), None);
+    }
+}
