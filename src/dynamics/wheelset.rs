@@ -941,6 +941,12 @@ pub fn land(
     let Some(l) = lifts[side] else {
         return Ok(None);
     };
+    if l.theta_dot >= 0.0 {
+        // Not closing (θ a little below zero from the event's location, or the other wheel's
+        // impact sent this one up): back to the rail's surface, no impact.
+        state.lift[side] = 0.0;
+        return Ok(None);
+    }
     let mut flying = ON_RAILS;
     flying[1 - side] = lifts[1 - side];
     let geo = Geometry::new(state, &apply_lifts(&lifts, kin))?;
