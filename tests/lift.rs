@@ -185,17 +185,11 @@ fn lift_off_is_continuous_at_zero_normal_force() {
     assert!(flight.accel[3].abs() < 1e-9, "{}", flight.accel[3]);
 }
 
-/// A wheel thrown up without friction flies a parabola in θ: θ̈ = −(W + m g) k / (I_x + m k²)
-/// (the only generalised force of the lift is the weight's, through z = k θ); it lands after
-/// 2 θ̇₀ / |θ̈| at the closing speed G θ̇₀, where the integrator's event stops the step and the
-/// plastic impact puts the wheel back on its rail.
-#[test]
-fn a_thrown_wheel_lands_after_its_ballistic_flight() {
+/// The KEC wheelset on its frame for the ballistic flights: centred at 10 m/s, no friction (the
+/// lift's only generalised force is the weight's), axle load `axle_load` (N).
+fn thrown_wheelset(axle_load: f64) -> SingleWheelset {
     let pair = pair();
-    let contact = kec(&pair);
-    let r0 = pair.wheelset.nominal_radius_m;
-    let axle_load = 100e3;
-    let model = SingleWheelset {
+    SingleWheelset {
         name: "w".into(),
         inertia: INERTIA,
         tie: Tie {
@@ -206,9 +200,9 @@ fn a_thrown_wheel_lands_after_its_ballistic_flight() {
             half_spacing_m: 1.0,
         },
         axle_load_n: axle_load,
-        contact: contact.clone(),
+        contact: kec(&pair),
         forces: forces(0.0),
-        r0,
+        r0: pair.wheelset.nominal_radius_m,
         reference: Reference {
             track: None,
             s0: 0.0,
@@ -217,7 +211,18 @@ fn a_thrown_wheel_lands_after_its_ballistic_flight() {
                 ramp_m_s2: 0.0,
             },
         },
-    };
+    }
+}
+
+/// A wheel thrown up without friction flies a parabola in θ: θ̈ = −(W + m g) k / (I_x + m k²)
+/// (the only generalised force of the lift is the weight's, through z = k θ); it lands after
+/// 2 θ̇₀ / |θ̈| at the closing speed G θ̇₀, where the integrator's event stops the step and the
+/// plastic impact puts the wheel back on its rail.
+#[test]
+fn a_thrown_wheel_lands_after_its_ballistic_flight() {
+    let axle_load = 100e3;
+    let model = thrown_wheelset(axle_load);
+    let contact = &model.contact;
     let kin = contact
         .kinematics(0.0, 0.0, &RailMotion::default(), &mut WarmStart::default())
         .unwrap();
@@ -279,33 +284,9 @@ fn a_thrown_wheel_lands_after_its_ballistic_flight() {
 /// impulses take the vertical momentum m ż₀ (conservation; the landing leaves ż = 0).
 #[test]
 fn a_thrown_wheelset_flies_off_both_rails_and_lands() {
-    let pair = pair();
-    let contact = kec(&pair);
-    let r0 = pair.wheelset.nominal_radius_m;
     let axle_load = 100e3;
-    let model = SingleWheelset {
-        name: "w".into(),
-        inertia: INERTIA,
-        tie: Tie {
-            longitudinal_stiffness_n_per_m: 2e5,
-            lateral_stiffness_n_per_m: 3e5,
-            longitudinal_damping_n_s_per_m: 0.0,
-            lateral_damping_n_s_per_m: 0.0,
-            half_spacing_m: 1.0,
-        },
-        axle_load_n: axle_load,
-        contact: contact.clone(),
-        forces: forces(0.0),
-        r0,
-        reference: Reference {
-            track: None,
-            s0: 0.0,
-            speed: SpeedProfile {
-                initial_m_s: 10.0,
-                ramp_m_s2: 0.0,
-            },
-        },
-    };
+    let model = thrown_wheelset(axle_load);
+    let contact = &model.contact;
     let kin = contact
         .kinematics(0.0, 0.0, &RailMotion::default(), &mut WarmStart::default())
         .unwrap();

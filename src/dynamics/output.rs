@@ -368,3 +368,32 @@ impl RunObserver for CsvWriter {
         Ok(())
     }
 }
+
+#[cfg(test)]
+impl Sample {
+    /// A centred wheelset at time `t`, arc length `s` and speed `speed`, every other field zero
+    /// (for tests that build their own samples).
+    pub(crate) fn at(t: f64, s: f64, speed: f64) -> Sample {
+        Sample {
+            t,
+            s,
+            speed,
+            y: 0.0,
+            yaw: 0.0,
+            z: 0.0,
+            roll: 0.0,
+            normal: [0.0; 2],
+            creep_x: [0.0; 2],
+            creep_y: [0.0; 2],
+            y_force: [0.0; 2],
+            q_force: [0.0; 2],
+            s_wheel: [0.0; 2],
+            s_rail: [0.0; 2],
+            position: [(0.0, 0.0); 2],
+            s_knife: None,
+            rails: [0.0; 4],
+            lift: [0.0; 2],
+            track_shift: 0.0,
+        }
+    }
+}

@@ -184,30 +184,20 @@ pub const HUNTING_EXTINCT_M: f64 = 1e-4;
 pub fn hunting_extinction(samples: &[Sample], extinct: f64) -> Option<f64> {
     let mut hunted = false;
     let mut previous = 0.0_f64;
-    let mut cur = (0.0_f64, 0.0_f64);
-    for w in samples.windows(2) {
-        if w[1].y.abs() > cur.0 {
-            cur = (w[1].y.abs(), w[1].speed);
+    for (peak, speed) in half_cycle_peaks(samples) {
+        if peak > 3.0 * extinct && previous > 3.0 * extinct && peak >= 0.9 * previous {
+            hunted = true;
+        } else if hunted && peak < extinct {
+            return Some(speed);
         }
-        if w[0].y.signum() != w[1].y.signum() && w[1].y != 0.0 {
-            if cur.0 > 3.0 * extinct && previous > 3.0 * extinct && cur.0 >= 0.9 * previous {
-                hunted = true;
-            } else if hunted && cur.0 > 0.0 && cur.0 < extinct {
-                return Some(cur.1);
-            }
-            previous = cur.0;
-            cur = (0.0, 0.0);
-        }
+        previous = peak;
     }
     None
 }
 
-/// Hunting onset on a speed ramp: the peaks of |y| between successive zero crossings form the
-/// envelope; where it is smallest the oscillation turned from decaying to growing, i.e. the
-/// damping of the hunting mode crossed zero. Returns the speed there, if the envelope afterwards
-/// grew to at least `growth` times its minimum (else the ramp never reached the critical speed).
-pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
-    let mut peaks: Vec<(f64, f64)> = Vec::new(); // (|y| peak, speed there)
+/// The peaks of |y| between successive zero crossings of y, with the speed at each: (|y|, m/s).
+fn half_cycle_peaks(samples: &[Sample]) -> Vec<(f64, f64)> {
+    let mut peaks = Vec::new();
     let mut cur = (0.0_f64, 0.0_f64);
     for w in samples.windows(2) {
         if w[1].y.abs() > cur.0 {
@@ -220,6 +210,15 @@ pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
             cur = (0.0, 0.0);
         }
     }
+    peaks
+}
+
+/// Hunting onset on a speed ramp: the peaks of |y| between successive zero crossings form the
+/// envelope; where it is smallest the oscillation turned from decaying to growing, i.e. the
+/// damping of the hunting mode crossed zero. Returns the speed there, if the envelope afterwards
+/// grew to at least `growth` times its minimum (else the ramp never reached the critical speed).
+pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
+    let peaks = half_cycle_peaks(samples);
     if peaks.len() < 4 {
         return None;
     }
@@ -497,25 +496,8 @@ mod tests {
     /// A sample of lateral displacement `y` at speed `speed`.
     fn sample(t: f64, speed: f64, y: f64) -> Sample {
         Sample {
-            t,
-            s: 0.0,
-            speed,
             y,
-            yaw: 0.0,
-            z: 0.0,
-            roll: 0.0,
-            normal: [0.0; 2],
-            creep_x: [0.0; 2],
-            creep_y: [0.0; 2],
-            y_force: [0.0; 2],
-            q_force: [0.0; 2],
-            s_wheel: [0.0; 2],
-            s_rail: [0.0; 2],
-            position: [(0.0, 0.0); 2],
-            s_knife: None,
-            rails: [0.0; 4],
-            lift: [0.0; 2],
-            track_shift: 0.0,
+            ..Sample::at(t, 0.0, speed)
         }
     }
 

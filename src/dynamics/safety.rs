@@ -243,25 +243,10 @@ mod tests {
 
     fn sample(s: f64, y: [f64; 2], q: [f64; 2]) -> Sample {
         Sample {
-            t: s / 19.0,
-            s,
-            speed: 19.0,
-            y: 0.0,
-            yaw: 0.0,
-            z: 0.0,
-            roll: 0.0,
             normal: q,
-            creep_x: [0.0; 2],
-            creep_y: [0.0; 2],
             y_force: y,
             q_force: q,
-            s_wheel: [0.0; 2],
-            s_rail: [0.0; 2],
-            position: [(0.0, 0.0); 2],
-            s_knife: None,
-            rails: [0.0; 4],
-            lift: [0.0; 2],
-            track_shift: 0.0,
+            ..Sample::at(s / 19.0, s, 19.0)
         }
     }
 

@@ -622,13 +622,8 @@ pub fn evaluate(
     // With `lifts` free (at least one): a wheel still on its rail whose normal force falls ≤ 0
     // is released too (from rest: its θ̈ must be ≥ 0, else the creep forces hold it down).
     let lifted = |lifts: Lifts, guess: [f64; 2]| -> Result<WheelsetDynamics, WheelsetError> {
-        let pin = |mut g: [f64; 2]| {
-            for l in lifts.iter().flatten() {
-                g[l.side] = 0.0;
-            }
-            g
-        };
-        let r = solve_at(pin(guess), &mut -Matrix2::identity(), &lifts)?;
+        // (`solve` pins the lifted wheels' λ at 0.)
+        let r = solve_at(guess, &mut -Matrix2::identity(), &lifts)?;
         let Some(p) = (0..2).find(|&i| lifts[i].is_none() && r.normal[i] <= 0.0) else {
             return Ok(r);
         };
