@@ -4,10 +4,12 @@
 //! with the bodies held), which is what the BDF's Newton matrix keeps.
 //!
 //! ```text
-//! cargo run --release --example linear_modes -- assets/scenes/ms_vehicle_tab6.toml 14.0 [MODES]
+//! cargo run --release --example linear_modes -- assets/scenes/ms_vehicle_tab6.toml 14.0 [MODES [CONTACT]]
 //! ```
 //!
-//! The scene is integrated to t with its own integrator (no recording); the Jacobian is
+//! The scene is integrated to t with its own integrator and contact model (no recording); the
+//! Jacobian is that of the same vehicle with CONTACT (`kec`, `lookup`, `lookup2`, `online`;
+//! default: the scene's) at that state — the modes of two contact models side by side. It is
 //! differenced centrally (relative step 1e-7, at least 1e-9 absolute); the lift states of wheels on
 //! their rails are left out (a perturbation there releases the wheel: a switch, not a
 //! derivative). Each eigenvalue λ = −ζω₀ ± iω₀√(1−ζ²) is printed as its frequency Im λ/2π and
@@ -50,6 +52,7 @@ fn main() -> Result<()> {
         Some(m) => m.parse().with_context(|| format!("MODES: not a count: {m}"))?,
         None => 12,
     };
+    let contact = rest.get(1).cloned();
     let path = std::path::Path::new(scene);
     let base = path.parent().unwrap_or(std::path::Path::new("."));
     let scene = Scenario::read(path)?.compile(scene, base)?;
@@ -74,10 +77,19 @@ fn main() -> Result<()> {
         },
     )
     .map_err(|e| anyhow!("the run to t = {t_at} s failed: {e}"))?;
+    let other = match &contact {
+        Some(name) => Some(scene.build_run(&RunOptions {
+            contact: Some(name.clone()),
+            ..RunOptions::default()
+        })?),
+        None => None,
+    };
+    let mut sys = Evaluator::new(other.as_ref().map_or(vehicle, |r| r.vehicle.as_ref()));
     let jac = jacobian(&mut sys, t_at, &x)?;
     println!(
-        "{} states at t = {t_at} s; least-damped oscillatory modes of the whole system:",
-        x.len()
+        "{} states at t = {t_at} s, linearised with the {} contact model; least-damped oscillatory modes of the whole system:",
+        x.len(),
+        contact.as_deref().unwrap_or("scene's")
     );
     print_modes(&jac, &names, modes, 0.0);
     for (name, (o, m)) in vehicle.wheelset_names().iter().zip(vehicle.wheelset_slots()) {

@@ -89,7 +89,7 @@ pub struct Configuration {
 }
 
 /// z, φ and their motion for one evaluation.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct WheelsetKinematics {
     /// Centre height z and roll φ.
     pub z: f64,
@@ -109,7 +109,9 @@ pub struct WheelsetKinematics {
     pub s_knife: Option<[f64; 2]>,
     /// The elastic model only: the pose is the wheelset's own (z, φ free, Z_y = Φ_y = c = 0) and
     /// these are its contacts; `contacts` then holds each wheel's closest point.
-    pub elastic: Option<ElasticContacts>,
+    /// (Boxed: they are four times the rest, and the constraint models' kinematics are moved
+    /// several times per evaluation.)
+    pub elastic: Option<Box<ElasticContacts>>,
 }
 
 /// The contact model of a wheelset (shared by all wheelsets with the same profiles; each

@@ -50,7 +50,7 @@ pub fn contact_kinematics(
                 z_dot: pose.z_dot,
                 phi_dot: pose.phi_dot,
                 contacts: contacts.closest,
-                elastic: Some(contacts),
+                elastic: Some(Box::new(contacts)),
                 ..WheelsetKinematics::default()
             })
         }

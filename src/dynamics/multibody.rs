@@ -301,6 +301,7 @@ impl Multibody {
             .kinematics(y0, 0.0, &RailMotion::default(), &mut warm)
             .ok();
         let r_mean = rigid
+            .as_ref()
             .map(|k| 0.5 * (k.contacts[0].rolling_radius + k.contacts[1].rolling_radius))
             .unwrap_or(self.r0);
         let mut sink = 0.0;
@@ -318,7 +319,7 @@ impl Multibody {
             let free = initial_free_pose(self.contact.as_ref(), y0, &rails, [q, q], &self.forces)
                 .ok()
                 .flatten();
-            if let (Some((z, _)), Some(k)) = (free, rigid) {
+            if let (Some((z, _)), Some(k)) = (free, &rigid) {
                 sink += (k.z - z) / self.wheelsets.len() as f64;
             }
             WheelsetState {
@@ -560,7 +561,7 @@ impl Multibody {
             })
             .collect();
         let mut ws_samples = Vec::with_capacity(nw);
-        for (j, dynamics) in dynamics.into_iter().enumerate() {
+        for (j, (dynamics, (_, pose))) in dynamics.into_iter().zip(kins).enumerate() {
             let dynamics = dynamics?;
             if let Some(d) = dxdt.as_deref_mut() {
                 let o = self.wheelset_offset(j);
@@ -568,7 +569,7 @@ impl Multibody {
             }
             ws_samples.push(WheelsetSample {
                 state: ws_states[j],
-                kin: kins[j].1,
+                kin: pose,
                 dynamics,
                 speed: v,
                 s: ws_s[j],

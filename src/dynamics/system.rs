@@ -134,7 +134,7 @@ impl VehicleData {
 }
 
 /// Everything one evaluation knows of a wheelset, for output.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct WheelsetSample {
     pub state: WheelsetState,
     pub kin: WheelsetKinematics,

@@ -390,7 +390,7 @@ impl Lift {
     /// The pose kinematics with the lift: z, φ and their rates moved by θ, θ̇ (the products
     /// k̇ θ̇, k̈ θ of the small lift neglected, as the linearisation does).
     pub fn apply(&self, kin: &WheelsetKinematics) -> WheelsetKinematics {
-        let mut k = *kin;
+        let mut k = kin.clone();
         k.z += self.k * self.sigma * self.theta;
         k.phi += self.sigma * self.theta;
         k.z_dot += self.k * self.sigma * self.theta_dot;
@@ -407,7 +407,7 @@ const ON_RAILS: Lifts = [None, None];
 
 /// The pose kinematics with every lift of `lifts` applied (the small rotations add).
 fn apply_lifts(lifts: &Lifts, kin: &WheelsetKinematics) -> WheelsetKinematics {
-    lifts.iter().flatten().fold(*kin, |k, l| l.apply(&k))
+    lifts.iter().flatten().fold(kin.clone(), |k, l| l.apply(&k))
 }
 
 /// The kinematics of the wheelset's pose: the contact model's two-point configuration `kin`, moved
@@ -417,7 +417,7 @@ pub fn pose_kinematics(
     kin: &WheelsetKinematics,
 ) -> Result<WheelsetKinematics, WheelsetError> {
     if kin.elastic.is_some() {
-        return Ok(*kin);
+        return Ok(kin.clone());
     }
     Ok(apply_lifts(&Lift::of(state, kin)?, kin))
 }
