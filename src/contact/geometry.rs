@@ -268,10 +268,11 @@ fn bracketed_root<E>(
         let dx = d(x)?;
         if dx > 0.0 {
             (hi, d_hi) = (x, dx);
-        } else if dx < 0.0 {
-            (lo, d_lo) = (x, dx);
-        } else {
+        } else if dx == 0.0 {
             (lo, hi) = (x, x);
+        } else {
+            // (A NaN, as bisection took it: not above the root.)
+            (lo, d_lo) = (x, dx);
         }
         j += 1;
     }
@@ -856,7 +857,17 @@ mod tests {
         let cases: [(&str, fn(f64) -> f64, f64); 3] = [
             // x³ + x − 0.05 = 0 (root by Cardano below).
             ("cubic", |x| x * x * x + x - 0.05, f64::NAN),
-            ("kinked", |x| if x < 0.0123 { 1e-3 * (x - 0.0123) } else { x - 0.0123 }, 0.0123),
+            (
+                "kinked",
+                |x| {
+                    if x < 0.0123 {
+                        1e-3 * (x - 0.0123)
+                    } else {
+                        x - 0.0123
+                    }
+                },
+                0.0123,
+            ),
             ("step", |x| if x < -0.0371 { -1.0 - x } else { 1.0 + x }, -0.0371),
         ];
         for (name, f, root) in cases {
@@ -877,7 +888,11 @@ mod tests {
             let x = bracketed_root(d, (lo, f(lo)), (hi, f(hi)), tol).expect("no error");
             assert!((x - root).abs() <= tol, "{name}: {x} vs {root}");
             // ITP's minmax bound: bisection's count and one more.
-            assert!(count.get() <= bisection_count + 1, "{name}: {} evaluations", count.get());
+            assert!(
+                count.get() <= bisection_count + 1,
+                "{name}: {} evaluations",
+                count.get()
+            );
             if name == "cubic" {
                 assert!(
                     count.get() < bisection_count / 2,
