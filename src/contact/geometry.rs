@@ -854,7 +854,8 @@ mod tests {
     fn bracketed_root_finds_smooth_kinked_and_step_roots_within_tolerance() {
         let tol = 1e-7;
         let bisection_count = ((0.2f64 / tol).log2()).ceil() as usize;
-        let cases: [(&str, fn(f64) -> f64, f64); 3] = [
+        type Case = (&'static str, fn(f64) -> f64, f64);
+        let cases: [Case; 3] = [
             // x³ + x − 0.05 = 0 (root by Cardano below).
             ("cubic", |x| x * x * x + x - 0.05, f64::NAN),
             (
