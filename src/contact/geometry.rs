@@ -221,64 +221,6 @@ const ENVELOPE_STEP_M: f64 = 2e-5;
 /// Roll search range, rad.
 const ROLL_LIMIT_RAD: f64 = 0.1;
 
-/// The root of a non-decreasing `d` in the bracket (lo, d(lo) ≤ 0), (hi, d(hi) ≥ 0), to a bracket
-/// of width ≤ `tolerance`, returned as its midpoint — what bisection gives, in fewer evaluations:
-/// the ITP method (Oliveira & Takahashi 2021, *An enhancement of the bisection method average
-/// performance preserving minmax optimality*, ACM TOMS 47(1) 5), which never takes more than one
-/// evaluation beyond bisection's count (n₀ = 1) and converges superlinearly where `d` is smooth —
-/// on the smooth stretches the minimum-gap difference G_L − G_R is nearly linear in the roll, and
-/// a handful of evaluations replace bisection's ~21; at its kinks (a contact point jumping) it
-/// falls back towards bisection. Parameters κ₁ = 0.2/(hi − lo), κ₂ = 2 (the paper's).
-fn bracketed_root<E>(
-    d: impl Fn(f64) -> Result<f64, E>,
-    (mut lo, mut d_lo): (f64, f64),
-    (mut hi, mut d_hi): (f64, f64),
-    tolerance: f64,
-) -> Result<f64, E> {
-    let eps = 0.5 * tolerance;
-    let width = hi - lo;
-    if width <= tolerance {
-        return Ok(0.5 * (lo + hi));
-    }
-    let kappa1 = 0.2 / width;
-    let n_max = (width / tolerance).log2().ceil() as i32 + 1;
-    let mut j = 0;
-    while hi - lo > tolerance {
-        let half = 0.5 * (lo + hi);
-        let radius = eps * 2f64.powi(n_max - j) - 0.5 * (hi - lo);
-        let delta = kappa1 * (hi - lo).powi(2);
-        // Interpolation (regula falsi), truncated towards the midpoint, projected into the
-        // minmax disc around it.
-        let falsi = if d_hi > d_lo {
-            (hi * d_lo - lo * d_hi) / (d_lo - d_hi)
-        } else {
-            half
-        };
-        let sigma = (half - falsi).signum();
-        let truncated = if delta <= (half - falsi).abs() {
-            falsi + sigma * delta
-        } else {
-            half
-        };
-        let x = if (truncated - half).abs() <= radius {
-            truncated
-        } else {
-            half - sigma * radius
-        };
-        let dx = d(x)?;
-        if dx > 0.0 {
-            (hi, d_hi) = (x, dx);
-        } else if dx == 0.0 {
-            (lo, hi) = (x, x);
-        } else {
-            // (A NaN, as bisection took it: not above the root.)
-            (lo, d_lo) = (x, dx);
-        }
-        j += 1;
-    }
-    Ok(0.5 * (lo + hi))
-}
-
 impl ContactGeometry {
     /// Prepares the constraints of `pair`.
     pub fn new(pair: WheelRailPair, settings: ContactSettings) -> Self {
@@ -580,15 +522,22 @@ impl ContactGeometry {
         let g = |side: Side, phi: f64| self.min_gap(side, &envs[idx(side)], off, y, phi, refine);
         let d =
             |phi: f64| -> Result<f64, ContactError> { Ok(g(Side::Left, phi)?.0 - g(Side::Right, phi)?.0) };
-        let (lo, hi) = (-ROLL_LIMIT_RAD, ROLL_LIMIT_RAD);
-        let (d_lo, d_hi) = (d(lo)?, d(hi)?);
-        if d_lo > 0.0 || d_hi < 0.0 {
+        let (mut lo, mut hi) = (-ROLL_LIMIT_RAD, ROLL_LIMIT_RAD);
+        if d(lo)? > 0.0 || d(hi)? < 0.0 {
             return Err(ContactError::NoRollBracket {
                 y_mm: y * 1e3,
                 limit_rad: ROLL_LIMIT_RAD,
             });
         }
-        let phi = bracketed_root(d, (lo, d_lo), (hi, d_hi), phi_tolerance)?;
+        while hi - lo > phi_tolerance {
+            let m = 0.5 * (lo + hi);
+            if d(m)? > 0.0 {
+                hi = m
+            } else {
+                lo = m
+            }
+        }
+        let phi = 0.5 * (lo + hi);
         let (gl, lw, lr) = g(Side::Left, phi)?;
         let (_, rw, rr) = g(Side::Right, phi)?;
         Ok([-gl, phi, lw, lr, rw, rr])
@@ -845,64 +794,6 @@ impl ContactGeometry {
 mod tests {
     use super::*;
     use crate::profile::StandardProfile;
-
-    /// The roll search's root finder against closed-form roots: a smooth (cubic), a kinked
-    /// (piecewise linear with a slope change of 1000×) and a discontinuous (a step through zero:
-    /// the root is the step) non-decreasing function — each root within the tolerance, as
-    /// bisection guarantees, and on the smooth one in fewer than half bisection's evaluations.
-    #[test]
-    fn bracketed_root_finds_smooth_kinked_and_step_roots_within_tolerance() {
-        let tol = 1e-7;
-        let bisection_count = ((0.2f64 / tol).log2()).ceil() as usize;
-        type Case = (&'static str, fn(f64) -> f64, f64);
-        let cases: [Case; 3] = [
-            // x³ + x − 0.05 = 0 (root by Cardano below).
-            ("cubic", |x| x * x * x + x - 0.05, f64::NAN),
-            (
-                "kinked",
-                |x| {
-                    if x < 0.0123 {
-                        1e-3 * (x - 0.0123)
-                    } else {
-                        x - 0.0123
-                    }
-                },
-                0.0123,
-            ),
-            ("step", |x| if x < -0.0371 { -1.0 - x } else { 1.0 + x }, -0.0371),
-        ];
-        for (name, f, root) in cases {
-            let root = if name == "cubic" {
-                // Cardano: x³ + p x + q = 0 with one real root.
-                let (p, q) = (1.0f64, -0.05f64);
-                let r = (q * q / 4.0 + p * p * p / 27.0).sqrt();
-                (-q / 2.0 + r).cbrt() + (-q / 2.0 - r).cbrt()
-            } else {
-                root
-            };
-            let count = std::cell::Cell::new(0);
-            let d = |x: f64| -> Result<f64, ()> {
-                count.set(count.get() + 1);
-                Ok(f(x))
-            };
-            let (lo, hi) = (-0.1, 0.1);
-            let x = bracketed_root(d, (lo, f(lo)), (hi, f(hi)), tol).expect("no error");
-            assert!((x - root).abs() <= tol, "{name}: {x} vs {root}");
-            // ITP's minmax bound: bisection's count and one more.
-            assert!(
-                count.get() <= bisection_count + 1,
-                "{name}: {} evaluations",
-                count.get()
-            );
-            if name == "cubic" {
-                assert!(
-                    count.get() < bisection_count / 2,
-                    "{name}: {} evaluations against bisection's {bisection_count}",
-                    count.get()
-                );
-            }
-        }
-    }
 
     fn geometry(incl: &str) -> ContactGeometry {
         let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, incl).unwrap();
