@@ -13,7 +13,7 @@ use common::scene;
 use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};
 use kecsim::contact::geometry::ContactGeometry;
 use kecsim::contact::{ContactModel, ContactModelSpec, WarmStart, WheelsetKinematics};
-use kecsim::dynamics::integrator::{integrate, Flow, Method, Settings};
+use kecsim::dynamics::integrator::{integrate, Flow, Method, Settings, Stats};
 use kecsim::dynamics::reference::G;
 use kecsim::dynamics::single_wheelset::{SingleWheelset, Tie};
 use kecsim::dynamics::system::{Evaluator, InitialDisturbance, VehicleModel};
@@ -214,6 +214,35 @@ fn thrown_wheelset(axle_load: f64) -> SingleWheelset {
     }
 }
 
+/// Integrates a thrown wheelset from `x0` over `t_end` (DOPRI5 at rtol 1e-8, 400 outputs): the
+/// work done, the evaluator (its landings), the largest `measure` of the output states and the
+/// last state.
+fn fly<'a>(
+    model: &'a SingleWheelset,
+    x0: &[f64],
+    t_end: f64,
+    measure: impl Fn(&[f64]) -> f64,
+) -> (Stats, Evaluator<'a>, f64, Vec<f64>) {
+    let mut sys = Evaluator::new(model);
+    let mut peak: f64 = 0.0;
+    let mut last = x0.to_vec();
+    let stats = integrate(
+        &mut sys,
+        0.0,
+        x0,
+        t_end,
+        t_end / 400.0,
+        &Settings::new(Method::Dopri5, 1e-8, 1e-10),
+        &mut |_, x: &[f64]| {
+            peak = peak.max(measure(x));
+            last = x.to_vec();
+            Ok(Flow::Continue)
+        },
+    )
+    .unwrap();
+    (stats, sys, peak, last)
+}
+
 /// A wheel thrown up without friction flies a parabola in θ: θ̈ = −(W + m g) k / (I_x + m k²)
 /// (the only generalised force of the lift is the weight's, through z = k θ); it lands after
 /// 2 θ̇₀ / |θ̈| at the closing speed G θ̇₀, where the integrator's event stops the step and the
@@ -234,23 +263,7 @@ fn a_thrown_wheel_lands_after_its_ballistic_flight() {
     let mut x0 = model.initial_state(&InitialDisturbance::default());
     let l = WheelsetState::lift_index(false);
     x0[l + 2] = theta_dot0;
-    let mut sys = Evaluator::new(&model);
-    let mut peak: f64 = 0.0;
-    let mut last = x0.clone();
-    let stats = integrate(
-        &mut sys,
-        0.0,
-        &x0,
-        2.0 * flight,
-        flight / 200.0,
-        &Settings::new(Method::Dopri5, 1e-8, 1e-10),
-        &mut |_, x: &[f64]| {
-            peak = peak.max(x[l]);
-            last = x.to_vec();
-            Ok(Flow::Continue)
-        },
-    )
-    .unwrap();
+    let (stats, mut sys, peak, last) = fly(&model, &x0, 2.0 * flight, |x| x[l]);
     let landings = &sys.data.landings;
     assert_eq!(stats.events, 1);
     assert_eq!(landings.len(), 1, "{landings:?}");
@@ -305,23 +318,9 @@ fn a_thrown_wheelset_flies_off_both_rails_and_lands() {
     let l = WheelsetState::lift_index(false);
     x0[l + 2] = theta_dot0;
     x0[l + 3] = theta_dot0;
-    let mut sys = Evaluator::new(&model);
-    let mut peak: f64 = 0.0;
-    let mut last = x0.clone();
-    let stats = integrate(
-        &mut sys,
-        0.0,
-        &x0,
-        2.0 * flight,
-        flight / 200.0,
-        &Settings::new(Method::Dopri5, 1e-8, 1e-10),
-        &mut |_, x: &[f64]| {
-            peak = peak.max((left.k * x[l] - right.k * x[l + 1]).abs());
-            last = x.to_vec();
-            Ok(Flow::Continue)
-        },
-    )
-    .unwrap();
+    let (stats, mut sys, peak, last) = fly(&model, &x0, 2.0 * flight, |x| {
+        (left.k * x[l] - right.k * x[l + 1]).abs()
+    });
     let landings = &sys.data.landings;
     let n_z = [0, 1].map(|i| kin.contacts[i].normal.1);
     let vertical: f64 = landings
