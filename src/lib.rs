@@ -27,5 +27,6 @@ pub mod limits;
 pub mod profile;
 pub mod scenario;
 pub mod spline;
+pub mod study;
 pub mod track;
 pub mod vehicle;

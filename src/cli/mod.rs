@@ -10,6 +10,7 @@ mod kec;
 mod profiles;
 mod progress;
 mod run;
+mod study;
 mod track;
 
 use std::path::{Path, PathBuf};
@@ -71,6 +72,10 @@ enum Command {
     /// Print measured speed and error of the building blocks (release builds).
     #[command(allow_negative_numbers = true)]
     Bench(bench::BenchArgs),
+    /// Run a study: one scenario over many variations (speeds, track realisations, any scenario
+    /// value), on all cores or as shards of a cluster job array; one table and one recording.
+    #[command(allow_negative_numbers = true)]
+    Study(study::StudyArgs),
 }
 
 /// Runs the command.
@@ -88,6 +93,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Track(a) => track::run(a),
         Command::GenerateProfiles(a) => generate::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Study(a) => study::run(a),
     }
 }
 

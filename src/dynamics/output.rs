@@ -286,7 +286,7 @@ pub const CSV_COLUMNS: [&str; 28] = [
 ];
 
 /// One CSV row of a sample (the [`CSV_COLUMNS`], SI converted to the columns' units).
-fn csv_row(s: &Sample) -> [f64; 28] {
+pub fn csv_row(s: &Sample) -> [f64; 28] {
     [
         s.t,
         s.s,

@@ -23,6 +23,7 @@ pub mod precision;
 pub mod profiles;
 pub mod readback;
 pub mod run;
+pub mod study;
 pub mod track;
 
 use std::path::PathBuf;

@@ -1,0 +1,278 @@
+//! `kecsim study`: one recording that compares a study's cases — each extract against the first
+//! axis (one line per value of the second axis: e.g. the statistic against speed, one line per
+//! track realisation, so that the scatter over seeds shows), every case's front wheelset y over
+//! time on one plot, and the results table.
+//!
+//! The diagrams are 2D views with linear axes: x from the first axis's smallest to largest value
+//! (its values' order where they are not numbers) mapped to 0..1000, y from the extract's smallest
+//! to largest value mapped to 600..0 (the 2D view's y axis points down); frame and ticks labelled
+//! in the axes' units. Failed and derailed cases are drawn red, stopped ones amber.
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
+//! | `study/EXTRACT/grid` | LineStrips2D, static | frame and labelled ticks |
+//! | `study/EXTRACT/GROUP` | LineStrips2D, Points2D, static | the cases of one value of the second axis |
+//! | `study/front_y/case_NNNNN` | Scalars on `time` | the case's first wheelset's lateral displacement, mm |
+//! | `study/summary` | TextDocument, static | the results table |
+
+use std::path::Path;
+
+use rerun::blueprint::{
+    Blueprint, Grid, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+};
+use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument, TimeColumn};
+
+use super::{log_static, send_scalar_rows, InspectError};
+use crate::study::run::{front_wheelset_y, CaseResult, Manifest};
+
+/// The simulated-time timeline.
+pub const TIME: &str = "time";
+
+/// Entity-path part of an extract's name (`rms(w1.y_mm)` → `rms_w1_y_mm`).
+fn slug(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    s.trim_matches('_').replace("__", "_")
+}
+
+/// The layout: the extracts' diagrams in a grid, every case's front wheelset y, the table.
+pub fn blueprint_for(manifest: &Manifest) -> Blueprint {
+    let against = manifest.axes.first().map_or("case".to_string(), |a| a.clone());
+    let views: Vec<rerun::blueprint::ContainerLike> = manifest
+        .extracts
+        .iter()
+        .map(|x| {
+            Spatial2DView::new(format!("{x} against {against}"))
+                .with_origin(format!("/study/{}", slug(x)))
+                .into()
+        })
+        .collect();
+    let mut rows: Vec<rerun::blueprint::ContainerLike> = Vec::new();
+    if !views.is_empty() {
+        rows.push(Grid::new(views).into());
+    }
+    rows.push(
+        TimeSeriesView::new("every case: front wheelset y [mm]")
+            .with_origin("/study/front_y")
+            .into(),
+    );
+    rows.push(
+        TextDocumentView::new("Results")
+            .with_origin("/study/summary")
+            .into(),
+    );
+    Blueprint::new(Vertical::new(rows)).with_time_panel(TimePanel::new().with_timeline(TIME))
+}
+
+/// A linear axis: the values' span mapped onto `0..len` (`flip`: len..0).
+struct Scale {
+    lo: f64,
+    hi: f64,
+    len: f64,
+    flip: bool,
+}
+
+impl Scale {
+    fn of(values: impl Iterator<Item = f64>, len: f64, flip: bool) -> Option<Scale> {
+        let (lo, hi) = values
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            });
+        if lo > hi {
+            return None;
+        }
+        // A single value: a unit span around it.
+        let (lo, hi) = if hi > lo { (lo, hi) } else { (lo - 0.5, hi + 0.5) };
+        Some(Scale { lo, hi, len, flip })
+    }
+    fn at(&self, v: f64) -> f32 {
+        let u = (v - self.lo) / (self.hi - self.lo) * self.len;
+        (if self.flip { self.len - u } else { u }) as f32
+    }
+    /// Five ticks across the span.
+    fn ticks(&self) -> Vec<f64> {
+        (0..5)
+            .map(|k| self.lo + (self.hi - self.lo) * k as f64 / 4.0)
+            .collect()
+    }
+}
+
+/// A tick label: 4 significant digits.
+fn tick(v: f64) -> String {
+    if v != 0.0 && (v.abs() >= 1e5 || v.abs() < 1e-3) {
+        format!("{v:.3e}")
+    } else {
+        let s = format!("{v:.4}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        s.to_string()
+    }
+}
+
+fn status_color(status: &str, normal: Color) -> Color {
+    match status {
+        "completed" => normal,
+        "stopped" => Color::from_rgb(230, 170, 40),
+        _ => Color::from_rgb(220, 50, 50),
+    }
+}
+
+/// Records the study's results (`out`: its directory, for the cases' CSVs).
+pub fn record(
+    rec: &RecordingStream,
+    manifest: &Manifest,
+    rows: &[CaseResult],
+    table: &str,
+    out: &Path,
+) -> Result<(), InspectError> {
+    // x of each case: the first axis's value, or its rank among the distinct values where they
+    // are not numbers (or the case index without axes).
+    let first: Vec<String> = rows
+        .iter()
+        .map(|r| r.values.first().cloned().unwrap_or_default())
+        .collect();
+    let numeric: Option<Vec<f64>> = first.iter().map(|v| v.parse::<f64>().ok()).collect();
+    let mut distinct: Vec<&String> = Vec::new();
+    for v in &first {
+        if !distinct.contains(&v) {
+            distinct.push(v);
+        }
+    }
+    let xs: Vec<f64> = match (&numeric, manifest.axes.is_empty()) {
+        (_, true) => rows.iter().map(|r| r.case as f64).collect(),
+        (Some(v), false) => v.clone(),
+        (None, false) => first
+            .iter()
+            .map(|v| distinct.iter().position(|d| *d == v).unwrap_or(0) as f64)
+            .collect(),
+    };
+    let x_name = manifest.axes.first().cloned().unwrap_or_else(|| "case".into());
+    // Groups: the second axis's values (one group without it).
+    let group_of = |r: &CaseResult| r.values.get(1).cloned().unwrap_or_default();
+    let mut groups: Vec<String> = Vec::new();
+    for r in rows {
+        let g = group_of(r);
+        if !groups.contains(&g) {
+            groups.push(g);
+        }
+    }
+    let Some(sx) = Scale::of(xs.iter().copied(), 1000.0, false) else {
+        return log_static(rec, "study/summary", &TextDocument::from_markdown(table));
+    };
+    for (e, name) in manifest.extracts.iter().enumerate() {
+        let ys: Vec<Option<f64>> = rows
+            .iter()
+            .map(|r| r.extracts.get(e).copied().flatten())
+            .collect();
+        let Some(sy) = Scale::of(ys.iter().flatten().copied(), 600.0, true) else {
+            continue;
+        };
+        let base = format!("study/{}", slug(name));
+        let (x0, x1, y0, y1) = (sx.at(sx.lo), sx.at(sx.hi), sy.at(sy.lo), sy.at(sy.hi));
+        let mut strips = vec![vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]]];
+        let mut labels = vec![String::new()];
+        for t in sx.ticks() {
+            let x = sx.at(t);
+            strips.push(vec![[x, y0], [x, y0 + 12.0]]);
+            labels.push(match (&numeric, manifest.axes.is_empty()) {
+                (None, false) => distinct
+                    .get(t.round() as usize)
+                    .map_or(String::new(), |d| d.to_string()),
+                _ => tick(t),
+            });
+        }
+        for t in sy.ticks() {
+            let y = sy.at(t);
+            strips.push(vec![[x0 - 12.0, y], [x0, y]]);
+            labels.push(tick(t));
+        }
+        strips.push(vec![[x1, y0 + 40.0], [x1, y0 + 40.0]]);
+        labels.push(x_name.clone());
+        strips.push(vec![[x0, y1 - 30.0], [x0, y1 - 30.0]]);
+        labels.push(name.clone());
+        log_static(
+            rec,
+            &format!("{base}/grid"),
+            &LineStrips2D::new(strips)
+                .with_labels(labels)
+                .with_colors([Color::from_rgb(90, 90, 100)])
+                .with_radii([Radius::new_ui_points(0.5)]),
+        )?;
+        for (k, g) in groups.iter().enumerate() {
+            let color = super::compare::colors(1, k)[0];
+            let mut members: Vec<(f64, f64, &CaseResult)> = rows
+                .iter()
+                .zip(&xs)
+                .zip(&ys)
+                .filter(|((r, _), _)| group_of(r) == *g)
+                .filter_map(|((r, x), y)| y.map(|y| (*x, y, r)))
+                .collect();
+            members.sort_by(|a, b| a.0.total_cmp(&b.0));
+            if members.is_empty() {
+                continue;
+            }
+            let label = match manifest.axes.get(1) {
+                Some(a) => format!("{a} = {g}"),
+                None => name.clone(),
+            };
+            let entity = format!("{base}/group_{k}");
+            let pts: Vec<[f32; 2]> = members.iter().map(|m| [sx.at(m.0), sy.at(m.1)]).collect();
+            log_static(
+                rec,
+                &entity,
+                &LineStrips2D::new([pts.clone()])
+                    .with_labels([label])
+                    .with_colors([color])
+                    .with_radii([Radius::new_ui_points(1.0)]),
+            )?;
+            log_static(
+                rec,
+                &format!("{entity}/points"),
+                &Points2D::new(pts)
+                    .with_labels(
+                        members
+                            .iter()
+                            .map(|m| format!("case {}: {}", m.2.case, tick(m.1))),
+                    )
+                    .with_colors(members.iter().map(|m| status_color(&m.2.status, color)))
+                    .with_radii([Radius::new_ui_points(4.0)]),
+            )?;
+        }
+    }
+    for r in rows {
+        let y = front_wheelset_y(out, r);
+        if y.is_empty() {
+            continue;
+        }
+        let label = format!(
+            "case {}{}{}",
+            r.case,
+            if r.values.is_empty() { "" } else { ": " },
+            manifest
+                .axes
+                .iter()
+                .zip(&r.values)
+                .map(|(a, v)| format!("{a} = {v}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        send_scalar_rows(
+            rec,
+            vec![TimeColumn::new_duration_secs(TIME, y.iter().map(|p| p.0))],
+            y.len(),
+            &format!("study/front_y/case_{:05}", r.case),
+            y.iter().map(|p| p.1).collect(),
+            &[label.as_str()],
+            vec![status_color(&r.status, super::compare::colors(1, r.case)[0])],
+        )?;
+    }
+    log_static(rec, "study/summary", &TextDocument::from_markdown(table))
+}

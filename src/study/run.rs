@@ -1,0 +1,463 @@
+//! Running a study's cases and joining their results.
+//!
+//! Layout of the output directory (a documented interface):
+//!
+//! | path | what |
+//! |---|---|
+//! | `study.json` | the study's identity: id, name, number of cases, axes, extracts |
+//! | `cases/NNNNN/scenario.toml` | the case's scenario (relative paths from the base scenario's directory) |
+//! | `cases/NNNNN/WHEELSET.csv` | the run's wheelset CSVs (`kecsim run --csv` columns), written as it goes |
+//! | `cases/NNNNN/summary.json` | the run summary (`kecsim run --json`) |
+//! | `cases/NNNNN/result.json` | the case's row: axis values, status, extracts, diagnosis — written last: a case without it is not finished |
+//! | `results.csv` | one row per case, in case order (written when every case is finished) |
+//!
+//! A case is run at most once per study: a rerun (or another shard) skips every case whose
+//! `result.json` belongs to this study (same id, same scenario). Cases are split between shards
+//! round-robin (case k belongs to shard k mod N), so that the shards of a sweep get alike loads.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::spec::{value_text, Case, Fnv, Study};
+use super::StudyError;
+use crate::dynamics::output::CsvWriter;
+use crate::dynamics::{RunEnd, RunObserver, Stop};
+use crate::scenario::{RunOptions, Scenario};
+
+/// `study.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    pub id: String,
+    pub name: String,
+    pub cases: usize,
+    pub axes: Vec<String>,
+    pub extracts: Vec<String>,
+}
+
+impl Manifest {
+    pub fn of(study: &Study) -> Manifest {
+        Manifest {
+            id: study.id.clone(),
+            name: study.name.clone(),
+            cases: study.cases.len(),
+            axes: study.axes.iter().map(|a| a.key.clone()).collect(),
+            extracts: study.extracts.iter().map(|x| x.name()).collect(),
+        }
+    }
+}
+
+/// `result.json`: one case's row.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaseResult {
+    pub study_id: String,
+    pub case: usize,
+    /// FNV-1a of the case's scenario text.
+    pub scenario_hash: String,
+    /// The axes' values, as table cells.
+    pub values: Vec<String>,
+    /// `completed`, `stopped`, `derailed` or `failed` (the run's outcome; `failed` also where the
+    /// scenario could not be built).
+    pub status: String,
+    /// The extracts, in the study's order (None: the run gives none).
+    pub extracts: Vec<Option<f64>>,
+    /// Why the run ended early (empty where it completed).
+    pub diagnosis: String,
+    /// The vehicle's wheelsets (their CSVs are in the case's folder).
+    pub wheelsets: Vec<String>,
+    /// Not part of the results table (it is not reproducible): the case's wall time, s.
+    pub wall_s: f64,
+    pub simulated_s: f64,
+}
+
+/// How to run a study.
+#[derive(Debug, Clone)]
+pub struct StudyOptions {
+    /// Cases run at once (each on one thread).
+    pub jobs: usize,
+    /// `(I, N)`: run only the I-th of N slices (0-based).
+    pub shard: Option<(usize, usize)>,
+    pub out: PathBuf,
+}
+
+/// What one invocation did.
+#[derive(Debug, Clone, Default)]
+pub struct StudyRunReport {
+    /// Cases of this shard.
+    pub assigned: usize,
+    /// Run now.
+    pub ran: usize,
+    /// Found finished (a rerun).
+    pub skipped: usize,
+    /// Of those run now, how many did not complete (failed, derailed, stopped).
+    pub not_completed: usize,
+    /// Wall time of the whole invocation and the sum of the cases' own, s.
+    pub wall_s: f64,
+    pub case_wall_s: f64,
+    /// Simulated time of the cases run now, s.
+    pub simulated_s: f64,
+    /// Stopped by an interrupt before every case was run.
+    pub interrupted: bool,
+}
+
+/// The folder of case `k`.
+pub fn case_dir(out: &Path, k: usize) -> PathBuf {
+    out.join("cases").join(format!("{k:05}"))
+}
+
+fn scenario_hash(text: &str) -> String {
+    let mut h = Fnv::new();
+    h.add(text.as_bytes());
+    format!("{:016x}", h.finish())
+}
+
+fn io(path: &Path, e: impl std::fmt::Display) -> StudyError {
+    StudyError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// Writes `text` to `path` through a temporary file and a rename (a reader never sees half).
+fn write_atomic(path: &Path, text: &str) -> Result<(), StudyError> {
+    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+    std::fs::write(&tmp, text).map_err(|e| io(&tmp, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| io(path, e))
+}
+
+/// Reads `study.json` of `out` (None where there is none).
+pub fn read_manifest(out: &Path) -> Result<Option<Manifest>, StudyError> {
+    let path = out.join("study.json");
+    match std::fs::read_to_string(&path) {
+        Ok(text) => serde_json::from_str(&text)
+            .map(Some)
+            .map_err(|e| io(&path, format!("not a study manifest: {e}"))),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(io(&path, e)),
+    }
+}
+
+/// The finished result of case `k` in `out`, where there is one for this study and scenario.
+fn finished(out: &Path, study_id: &str, case: &Case) -> Option<CaseResult> {
+    let text = std::fs::read_to_string(case_dir(out, case.index).join("result.json")).ok()?;
+    let r: CaseResult = serde_json::from_str(&text).ok()?;
+    (r.study_id == study_id && r.scenario_hash == scenario_hash(&case.scenario)).then_some(r)
+}
+
+/// Runs the study's cases (of its shard) that are not finished yet, `jobs` at a time; `done`
+/// hears of each case as it ends (and of each skipped one, with `true`).
+pub fn run_study(
+    study: &Study,
+    options: &StudyOptions,
+    done: &(dyn Fn(&CaseResult, bool) + Sync),
+) -> Result<StudyRunReport, StudyError> {
+    let t0 = Instant::now();
+    let out = &options.out;
+    if let Some((i, n)) = options.shard {
+        if n == 0 || i >= n {
+            return Err(StudyError::Shard(format!(
+                "shard {i}/{n}: expected 0 <= I < N (N >= 1)"
+            )));
+        }
+    }
+    std::fs::create_dir_all(out.join("cases")).map_err(|e| io(out, e))?;
+    let manifest = Manifest::of(study);
+    match read_manifest(out)? {
+        Some(m) if m.id != manifest.id => {
+            return Err(StudyError::OtherStudy {
+                dir: out.display().to_string(),
+                found: format!("{} ({})", m.name, m.id),
+                this: format!("{} ({})", manifest.name, manifest.id),
+            })
+        }
+        Some(_) => {}
+        None => write_atomic(
+            &out.join("study.json"),
+            &serde_json::to_string_pretty(&manifest).map_err(|e| io(out, e))?,
+        )?,
+    }
+    let mine: Vec<&Case> = study
+        .cases
+        .iter()
+        .filter(|c| options.shard.is_none_or(|(i, n)| c.index % n == i))
+        .collect();
+    let mut report = StudyRunReport {
+        assigned: mine.len(),
+        ..Default::default()
+    };
+    let mut pending = Vec::new();
+    for c in mine {
+        match finished(out, &study.id, c) {
+            Some(r) => {
+                report.skipped += 1;
+                done(&r, true);
+            }
+            None => pending.push(c),
+        }
+    }
+    // The wheelsets the extracts name: checked once, on the first pending case's vehicle, before
+    // any case runs (a misspelt name must not cost a study).
+    if let Some(first) = pending.first() {
+        let names = vehicle_wheelsets(study, first)?;
+        for (x, line) in study.extracts.iter().zip(&study.extract_lines) {
+            x.check(&names).map_err(|m| StudyError::Input {
+                path: study.path.display().to_string(),
+                line: *line,
+                message: m,
+            })?;
+        }
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.jobs.max(1))
+        .build()
+        .map_err(|e| StudyError::Shard(format!("cannot start {} threads: {e}", options.jobs)))?;
+    let interrupted = AtomicBool::new(false);
+    let results: Vec<Result<Option<CaseResult>, StudyError>> = pool.install(|| {
+        pending
+            .par_iter()
+            .with_max_len(1)
+            .map(|c| {
+                if crate::interrupt::requested() {
+                    interrupted.store(true, Ordering::Relaxed);
+                    return Ok(None);
+                }
+                let r = run_case(study, c, out)?;
+                if let Some(r) = &r {
+                    done(r, false);
+                } else {
+                    interrupted.store(true, Ordering::Relaxed);
+                }
+                Ok(r)
+            })
+            .collect()
+    });
+    for r in results {
+        if let Some(r) = r? {
+            report.ran += 1;
+            report.case_wall_s += r.wall_s;
+            report.simulated_s += r.simulated_s;
+            if r.status != "completed" {
+                report.not_completed += 1;
+            }
+        }
+    }
+    report.interrupted = interrupted.into_inner();
+    report.wall_s = t0.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// The wheelset names of a case's vehicle (its scene built once).
+fn vehicle_wheelsets(study: &Study, case: &Case) -> Result<Vec<String>, StudyError> {
+    let origin = format!("{} case {}", study.path.display(), case.index);
+    let fail = |m: String| StudyError::Input {
+        path: study.path.display().to_string(),
+        line: 0,
+        message: format!("case {}: {m}", case.index),
+    };
+    let scene = Scenario::parse(&case.scenario, &origin)
+        .and_then(|s| s.compile(&origin, study.scenario_dir()))
+        .map_err(|e| fail(e.to_string()))?;
+    let built = scene
+        .build_run(&RunOptions::default())
+        .map_err(|e| fail(e.to_string()))?;
+    Ok(built.vehicle.wheelset_names())
+}
+
+/// Runs one case into its folder and writes its `result.json` (None: interrupted — nothing is
+/// marked finished, so that a rerun runs it again).
+pub fn run_case(study: &Study, case: &Case, out: &Path) -> Result<Option<CaseResult>, StudyError> {
+    let dir = case_dir(out, case.index);
+    std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
+    write_atomic(&dir.join("scenario.toml"), &case.scenario)?;
+    let t0 = Instant::now();
+    let mut result = CaseResult {
+        study_id: study.id.clone(),
+        case: case.index,
+        scenario_hash: scenario_hash(&case.scenario),
+        values: case.values.iter().map(value_text).collect(),
+        status: "failed".into(),
+        extracts: vec![None; study.extracts.len()],
+        diagnosis: String::new(),
+        wheelsets: Vec::new(),
+        wall_s: 0.0,
+        simulated_s: 0.0,
+    };
+    let origin = dir.join("scenario.toml").display().to_string();
+    let built = Scenario::parse(&case.scenario, &origin)
+        .and_then(|s| s.compile(&origin, study.scenario_dir()))
+        .map_err(|e| e.to_string())
+        .and_then(|scene| scene.build_run(&RunOptions::default()).map_err(|e| e.to_string()));
+    match built {
+        Err(e) => result.diagnosis = format!("not run: {e}"),
+        Ok(built) => {
+            let names = built.vehicle.wheelset_names();
+            let mut csv = CsvWriter::create(&dir, &names).map_err(|e| io(&dir, e))?;
+            let output = {
+                let mut observers: Vec<&mut dyn RunObserver> = vec![&mut csv];
+                built.run(&mut observers)
+            };
+            if let RunEnd::Stopped(Stop::Interrupted { .. }) = output.end {
+                return Ok(None);
+            }
+            let summary = &output.summary;
+            write_atomic(
+                &dir.join("summary.json"),
+                &serde_json::to_string_pretty(summary).map_err(|e| io(&dir, e))?,
+            )?;
+            result.status = summary.outcome.to_string();
+            result.diagnosis = summary
+                .error
+                .clone()
+                .or_else(|| summary.stopped.clone())
+                .unwrap_or_default();
+            result.extracts = study.extracts.iter().map(|x| x.value(&output)).collect();
+            result.wheelsets = names;
+            result.simulated_s = summary.simulated_s;
+        }
+    }
+    result.wall_s = t0.elapsed().as_secs_f64();
+    write_atomic(
+        &dir.join("result.json"),
+        &serde_json::to_string_pretty(&result).map_err(|e| io(&dir, e))?,
+    )?;
+    Ok(Some(result))
+}
+
+/// Every case's result in `out`, in case order, checked to belong to its study; a missing case is
+/// an error naming it (and the shard it belongs to, for `shards` N).
+pub fn collect(out: &Path) -> Result<(Manifest, Vec<CaseResult>), StudyError> {
+    let manifest = read_manifest(out)?.ok_or_else(|| {
+        io(
+            &out.join("study.json"),
+            "no study here (a study's output directory has study.json)",
+        )
+    })?;
+    let mut rows = Vec::with_capacity(manifest.cases);
+    let mut missing = Vec::new();
+    for k in 0..manifest.cases {
+        let path = case_dir(out, k).join("result.json");
+        let text = match std::fs::read_to_string(&path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                missing.push(k);
+                continue;
+            }
+            Err(e) => return Err(io(&path, e)),
+        };
+        let r: CaseResult =
+            serde_json::from_str(&text).map_err(|e| io(&path, format!("not a case result: {e}")))?;
+        if r.study_id != manifest.id || r.case != k {
+            return Err(StudyError::OtherStudy {
+                dir: path.display().to_string(),
+                found: format!("case {} of study {}", r.case, r.study_id),
+                this: format!("case {k} of study {} ({})", manifest.name, manifest.id),
+            });
+        }
+        rows.push(r);
+    }
+    if !missing.is_empty() {
+        return Err(StudyError::Missing {
+            dir: out.display().to_string(),
+            count: missing.len(),
+            of: manifest.cases,
+            cases: abbreviate(&missing),
+        });
+    }
+    Ok((manifest, rows))
+}
+
+/// `0, 2, 4, … (12 in all)`.
+fn abbreviate(k: &[usize]) -> String {
+    let head: Vec<String> = k.iter().take(12).map(|k| k.to_string()).collect();
+    if k.len() > 12 {
+        format!("{}, … ({} in all)", head.join(", "), k.len())
+    } else {
+        head.join(", ")
+    }
+}
+
+/// The results table: `case, status, AXIS…, EXTRACT…, diagnosis` (empty cells where a run gives
+/// no value). Its content depends on the cases' results only (no timing), so that a sharded
+/// study merged and the same study run whole give the same file.
+pub fn results_csv(manifest: &Manifest, rows: &[CaseResult]) -> Result<String, StudyError> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["case".to_string(), "status".to_string()];
+    header.extend(manifest.axes.iter().cloned());
+    header.extend(manifest.extracts.iter().cloned());
+    header.push("diagnosis".into());
+    let e = |e: csv::Error| io(Path::new("results.csv"), e);
+    w.write_record(&header).map_err(e)?;
+    for r in rows {
+        let mut rec = vec![r.case.to_string(), r.status.clone()];
+        rec.extend(r.values.iter().cloned());
+        rec.extend(
+            r.extracts
+                .iter()
+                .map(|v| v.map_or(String::new(), |v| format!("{v}"))),
+        );
+        rec.push(r.diagnosis.clone());
+        w.write_record(&rec).map_err(e)?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|x| io(Path::new("results.csv"), x.error()))?;
+    String::from_utf8(bytes).map_err(|x| io(Path::new("results.csv"), x))
+}
+
+/// Joins the results of `out` into `out/results.csv` (every case must be finished).
+pub fn merge(out: &Path) -> Result<(Manifest, Vec<CaseResult>, PathBuf), StudyError> {
+    let (manifest, rows) = collect(out)?;
+    let path = out.join("results.csv");
+    write_atomic(&path, &results_csv(&manifest, &rows)?)?;
+    Ok((manifest, rows, path))
+}
+
+/// A case's first wheelset's (t [s], y [mm]) from its CSV (empty where it has none).
+pub fn front_wheelset_y(out: &Path, r: &CaseResult) -> Vec<(f64, f64)> {
+    let Some(name) = r.wheelsets.first() else {
+        return Vec::new();
+    };
+    let Ok(mut rd) = csv::Reader::from_path(case_dir(out, r.case).join(format!("{name}.csv"))) else {
+        return Vec::new();
+    };
+    let y = crate::dynamics::output::CSV_COLUMNS
+        .iter()
+        .position(|&c| c == "y_mm")
+        .unwrap_or(3);
+    rd.records()
+        .map_while(Result::ok)
+        .filter_map(|rec| Some((rec.get(0)?.parse().ok()?, rec.get(y)?.parse().ok()?)))
+        .collect()
+}
+
+/// The results table in Markdown (the recording's report), with the study's name above it.
+pub fn results_markdown(manifest: &Manifest, rows: &[CaseResult]) -> String {
+    let mut header = vec!["case".to_string(), "status".to_string()];
+    header.extend(manifest.axes.iter().cloned());
+    header.extend(manifest.extracts.iter().cloned());
+    header.push("diagnosis".into());
+    let mut s = format!(
+        "# Study: {}\n\n{} cases ({} completed); study id {}.\n\n| {} |\n|{}\n",
+        manifest.name,
+        rows.len(),
+        rows.iter().filter(|r| r.status == "completed").count(),
+        manifest.id,
+        header.join(" | "),
+        "---|".repeat(header.len())
+    );
+    for r in rows {
+        let mut cells = vec![r.case.to_string(), r.status.clone()];
+        cells.extend(r.values.iter().cloned());
+        cells.extend(
+            r.extracts
+                .iter()
+                .map(|v| v.map_or("—".into(), |v| format!("{v:.4}"))),
+        );
+        cells.push(r.diagnosis.replace('|', "/"));
+        s.push_str(&format!("| {} |\n", cells.join(" | ")));
+    }
+    s
+}

@@ -1,0 +1,619 @@
+//! The study file (`kecsim study STUDY.toml`): a base scenario, the axes to vary — any scenario
+//! value by its key path — as a full grid or as random samples, and what to extract from each run.
+//!
+//! ```toml
+//! schema_version = 1
+//! name = "speed sweep over four track realisations"
+//! scenario = "../scenes/ms_vehicle_tab6.toml"   # relative to this file
+//! sampling = "grid"                              # or "random" (then `samples = N`)
+//! seed = 7                                       # the study seed (random draws, derived seeds)
+//! extract = ["max_y_over_q", "max_delta_q_over_q0", "rms(w1.y_mm)", "amplitude(*.y_mm)"]
+//!
+//! [[axis]]
+//! key = "simulation.speed_m_s"
+//! range = { from = 15.0, to = 25.0, step = 5.0 }
+//!
+//! [[axis]]
+//! key = "track.irregularities.seed"
+//! seeds = 4                                      # four seeds derived from the study seed
+//! ```
+//!
+//! An axis gives its values as `values = [...]` (any TOML values), `range = { from, to, step }` or
+//! `{ from, to, count }` (inclusive; integers stay integers), `seeds = N` (N integer seeds derived
+//! from the study seed, SplitMix64) or, with random sampling only, `uniform = [lo, hi]`. A grid
+//! runs every combination (the last axis varies fastest); random sampling draws each case's value
+//! of every axis from a generator seeded by the study seed and the case's index, so that a case
+//! is the same whatever the number of jobs or shards.
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use toml::{Spanned, Table, Value};
+
+use super::extract::Extract;
+use super::StudyError;
+use crate::scenario::Scenario;
+use crate::track::file::line_of;
+
+/// The study schema this kecsim reads.
+pub const STUDY_SCHEMA_VERSION: u32 = 1;
+
+/// The most cases one study may hold (each is a simulation; `--no-limits` lifts it).
+pub const MAX_CASES: usize = 100_000;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudyToml {
+    schema_version: u32,
+    name: String,
+    scenario: Spanned<String>,
+    #[serde(default)]
+    sampling: Option<Spanned<String>>,
+    #[serde(default)]
+    samples: Option<Spanned<i64>>,
+    #[serde(default)]
+    seed: u64,
+    #[serde(default)]
+    extract: Vec<Spanned<String>>,
+    #[serde(default)]
+    axis: Vec<Spanned<AxisToml>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AxisToml {
+    key: Spanned<String>,
+    #[serde(default)]
+    values: Option<Vec<Value>>,
+    #[serde(default)]
+    range: Option<RangeToml>,
+    #[serde(default)]
+    seeds: Option<i64>,
+    #[serde(default)]
+    uniform: Option<[f64; 2]>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RangeToml {
+    from: Value,
+    to: Value,
+    #[serde(default)]
+    step: Option<Value>,
+    #[serde(default)]
+    count: Option<i64>,
+}
+
+/// How the cases are chosen.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Sampling {
+    /// Every combination of the axes' values.
+    Grid,
+    /// `samples` cases, each axis drawn at random.
+    Random { samples: usize },
+}
+
+/// The values an axis takes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AxisValues {
+    /// A list (a grid runs each; random sampling picks one uniformly).
+    List(Vec<Value>),
+    /// Uniform in [lo, hi] (random sampling only).
+    Uniform(f64, f64),
+}
+
+/// One varied scenario value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axis {
+    /// Its key path in the scenario (`simulation.speed_m_s`; array entries by index:
+    /// `vehicle.bodies.0.mass_kg`).
+    pub key: String,
+    pub values: AxisValues,
+    /// The line of the study file that names it.
+    pub line: usize,
+}
+
+/// One case: its index, the axes' values (in axis order) and the scenario text they give.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    pub index: usize,
+    pub values: Vec<Value>,
+    pub scenario: String,
+}
+
+/// A study as read and checked: every case's scenario parses.
+#[derive(Debug, Clone)]
+pub struct Study {
+    pub name: String,
+    /// The study file.
+    pub path: PathBuf,
+    /// The base scenario file; relative paths in the cases' scenarios start from its directory.
+    pub scenario_path: PathBuf,
+    pub sampling: Sampling,
+    pub seed: u64,
+    pub axes: Vec<Axis>,
+    pub extracts: Vec<Extract>,
+    /// The line of the study file that names each extract.
+    pub extract_lines: Vec<usize>,
+    pub cases: Vec<Case>,
+    /// Identifies the study's content (its cases' scenarios, axes and extracts): shards and
+    /// finished cases are matched on it (FNV-1a, 64 bit).
+    pub id: String,
+}
+
+impl Study {
+    /// Reads, checks and expands a study file.
+    pub fn read(path: &Path) -> Result<Study, StudyError> {
+        let origin = path.display().to_string();
+        let text = crate::limits::read_text(path).map_err(|e| StudyError::Io {
+            path: origin.clone(),
+            message: e.to_string(),
+        })?;
+        Self::parse(&text, path)
+    }
+
+    /// Parses study text; `path` names it in errors and locates the base scenario.
+    pub fn parse(text: &str, path: &Path) -> Result<Study, StudyError> {
+        let origin = path.display().to_string();
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let at = |offset: usize, message: String| StudyError::Input {
+            path: origin.clone(),
+            line: line_of(text, offset),
+            message,
+        };
+        let raw: StudyToml = toml::from_str(text).map_err(|e| StudyError::Input {
+            path: origin.clone(),
+            line: e.span().map_or(0, |s| line_of(text, s.start)),
+            message: e.message().trim_end().to_string(),
+        })?;
+        if raw.schema_version != STUDY_SCHEMA_VERSION {
+            return Err(at(
+                0,
+                format!(
+                    "schema_version = {}: this kecsim reads schema_version = {STUDY_SCHEMA_VERSION}",
+                    raw.schema_version
+                ),
+            ));
+        }
+        let base_dir = path.parent().unwrap_or(Path::new("."));
+        let scenario_path = base_dir.join(raw.scenario.get_ref());
+        let base_text = crate::limits::read_text(&scenario_path).map_err(|e| {
+            at(
+                raw.scenario.span().start,
+                format!(
+                    "scenario = \"{}\": cannot read {}: {e}",
+                    raw.scenario.get_ref(),
+                    scenario_path.display()
+                ),
+            )
+        })?;
+        let scenario_origin = scenario_path.display().to_string();
+        let base: Table = toml::from_str(&base_text).map_err(|e| {
+            at(
+                raw.scenario.span().start,
+                format!("scenario {scenario_origin}: {}", e.message().trim_end()),
+            )
+        })?;
+        Scenario::parse(&base_text, &scenario_origin)
+            .map_err(|e| at(raw.scenario.span().start, format!("the base scenario: {e}")))?;
+
+        let sampling = match (raw.sampling.as_ref().map(|s| s.get_ref().as_str()), &raw.samples) {
+            (None | Some("grid"), None) => Sampling::Grid,
+            (None | Some("grid"), Some(n)) => {
+                return Err(at(
+                    n.span().start,
+                    "samples: only random sampling (sampling = \"random\") takes a number of samples".into(),
+                ))
+            }
+            (Some("random"), Some(n))
+                if (1..=MAX_CASES as i64).contains(n.get_ref())
+                    || crate::limits::lifted() && *n.get_ref() >= 1 =>
+            {
+                Sampling::Random {
+                    samples: *n.get_ref() as usize,
+                }
+            }
+            (Some("random"), Some(n)) => {
+                return Err(at(
+                    n.span().start,
+                    format!("samples = {}: expected 1 ..= {MAX_CASES}", n.get_ref()),
+                ))
+            }
+            (Some("random"), None) => {
+                return Err(at(
+                    raw.sampling.as_ref().map_or(0, |s| s.span().start),
+                    "sampling = \"random\" needs `samples = N`".into(),
+                ))
+            }
+            (Some(other), _) => {
+                return Err(at(
+                    raw.sampling.as_ref().map_or(0, |s| s.span().start),
+                    format!("sampling = \"{other}\": expected \"grid\" or \"random\""),
+                ))
+            }
+        };
+        let random = matches!(sampling, Sampling::Random { .. });
+
+        let mut axes = Vec::new();
+        for a in &raw.axis {
+            let line = line_of(text, a.span().start);
+            let a = a.get_ref();
+            let key = a.key.get_ref().clone();
+            let here = |message: String| StudyError::Input {
+                path: origin.clone(),
+                line: line_of(text, a.key.span().start),
+                message: format!("axis `{key}`: {message}"),
+            };
+            if axes.iter().any(|b: &Axis| b.key == key) {
+                return Err(here("named twice".into()));
+            }
+            let given = [
+                a.values.is_some(),
+                a.range.is_some(),
+                a.seeds.is_some(),
+                a.uniform.is_some(),
+            ];
+            if given.iter().filter(|&&g| g).count() != 1 {
+                return Err(here(
+                    "give exactly one of `values`, `range`, `seeds`, `uniform`".into(),
+                ));
+            }
+            let values = if let Some(v) = &a.values {
+                AxisValues::List(v.clone())
+            } else if let Some(r) = &a.range {
+                AxisValues::List(range_values(r).map_err(here)?)
+            } else if let Some(n) = a.seeds {
+                if !(1..=MAX_CASES as i64).contains(&n) {
+                    return Err(here(format!("seeds = {n}: expected 1 ..= {MAX_CASES}")));
+                }
+                AxisValues::List(
+                    (0..n as u64)
+                        .map(|k| Value::Integer(derived_seed(raw.seed, k)))
+                        .collect(),
+                )
+            } else if let Some([lo, hi]) = a.uniform {
+                if !random {
+                    return Err(here(
+                        "`uniform` draws at random: it needs sampling = \"random\" (a grid takes `values`, `range` or `seeds`)".into(),
+                    ));
+                }
+                if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                    return Err(here(format!("uniform = [{lo}, {hi}]: expected finite lo <= hi")));
+                }
+                AxisValues::Uniform(lo, hi)
+            } else {
+                unreachable!("one of the four is given (checked above)")
+            };
+            if let AxisValues::List(v) = &values {
+                if v.is_empty() {
+                    return Err(here("no values (an empty list or range)".into()));
+                }
+            }
+            // The key must be one the scenario reads: the base with the axis's first value must
+            // still parse as a scenario (its fields are checked strictly, unknown keys rejected).
+            let first = match &values {
+                AxisValues::List(v) => v[0].clone(),
+                AxisValues::Uniform(lo, _) => Value::Float(*lo),
+            };
+            let mut probe = base.clone();
+            set_key(&mut probe, &key, first).map_err(here)?;
+            let probe_text = toml::to_string(&probe).map_err(|e| here(e.to_string()))?;
+            Scenario::parse(&probe_text, &scenario_origin).map_err(|e| {
+                here(format!(
+                    "the scenario does not take it: {}",
+                    scenario_message(&e.to_string(), &scenario_origin)
+                ))
+            })?;
+            axes.push(Axis { key, values, line });
+        }
+
+        let mut extracts = Vec::new();
+        let mut extract_lines = Vec::new();
+        for e in &raw.extract {
+            extract_lines.push(line_of(text, e.span().start));
+            let x = Extract::parse(e.get_ref()).map_err(|m| at(e.span().start, m))?;
+            if extracts.contains(&x) {
+                return Err(at(
+                    e.span().start,
+                    format!("extract `{}` named twice", e.get_ref()),
+                ));
+            }
+            extracts.push(x);
+        }
+
+        // The cases.
+        let count = match &sampling {
+            Sampling::Grid => axes.iter().try_fold(1usize, |n, a| match &a.values {
+                AxisValues::List(v) => n.checked_mul(v.len()),
+                AxisValues::Uniform(..) => Some(n),
+            }),
+            Sampling::Random { samples } => Some(*samples),
+        };
+        let count = match count {
+            Some(n) if n <= MAX_CASES || crate::limits::lifted() => n,
+            _ => {
+                return Err(at(
+                    0,
+                    format!("the axes make more than {MAX_CASES} cases (--no-limits lifts this)"),
+                ))
+            }
+        };
+        let mut cases = Vec::with_capacity(count);
+        for index in 0..count {
+            let values: Vec<Value> = match &sampling {
+                Sampling::Grid => {
+                    let mut rest = index;
+                    let mut v = vec![Value::Boolean(false); axes.len()];
+                    for (k, a) in axes.iter().enumerate().rev() {
+                        if let AxisValues::List(list) = &a.values {
+                            v[k] = list[rest % list.len()].clone();
+                            rest /= list.len();
+                        }
+                    }
+                    v
+                }
+                Sampling::Random { .. } => {
+                    let mut rng =
+                        SplitMix64::new(raw.seed ^ (index as u64).wrapping_mul(0xD6E8_FEB8_6659_FD93));
+                    axes.iter()
+                        .map(|a| match &a.values {
+                            AxisValues::List(list) => {
+                                list[(rng.unit() * list.len() as f64) as usize % list.len()].clone()
+                            }
+                            AxisValues::Uniform(lo, hi) => Value::Float(lo + (hi - lo) * rng.unit()),
+                        })
+                        .collect()
+                }
+            };
+            let mut table = base.clone();
+            for (a, v) in axes.iter().zip(&values) {
+                set_key(&mut table, &a.key, v.clone()).map_err(|m| StudyError::Input {
+                    path: origin.clone(),
+                    line: a.line,
+                    message: format!("axis `{}`: {m}", a.key),
+                })?;
+            }
+            let scenario = toml::to_string(&table).map_err(|e| at(0, e.to_string()))?;
+            Scenario::parse(&scenario, &scenario_origin).map_err(|e| {
+                at(
+                    0,
+                    format!(
+                        "case {index} ({}): the scenario does not take it: {}",
+                        describe(&axes, &values),
+                        scenario_message(&e.to_string(), &scenario_origin)
+                    ),
+                )
+            })?;
+            cases.push(Case {
+                index,
+                values,
+                scenario,
+            });
+        }
+
+        let mut id = Fnv::new();
+        id.add(raw.name.as_bytes());
+        for a in &axes {
+            id.add(a.key.as_bytes());
+        }
+        for x in &extracts {
+            id.add(x.name().as_bytes());
+        }
+        for c in &cases {
+            id.add(c.scenario.as_bytes());
+        }
+        Ok(Study {
+            name: raw.name,
+            path: path.to_path_buf(),
+            scenario_path,
+            sampling,
+            seed: raw.seed,
+            axes,
+            extracts,
+            extract_lines,
+            cases,
+            id: format!("{:016x}", id.finish()),
+        })
+    }
+
+    /// The directory relative paths of the cases' scenarios start from.
+    pub fn scenario_dir(&self) -> &Path {
+        self.scenario_path.parent().unwrap_or(Path::new("."))
+    }
+}
+
+/// `key = value, …` of a case.
+pub fn describe(axes: &[Axis], values: &[Value]) -> String {
+    axes.iter()
+        .zip(values)
+        .map(|(a, v)| format!("{} = {}", a.key, value_text(v)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A value as a table cell: numbers in their shortest exact form, strings unquoted.
+pub fn value_text(v: &Value) -> String {
+    match v {
+        Value::String(s) => s.clone(),
+        Value::Float(f) => format!("{f}"),
+        other => other.to_string(),
+    }
+}
+
+/// The scenario's parse error without its origin (the study names the base scenario).
+fn scenario_message(message: &str, origin: &str) -> String {
+    message
+        .strip_prefix(origin)
+        .map(|m| m.trim_start_matches(':').trim().to_string())
+        .unwrap_or_else(|| message.to_string())
+}
+
+/// The values of a `range`: from, from + step, … up to `to` (inclusive, within 1e-9 of the
+/// step), or `count` values evenly from `from` to `to`. Integer bounds and step give integers.
+fn range_values(r: &RangeToml) -> Result<Vec<Value>, String> {
+    let num = |v: &Value, what: &str| match v {
+        Value::Integer(i) => Ok(*i as f64),
+        Value::Float(f) if f.is_finite() => Ok(*f),
+        other => Err(format!("range.{what} = {other}: expected a number")),
+    };
+    let (from, to) = (num(&r.from, "from")?, num(&r.to, "to")?);
+    let integers = matches!(r.from, Value::Integer(_))
+        && matches!(r.to, Value::Integer(_))
+        && r.step.as_ref().is_none_or(|s| matches!(s, Value::Integer(_)));
+    let limit = if crate::limits::lifted() {
+        usize::MAX
+    } else {
+        MAX_CASES
+    };
+    match (&r.step, r.count) {
+        (Some(step), None) => {
+            let step = num(step, "step")?;
+            if step.is_nan() || step <= 0.0 || to < from {
+                return Err(format!(
+                    "range from {from} to {to} by {step}: expected from <= to and a step > 0"
+                ));
+            }
+            let n = ((to - from) / step + 1e-9).floor() as usize + 1;
+            if n > limit {
+                return Err(format!(
+                    "range from {from} to {to} by {step}: more than {MAX_CASES} values"
+                ));
+            }
+            Ok((0..n)
+                .map(|k| {
+                    if integers {
+                        Value::Integer((from + k as f64 * step).round() as i64)
+                    } else {
+                        Value::Float(from + k as f64 * step)
+                    }
+                })
+                .collect())
+        }
+        (None, Some(count)) => {
+            if count < 1 || count as usize > limit || (count == 1 && from != to) || to < from {
+                return Err(format!(
+                    "range from {from} to {to} in {count} values: expected from <= to and 1 ..= {MAX_CASES} values (1 only where from = to)"
+                ));
+            }
+            Ok((0..count)
+                .map(|k| {
+                    let f = if count == 1 {
+                        from
+                    } else {
+                        from + (to - from) * k as f64 / (count - 1) as f64
+                    };
+                    Value::Float(f)
+                })
+                .collect())
+        }
+        _ => Err("range: give `step` or `count` (one of them)".into()),
+    }
+}
+
+/// Sets `key` (dot-separated; array entries by index) in `table`, making the tables on the way.
+pub fn set_key(table: &mut Table, key: &str, value: Value) -> Result<(), String> {
+    let parts: Vec<&str> = key.split('.').collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err("an empty part in the key path".into());
+    }
+    let (last, path) = parts.split_last().ok_or("an empty key path")?;
+    let mut here = table;
+    for (k, part) in path.iter().enumerate() {
+        let entry = here
+            .entry(part.to_string())
+            .or_insert_with(|| Value::Table(Table::new()));
+        let entry = match entry {
+            // An array of tables: the next part is the entry's index.
+            Value::Array(a) => {
+                let Some(index) = parts.get(k + 1).and_then(|p| p.parse::<usize>().ok()) else {
+                    return Err(format!(
+                        "`{part}` is an array: the next part must be an entry's index"
+                    ));
+                };
+                return set_in_array(a, index, &parts[k + 2..], value, part);
+            }
+            other => other,
+        };
+        here = match entry {
+            Value::Table(t) => t,
+            other => return Err(format!("`{part}` is a value ({}), not a table", other.type_str())),
+        };
+    }
+    if matches!(here.get(*last), Some(Value::Table(_) | Value::Array(_))) {
+        return Err(format!("`{last}` is a table or an array, not a value"));
+    }
+    here.insert(last.to_string(), value);
+    Ok(())
+}
+
+/// [`set_key`] below an array entry.
+fn set_in_array(
+    a: &mut [Value],
+    index: usize,
+    rest: &[&str],
+    value: Value,
+    name: &str,
+) -> Result<(), String> {
+    let n = a.len();
+    let Some(entry) = a.get_mut(index) else {
+        return Err(format!("`{name}` has {n} entries: index {index} is past its end"));
+    };
+    match (entry, rest.is_empty()) {
+        (slot, true) => {
+            *slot = value;
+            Ok(())
+        }
+        (Value::Table(t), false) => set_key(t, &rest.join("."), value),
+        (other, false) => Err(format!(
+            "`{name}.{index}` is a value ({}), not a table",
+            other.type_str()
+        )),
+    }
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): the study's random draws and derived seeds.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn new(seed: u64) -> Self {
+        SplitMix64(seed)
+    }
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1) (53 bits).
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The k-th seed derived from the study seed: 53 bits (a TOML integer, exact as a double).
+pub fn derived_seed(study_seed: u64, k: u64) -> i64 {
+    let mut g = SplitMix64::new(study_seed ^ k.wrapping_mul(0xA24B_AED4_963E_E407));
+    (g.next() >> 11) as i64
+}
+
+/// FNV-1a, 64 bit: the study's identity.
+pub(crate) struct Fnv(u64);
+
+impl Fnv {
+    pub(crate) fn new() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+    pub(crate) fn add(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 ^= u64::from(*b);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+        // A separator, so that ("ab", "c") and ("a", "bc") differ.
+        self.0 ^= 0xff;
+        self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+    }
+    pub(crate) fn finish(&self) -> u64 {
+        self.0
+    }
+}

@@ -1,0 +1,392 @@
+//! `kecsim study`: a grid of short single-wheelset runs gives the same table whatever the number
+//! of jobs, run whole or in shards then merged; a rerun skips finished cases; random samples are
+//! a function of the study seed and the case index; bad input names file, line and problem.
+
+use std::path::{Path, PathBuf};
+
+mod common;
+use common::{kecsim, kecsim_ok, rerun_verify, tmpdir};
+
+use kecsim::study::run::{collect, run_study, StudyOptions};
+use kecsim::study::{Study, StudyError};
+
+fn scene(file: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(file)
+        .display()
+        .to_string()
+}
+
+/// A 4-case grid (speed × friction) of the Klingel wheelset, 0.3 s each.
+fn grid_study(dir: &Path) -> PathBuf {
+    let path = dir.join("grid.toml");
+    std::fs::write(
+        &path,
+        format!(
+            r#"schema_version = 1
+name = "test grid"
+scenario = "{}"
+extract = ["max_abs_y_mm", "rms(*.y_mm)", "amplitude(wheelset_1.yaw_mrad)", "min_normal_kn", "derailed"]
+
+[[axis]]
+key = "simulation.speed_m_s"
+values = [5.0, 10.0]
+
+[[axis]]
+key = "contact_forces.friction"
+range = {{ from = 0.2, to = 0.3, count = 2 }}
+
+[[axis]]
+key = "simulation.duration_s"
+values = [0.3]
+"#,
+            scene("wheelset_klingel.toml")
+        ),
+    )
+    .unwrap();
+    path
+}
+
+fn table(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join("results.csv")).unwrap()
+}
+
+#[test]
+fn jobs_and_shards_give_the_same_table_and_reruns_skip_finished_cases() {
+    let d = tmpdir("study-grid");
+    let path = grid_study(&d);
+    let p = path.to_str().unwrap();
+    // Whole, two jobs.
+    let whole = d.join("whole");
+    let out = kecsim_ok(&["study", p, "--out", whole.to_str().unwrap(), "--jobs", "2"], &d);
+    assert!(out.contains("ran 4 cases"), "{out}");
+    let t2 = table(&whole);
+    let lines: Vec<&str> = t2.lines().collect();
+    assert_eq!(
+        lines[0],
+        "case,status,simulation.speed_m_s,contact_forces.friction,simulation.duration_s,max_abs_y_mm,rms(*.y_mm),amplitude(wheelset_1.yaw_mrad),min_normal_kn,derailed,diagnosis"
+    );
+    assert_eq!(lines.len(), 5, "{t2}");
+    // The last axis varies fastest; every case completed with values.
+    assert!(lines[1].starts_with("0,completed,5,0.2,0.3,"), "{t2}");
+    assert!(lines[2].starts_with("1,completed,5,0.3,0.3,"), "{t2}");
+    assert!(lines[4].starts_with("3,completed,10,0.3,0.3,"), "{t2}");
+    for l in &lines[1..] {
+        let cells: Vec<&str> = l.split(',').collect();
+        let max_y: f64 = cells[5].parse().unwrap();
+        let rms: f64 = cells[6].parse().unwrap();
+        // Released from 3 mm (the scene): |y| <= its largest, RMS <= max.
+        assert!((2.9..4.0).contains(&max_y) && rms <= max_y && rms > 0.5, "{l}");
+        assert!(cells[8].parse::<f64>().unwrap() > 10.0, "{l}");
+        assert_eq!(cells[9], "0", "{l}");
+    }
+    // Its recording holds the study's views and passes `rerun rrd verify`.
+    assert!(whole.join("study.rrd").is_file());
+    rerun_verify(&whole.join("study.rrd"));
+    // A rerun runs nothing.
+    let again = kecsim_ok(&["study", p, "--out", whole.to_str().unwrap(), "--jobs", "2"], &d);
+    assert!(
+        again.contains("ran 0 cases") && again.contains("4 finished before"),
+        "{again}"
+    );
+    assert_eq!(table(&whole), t2);
+
+    // One job, through the library: the same table.
+    let one = d.join("one");
+    let study = Study::read(&path).unwrap();
+    let report = run_study(
+        &study,
+        &StudyOptions {
+            jobs: 1,
+            shard: None,
+            out: one.clone(),
+        },
+        &|_, _| {},
+    )
+    .unwrap();
+    assert_eq!((report.ran, report.skipped), (4, 0));
+    kecsim::study::merge(&one).unwrap();
+    assert_eq!(table(&one), t2, "one job and two give different tables");
+
+    // Two shards (the second from Slurm's job-array variables): merging before the second has
+    // run names the missing cases; after it, the same table as the whole run.
+    let sharded = d.join("sharded");
+    let s = sharded.to_str().unwrap();
+    let out0 = kecsim_ok(&["study", p, "--out", s, "--shard", "0/2", "--jobs", "1"], &d);
+    assert!(
+        out0.contains("ran 2 cases") && out0.contains("kecsim study merge"),
+        "{out0}"
+    );
+    let early = kecsim(&["study", "merge", s], &d);
+    assert!(!early.status.success());
+    let err = String::from_utf8_lossy(&early.stderr);
+    assert!(
+        err.contains("2 of 4 cases not finished") && err.contains("cases 1, 3"),
+        "{err}"
+    );
+    let out1 = std::process::Command::new(env!("CARGO_BIN_EXE_kecsim"))
+        .args(["study", p, "--out", s, "--jobs", "1"])
+        .env("SLURM_ARRAY_TASK_ID", "1")
+        .env("SLURM_ARRAY_TASK_COUNT", "2")
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    assert!(out1.status.success(), "{}", String::from_utf8_lossy(&out1.stderr));
+    assert!(String::from_utf8_lossy(&out1.stdout).contains("shard 1/2"));
+    kecsim_ok(&["study", "merge", s], &d);
+    assert_eq!(
+        table(&sharded),
+        t2,
+        "sharded and merged differs from the whole run"
+    );
+    rerun_verify(&sharded.join("study.rrd"));
+
+    // Each case's own outputs are in its folder.
+    let case = whole.join("cases/00002");
+    for f in ["scenario.toml", "summary.json", "result.json", "wheelset_1.csv"] {
+        assert!(case.join(f).is_file(), "{f} missing in {}", case.display());
+    }
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn a_directory_of_another_study_is_refused_and_nothing_in_it_lost() {
+    let d = tmpdir("study-other");
+    let path = grid_study(&d);
+    let out = d.join("out");
+    let study = Study::read(&path).unwrap();
+    let opts = StudyOptions {
+        jobs: 2,
+        shard: Some((0, 4)),
+        out: out.clone(),
+    };
+    run_study(&study, &opts, &|_, _| {}).unwrap();
+    let before = std::fs::read_to_string(out.join("cases/00000/result.json")).unwrap();
+    // The same study with another extract is another study.
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("\"derailed\"]", "\"max_lift_mm\"]");
+    let other_path = d.join("other.toml");
+    std::fs::write(&other_path, text).unwrap();
+    let other = Study::read(&other_path).unwrap();
+    assert_ne!(other.id, study.id);
+    let e = run_study(&other, &opts, &|_, _| {}).unwrap_err();
+    assert!(matches!(e, StudyError::OtherStudy { .. }), "{e}");
+    assert!(e.to_string().contains("belongs to another study"), "{e}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("cases/00000/result.json")).unwrap(),
+        before
+    );
+    // Merging before every case has run names what is missing.
+    let e = collect(&out).unwrap_err();
+    assert!(e.to_string().contains("3 of 4 cases not finished"), "{e}");
+    // A case result of another study placed among this one's is caught by the merge.
+    let out2 = d.join("out2");
+    run_study(
+        &other,
+        &StudyOptions {
+            out: out2.clone(),
+            shard: Some((1, 4)),
+            ..opts.clone()
+        },
+        &|_, _| {},
+    )
+    .unwrap();
+    std::fs::create_dir_all(out.join("cases/00001")).unwrap();
+    std::fs::copy(
+        out2.join("cases/00001/result.json"),
+        out.join("cases/00001/result.json"),
+    )
+    .unwrap();
+    let e = collect(&out).unwrap_err();
+    assert!(matches!(e, StudyError::OtherStudy { .. }), "{e}");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn random_samples_depend_on_the_seed_and_the_case_index_only() {
+    let d = tmpdir("study-random");
+    let write = |samples: usize, seed: u64| {
+        let p = d.join(format!("r{samples}-{seed}.toml"));
+        std::fs::write(
+            &p,
+            format!(
+                r#"schema_version = 1
+name = "random"
+scenario = "{}"
+sampling = "random"
+samples = {samples}
+seed = {seed}
+
+[[axis]]
+key = "simulation.speed_m_s"
+uniform = [10.0, 20.0]
+
+[[axis]]
+key = "contact_forces.friction"
+values = [0.2, 0.3, 0.4]
+"#,
+                scene("wheelset_klingel.toml")
+            ),
+        )
+        .unwrap();
+        Study::read(&p).unwrap()
+    };
+    let (a, b, c) = (write(5, 11), write(9, 11), write(5, 12));
+    assert_eq!(a.cases.len(), 5);
+    for k in 0..5 {
+        assert_eq!(
+            a.cases[k].values, b.cases[k].values,
+            "case {k} moved with the sample count"
+        );
+    }
+    assert_ne!(
+        a.cases[0].values, c.cases[0].values,
+        "another seed, the same draw"
+    );
+    for case in &b.cases {
+        let v = case.values[0].as_float().unwrap();
+        assert!((10.0..20.0).contains(&v), "{v}");
+        assert!(
+            case.scenario.contains(&format!("speed_m_s = {v}")),
+            "{}",
+            case.scenario
+        );
+    }
+    // Over 9 draws, more than one friction value comes up.
+    let mut f: Vec<f64> = b.cases.iter().map(|c| c.values[1].as_float().unwrap()).collect();
+    f.dedup();
+    assert!(f.len() > 1);
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn bad_study_input_names_the_file_the_line_and_the_problem() {
+    let d = tmpdir("study-bad");
+    let base = scene("wheelset_klingel.toml");
+    let cases: [(&str, &str, &str); 9] = [
+        (
+            "[[axis]]\nkey = \"simulation.sped_m_s\"\nvalues = [1.0]\n",
+            "line 6",
+            "unknown field `sped_m_s`",
+        ),
+        (
+            "[[axis]]\nkey = \"simulation.speed_m_s\"\nrange = { from = 5.0, to = 1.0, step = 1.0 }\n",
+            "line 6",
+            "expected from <= to",
+        ),
+        (
+            "[[axis]]\nkey = \"simulation.speed_m_s\"\nvalues = []\n",
+            "line 6",
+            "no values",
+        ),
+        (
+            "[[axis]]\nkey = \"simulation.speed_m_s\"\nuniform = [1.0, 2.0]\n",
+            "line 6",
+            "needs sampling = \"random\"",
+        ),
+        (
+            "[[axis]]\nkey = \"simulation.speed_m_s\"\nvalues = [1.0]\nseeds = 3\n",
+            "line 6",
+            "exactly one of",
+        ),
+        (
+            "[[axis]]\nkey = \"simulation\"\nvalues = [1.0]\n",
+            "line 6",
+            "is a table or an array",
+        ),
+        ("extract = [\"max_yy\"]\n", "line 5", "extract `max_yy`"),
+        ("colour = \"red\"\n", "line 5", "unknown field `colour`"),
+        (
+            "[[axis]]\nkey = \"simulation.speed_m_s\"\nvalues = [\"fast\"]\n",
+            "line 6",
+            "invalid type",
+        ),
+    ];
+    for (k, (tail, line, what)) in cases.iter().enumerate() {
+        let p = d.join(format!("bad{k}.toml"));
+        std::fs::write(
+            &p,
+            format!("schema_version = 1\nname = \"bad\"\nscenario = \"{base}\"\n\n{tail}"),
+        )
+        .unwrap();
+        let out = kecsim(
+            &[
+                "study",
+                p.to_str().unwrap(),
+                "--out",
+                d.join("o").to_str().unwrap(),
+            ],
+            &d,
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "case {k} ran");
+        assert!(
+            err.contains(&format!("bad{k}.toml")) && err.contains(line) && err.contains(what),
+            "case {k}: expected {line} and `{what}` in:\n{err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    // A shard out of range; a wheelset the vehicle lacks (before any case runs).
+    let good = grid_study(&d);
+    let g = good.to_str().unwrap();
+    let o = d.join("o2");
+    let out = kecsim(&["study", g, "--out", o.to_str().unwrap(), "--shard", "2/2"], &d);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("shard 2 of 2: expected 0 <= I < N"));
+    let text = std::fs::read_to_string(&good)
+        .unwrap()
+        .replace("wheelset_1.yaw_mrad", "w7.yaw_mrad");
+    std::fs::write(&good, text).unwrap();
+    let out = kecsim(&["study", g, "--out", o.to_str().unwrap()], &d);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no wheelset `w7`") && err.contains("grid.toml: line 4"),
+        "{err}"
+    );
+    assert!(
+        !o.join("cases/00000/result.json").exists(),
+        "a case ran before the check"
+    );
+    // Merging a directory that holds no study.
+    let out = kecsim(&["study", "merge", d.to_str().unwrap()], &d);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no study here"));
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn the_slurm_script_runs_the_shards_and_merges_after_them() {
+    let d = tmpdir("study-slurm");
+    let path = grid_study(&d);
+    let script = d.join("job.sh");
+    kecsim_ok(
+        &[
+            "study",
+            "slurm",
+            path.to_str().unwrap(),
+            "--shards",
+            "2",
+            "--cpus-per-task",
+            "1",
+            "--out",
+            d.join("out").to_str().unwrap(),
+            "--script",
+            script.to_str().unwrap(),
+        ],
+        &d,
+    );
+    let s = std::fs::read_to_string(&script).unwrap();
+    assert!(s.starts_with("#!/bin/bash\n"), "{s}");
+    for want in [
+        "#SBATCH --array=0-1",
+        "#SBATCH --cpus-per-task=1",
+        "study \"$STUDY\" --out \"$OUT\"",
+        "--dependency=afterok:${SLURM_ARRAY_JOB_ID}",
+        "study merge",
+    ] {
+        assert!(s.contains(want), "`{want}` missing:\n{s}");
+    }
+    let out = kecsim(&["study", "slurm", path.to_str().unwrap(), "--shards", "9"], &d);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("the study has 4 cases"));
+    std::fs::remove_dir_all(&d).ok();
+}
