@@ -87,7 +87,7 @@ fn jobs_and_shards_give_the_same_table_and_reruns_skip_finished_cases() {
     // A rerun runs nothing.
     let again = kecsim_ok(&["study", p, "--out", whole.to_str().unwrap(), "--jobs", "2"], &d);
     assert!(
-        again.contains("ran 0 cases") && again.contains("4 finished before"),
+        again.contains("ran 0 cases") && again.contains("4 finished before:"),
         "{again}"
     );
     assert_eq!(table(&whole), t2);

@@ -258,33 +258,31 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
     )?;
     bar.finish_and_clear();
     let per_min = |n: usize, s: f64| if s > 0.0 { 60.0 * n as f64 / s } else { 0.0 };
+    let per_case = |s: f64| {
+        if report.ran > 0 {
+            s / report.ran as f64
+        } else {
+            0.0
+        }
+    };
     println!(
-        "ran {} cases ({} not completed), {} finished before; {:.2} s wall on {jobs} jobs: {:.1} cases/min; \
-         the cases' own wall {:.2} s in all ({:.2}x the wall: {:.0} % of {jobs} cores busy), \
-         overhead beyond the simulations {:.3} s per case; {:.1} s simulated",
+        "ran {} cases ({} not completed), {} finished before: {:.2} s wall on {jobs} jobs, {:.1} cases/min, {:.1} s simulated",
         report.ran,
         report.not_completed,
         report.skipped,
         report.wall_s,
         per_min(report.ran, report.wall_s),
-        report.case_wall_s,
-        if report.wall_s > 0.0 {
-            report.case_wall_s / report.wall_s
-        } else {
-            0.0
-        },
-        if report.wall_s > 0.0 {
-            100.0 * report.case_wall_s / (report.wall_s * jobs as f64)
-        } else {
-            0.0
-        },
-        if report.ran > 0 {
-            (report.wall_s * jobs as f64 - report.case_wall_s).max(0.0) / report.ran as f64
-        } else {
-            0.0
-        },
         report.simulated_s
     );
+    if report.ran > 0 {
+        println!(
+            "per case: {:.3} s integrating, {:.3} s preprocessing and writing (the overhead beyond the simulation); \
+             {:.0} % of {jobs} cores busy with cases (the rest: cases of unequal length at the end, the study's own work)",
+            per_case(report.run_wall_s),
+            per_case(report.case_wall_s - report.run_wall_s),
+            100.0 * report.case_wall_s / (report.wall_s * jobs as f64).max(1e-9),
+        );
+    }
     if report.interrupted {
         anyhow::bail!(
             "interrupted: {} cases finished are kept in {}; run the same command again to run the rest",

@@ -25,7 +25,7 @@ use crate::track::TrackGauge;
 use crate::vehicle::VehicleSpec;
 
 pub use crate::SCHEMA_VERSION;
-pub use simulation::{BuildError, BuiltRun, RunOptions, SimulationSpec};
+pub use simulation::{BuildError, BuiltRun, PreprocessingCache, RunOptions, SimulationSpec};
 
 /// The default scenario, embedded in the binary: the paper's case (§8), the MS vehicle on the
 /// Tab. 6 track with irregularities at 19 m/s (`assets/scenes/ms_vehicle_tab6.toml`).

@@ -290,6 +290,27 @@ impl BuiltRun {
     }
 }
 
+/// Contact preprocessing shared between runs ([`Scene::build_run_cached`]): each entry a built
+/// contact model and its pair's flange angle, keyed by the contact settings and the placed pair.
+#[derive(Debug, Default)]
+pub struct PreprocessingCache {
+    entries: std::sync::Mutex<Vec<(String, Arc<dyn ContactModel>, Option<f64>)>>,
+}
+
+impl PreprocessingCache {
+    fn get(&self, key: &str) -> Option<(Arc<dyn ContactModel>, Option<f64>)> {
+        let e = self.entries.lock().ok()?;
+        e.iter().find(|x| x.0 == key).map(|x| (x.1.clone(), x.2))
+    }
+    fn put(&self, key: String, model: Arc<dyn ContactModel>, angle: Option<f64>) {
+        if let Ok(mut e) = self.entries.lock() {
+            if !e.iter().any(|x| x.0 == key) {
+                e.push((key, model, angle));
+            }
+        }
+    }
+}
+
 /// The vehicle system of a `[vehicle]` table with `contact`, `forces` and the reference motion
 /// (a multibody vehicle is settled here: its elements' static preloads).
 pub fn build_vehicle(
@@ -419,6 +440,19 @@ impl super::Scene {
     /// Builds the objects of the scene's run with `options` (contact model, vehicle system with
     /// its static settling, reference, settings) — the preprocessing, timed.
     pub fn build_run(&self, options: &RunOptions) -> Result<BuiltRun, BuildError> {
+        self.build_run_cached(options, None)
+    }
+
+    /// [`Scene::build_run`], taking the contact preprocessing (the model's tables and profiles,
+    /// the flange angle) from `cache` where an earlier run built it for the same profiles, placement
+    /// and contact settings — a study's cases that vary only the speed or the track share it.
+    /// A history-dependent model (its warm starts are the evaluators', but to be safe) is not
+    /// shared.
+    pub fn build_run_cached(
+        &self,
+        options: &RunOptions,
+        cache: Option<&PreprocessingCache>,
+    ) -> Result<BuiltRun, BuildError> {
         let (sim, vehicle) = self.simulation.as_ref().ok_or(BuildError::NoSimulation)?;
         let contact = match &options.contact {
             Some(name) => sim.contact_spec_for(name),
@@ -440,13 +474,23 @@ impl super::Scene {
         // right-hand sides' wheelsets split between its threads).
         crate::dynamics::run::join_run_pool();
         let t = Instant::now();
-        let model = contact.build(&self.pair).map_err(|source| BuildError::Contact {
-            scene: self.origin.clone(),
-            source,
-        })?;
-        // The safety figures' flange angle; a pair whose contact cannot be followed up the flange
-        // on the ideal track runs without them.
-        let flange_angle_rad = flange_angle(&ContactGeometry::with_defaults(self.pair.clone())).ok();
+        let key = format!("{contact:?}|{:?}", self.pair);
+        let (model, flange_angle_rad) = match cache.and_then(|c| c.get(&key)) {
+            Some(hit) => hit,
+            None => {
+                let model = contact.build(&self.pair).map_err(|source| BuildError::Contact {
+                    scene: self.origin.clone(),
+                    source,
+                })?;
+                // The safety figures' flange angle; a pair whose contact cannot be followed up
+                // the flange on the ideal track runs without them.
+                let angle = flange_angle(&ContactGeometry::with_defaults(self.pair.clone())).ok();
+                if let Some(c) = cache.filter(|_| !model.history_dependent()) {
+                    c.put(key, model.clone(), angle);
+                }
+                (model, angle)
+            }
+        };
         let vehicle = build_vehicle(
             vehicle,
             model,

@@ -26,7 +26,7 @@ use super::spec::{value_text, Case, Fnv, Study};
 use super::StudyError;
 use crate::dynamics::output::CsvWriter;
 use crate::dynamics::{RunEnd, RunObserver, Stop};
-use crate::scenario::{RunOptions, Scenario};
+use crate::scenario::{PreprocessingCache, RunOptions, Scenario};
 
 /// `study.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -68,8 +68,12 @@ pub struct CaseResult {
     pub diagnosis: String,
     /// The vehicle's wheelsets (their CSVs are in the case's folder).
     pub wheelsets: Vec<String>,
-    /// Not part of the results table (it is not reproducible): the case's wall time, s.
+    /// Not part of the results table (they are not reproducible): the case's wall time, and the
+    /// part of it spent integrating (the rest: preprocessing — profiles, tables, track — and
+    /// writing), s.
     pub wall_s: f64,
+    #[serde(default)]
+    pub run_wall_s: f64,
     pub simulated_s: f64,
 }
 
@@ -94,9 +98,10 @@ pub struct StudyRunReport {
     pub skipped: usize,
     /// Of those run now, how many did not complete (failed, derailed, stopped).
     pub not_completed: usize,
-    /// Wall time of the whole invocation and the sum of the cases' own, s.
+    /// Wall time of the whole invocation, the sum of the cases' own and of their integrations, s.
     pub wall_s: f64,
     pub case_wall_s: f64,
+    pub run_wall_s: f64,
     /// Simulated time of the cases run now, s.
     pub simulated_s: f64,
     /// Stopped by an interrupt before every case was run.
@@ -200,8 +205,10 @@ pub fn run_study(
     }
     // The wheelsets the extracts name: checked once, on the first pending case's vehicle, before
     // any case runs (a misspelt name must not cost a study).
+    // The contact preprocessing of cases with the same profiles and contact settings is shared.
+    let cache = PreprocessingCache::default();
     if let Some(first) = pending.first() {
-        let names = vehicle_wheelsets(study, first)?;
+        let names = vehicle_wheelsets(study, first, &cache)?;
         for (x, line) in study.extracts.iter().zip(&study.extract_lines) {
             x.check(&names).map_err(|m| StudyError::Input {
                 path: study.path.display().to_string(),
@@ -224,7 +231,7 @@ pub fn run_study(
                     interrupted.store(true, Ordering::Relaxed);
                     return Ok(None);
                 }
-                let r = run_case(study, c, out)?;
+                let r = run_case(study, c, out, Some(&cache))?;
                 if let Some(r) = &r {
                     done(r, false);
                 } else {
@@ -238,6 +245,7 @@ pub fn run_study(
         if let Some(r) = r? {
             report.ran += 1;
             report.case_wall_s += r.wall_s;
+            report.run_wall_s += r.run_wall_s;
             report.simulated_s += r.simulated_s;
             if r.status != "completed" {
                 report.not_completed += 1;
@@ -250,7 +258,11 @@ pub fn run_study(
 }
 
 /// The wheelset names of a case's vehicle (its scene built once).
-fn vehicle_wheelsets(study: &Study, case: &Case) -> Result<Vec<String>, StudyError> {
+fn vehicle_wheelsets(
+    study: &Study,
+    case: &Case,
+    cache: &PreprocessingCache,
+) -> Result<Vec<String>, StudyError> {
     let origin = format!("{} case {}", study.path.display(), case.index);
     let fail = |m: String| StudyError::Input {
         path: study.path.display().to_string(),
@@ -261,14 +273,20 @@ fn vehicle_wheelsets(study: &Study, case: &Case) -> Result<Vec<String>, StudyErr
         .and_then(|s| s.compile(&origin, study.scenario_dir()))
         .map_err(|e| fail(e.to_string()))?;
     let built = scene
-        .build_run(&RunOptions::default())
+        .build_run_cached(&RunOptions::default(), Some(cache))
         .map_err(|e| fail(e.to_string()))?;
     Ok(built.vehicle.wheelset_names())
 }
 
 /// Runs one case into its folder and writes its `result.json` (None: interrupted — nothing is
-/// marked finished, so that a rerun runs it again).
-pub fn run_case(study: &Study, case: &Case, out: &Path) -> Result<Option<CaseResult>, StudyError> {
+/// marked finished, so that a rerun runs it again). `cache` shares the contact preprocessing
+/// between cases.
+pub fn run_case(
+    study: &Study,
+    case: &Case,
+    out: &Path,
+    cache: Option<&PreprocessingCache>,
+) -> Result<Option<CaseResult>, StudyError> {
     let dir = case_dir(out, case.index);
     std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
     write_atomic(&dir.join("scenario.toml"), &case.scenario)?;
@@ -283,13 +301,18 @@ pub fn run_case(study: &Study, case: &Case, out: &Path) -> Result<Option<CaseRes
         diagnosis: String::new(),
         wheelsets: Vec::new(),
         wall_s: 0.0,
+        run_wall_s: 0.0,
         simulated_s: 0.0,
     };
     let origin = dir.join("scenario.toml").display().to_string();
     let built = Scenario::parse(&case.scenario, &origin)
         .and_then(|s| s.compile(&origin, study.scenario_dir()))
         .map_err(|e| e.to_string())
-        .and_then(|scene| scene.build_run(&RunOptions::default()).map_err(|e| e.to_string()));
+        .and_then(|scene| {
+            scene
+                .build_run_cached(&RunOptions::default(), cache)
+                .map_err(|e| e.to_string())
+        });
     match built {
         Err(e) => result.diagnosis = format!("not run: {e}"),
         Ok(built) => {
@@ -316,6 +339,7 @@ pub fn run_case(study: &Study, case: &Case, out: &Path) -> Result<Option<CaseRes
             result.extracts = study.extracts.iter().map(|x| x.value(&output)).collect();
             result.wheelsets = names;
             result.simulated_s = summary.simulated_s;
+            result.run_wall_s = summary.wall_s;
         }
     }
     result.wall_s = t0.elapsed().as_secs_f64();
