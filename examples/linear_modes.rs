@@ -23,10 +23,11 @@
 //! BDF follows that mode through the curve at ~0.9 ms steps, whatever the tolerance.
 
 use anyhow::{anyhow, bail, Context, Result};
-use kecsim::dynamics::integrator::{integrate, Flow, OdeSystem};
+use kecsim::dynamics::integrator::{integrate, Flow};
+use kecsim::dynamics::linear::{damping_ratio as damping, eigenvector, jacobian};
 use kecsim::dynamics::system::{Evaluator, VehicleModel};
 use kecsim::scenario::{RunOptions, Scenario};
-use nalgebra::{Complex, DMatrix, DVector};
+use nalgebra::{Complex, DMatrix};
 
 const BODY_STATES: [&str; 12] = [
     "x", "y", "z", "roll", "pitch", "yaw", "x'", "y'", "z'", "roll'", "pitch'", "yaw'",
@@ -118,27 +119,6 @@ fn state_names(vehicle: &dyn VehicleModel) -> Vec<String> {
     names
 }
 
-/// ∂f/∂x at (t, x) by central differences; inactive columns (lift states of wheels on their rails)
-/// left at zero.
-fn jacobian(sys: &mut Evaluator<'_>, t: f64, x: &[f64]) -> Result<DMatrix<f64>> {
-    let n = x.len();
-    let mut jac = DMatrix::zeros(n, n);
-    let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
-    let active: Vec<usize> = (0..n).filter(|&c| !sys.inactive(x, c)).collect();
-    for c in active {
-        let dx = (1e-7 * x[c].abs()).max(1e-9);
-        let mut xp = x.to_vec();
-        xp[c] += dx;
-        sys.rhs(t, &xp, &mut fp)?;
-        xp[c] = x[c] - dx;
-        sys.rhs(t, &xp, &mut fm)?;
-        for r in 0..n {
-            jac[(r, c)] = (fp[r] - fm[r]) / (2.0 * dx);
-        }
-    }
-    Ok(jac)
-}
-
 /// The `count` least-damped eigenvalue pairs of `jac` above `min_hz`, with their largest
 /// eigenvector components (`names`: the states of `jac`'s rows).
 fn print_modes(jac: &DMatrix<f64>, names: &[String], count: usize, min_hz: f64) {
@@ -168,31 +148,4 @@ fn print_modes(jac: &DMatrix<f64>, names: &[String], count: usize, min_hz: f64) 
             states.join(", ")
         );
     }
-}
-
-/// ζ = −Re λ / |λ|.
-fn damping(l: &Complex<f64>) -> f64 {
-    -l.re / l.norm()
-}
-
-/// The eigenvector of `jac` at the eigenvalue `l`, by inverse iteration (|v| = 1).
-fn eigenvector(jac: &DMatrix<f64>, l: Complex<f64>) -> DVector<Complex<f64>> {
-    let n = jac.nrows();
-    let shifted = jac.map(|v| Complex::new(v, 0.0))
-        - DMatrix::<Complex<f64>>::identity(n, n) * (l + Complex::new(1e-6 * l.norm().max(1.0), 0.0));
-    let lu = shifted.lu();
-    let mut v = DVector::from_element(n, Complex::new(1.0, 0.0));
-    for _ in 0..4 {
-        match lu.solve(&v) {
-            Some(next) => {
-                let norm = next.norm();
-                if norm == 0.0 || !norm.is_finite() {
-                    break;
-                }
-                v = next.unscale(norm);
-            }
-            None => break,
-        }
-    }
-    v
 }

@@ -13,6 +13,7 @@
 
 pub mod elastic;
 pub mod integrator;
+pub mod linear;
 pub mod multibody;
 pub mod output;
 pub mod reference;

@@ -294,8 +294,11 @@ impl BuiltRun {
 /// contact model and its pair's flange angle, keyed by the contact settings and the placed pair.
 #[derive(Debug, Default)]
 pub struct PreprocessingCache {
-    entries: std::sync::Mutex<Vec<(String, Arc<dyn ContactModel>, Option<f64>)>>,
+    entries: std::sync::Mutex<Vec<CachedContact>>,
 }
+
+/// A cache entry: key, model, flange angle.
+type CachedContact = (String, Arc<dyn ContactModel>, Option<f64>);
 
 impl PreprocessingCache {
     fn get(&self, key: &str) -> Option<(Arc<dyn ContactModel>, Option<f64>)> {

@@ -11,11 +11,13 @@
 //! | `critical_speed_m_s` | a speed ramp's hunting onset or extinction (empty where none) |
 //! | `derailed` | 1 where the run ended in a derailment, else 0 |
 //! | `simulated_s` | how far the run got |
+//! | `linear_max_real_1_s`, `linear_hunting_hz`, `linear_damping_ratio` | the least-damped oscillatory mode (above 0.2 Hz) of the vehicle linearised at its undisturbed initial state — centred on ideal track at the case's speed ([`crate::dynamics::linear`]): Re λ (> 0: unstable), its frequency and damping ratio |
 //! | `F(W.COLUMN)` | F of a wheelset CSV column (`y_mm`, `yaw_mrad`, `q_left_n`, … see `kecsim run --csv`); F = `max`, `min`, `maxabs`, `mean`, `rms` or `amplitude`; W a wheelset or `*` (the largest over the wheelsets, the smallest for `min`) |
 //!
 //! `amplitude` is half the peak-to-peak range over the run's last quarter (in time): the hunting
 //! amplitude of a limit cycle, ~0 where the motion has decayed.
 
+use crate::dynamics::linear::LinearStability;
 use crate::dynamics::output::{csv_row, Sample, CSV_COLUMNS};
 use crate::dynamics::run::RunOutput;
 
@@ -33,9 +35,12 @@ pub enum Named {
     CriticalSpeed,
     Derailed,
     Simulated,
+    LinearMaxReal,
+    LinearHz,
+    LinearDamping,
 }
 
-const NAMED: [(&str, Named); 11] = [
+const NAMED: [(&str, Named); 14] = [
     ("max_abs_y_mm", Named::MaxAbsY),
     ("max_abs_yaw_mrad", Named::MaxAbsYaw),
     ("max_y_over_q", Named::MaxYOverQ),
@@ -47,6 +52,9 @@ const NAMED: [(&str, Named); 11] = [
     ("critical_speed_m_s", Named::CriticalSpeed),
     ("derailed", Named::Derailed),
     ("simulated_s", Named::Simulated),
+    ("linear_max_real_1_s", Named::LinearMaxReal),
+    ("linear_hunting_hz", Named::LinearHz),
+    ("linear_damping_ratio", Named::LinearDamping),
 ];
 
 /// A statistic of a sampled signal.
@@ -152,8 +160,17 @@ impl Extract {
         }
     }
 
-    /// Its value for a run (None where the run gives none: no samples, no critical speed).
-    pub fn value(&self, out: &RunOutput) -> Option<f64> {
+    /// Whether it needs the linearised vehicle ([`LinearStability`]).
+    pub fn needs_linear(&self) -> bool {
+        matches!(
+            self,
+            Extract::Named(Named::LinearMaxReal | Named::LinearHz | Named::LinearDamping)
+        )
+    }
+
+    /// Its value for a run (None where the run gives none: no samples, no critical speed, no
+    /// oscillatory mode); `linear`: the vehicle's linear stability where it was computed.
+    pub fn value(&self, out: &RunOutput, linear: Option<&LinearStability>) -> Option<f64> {
         let s = &out.summary;
         let safety = s.safety.as_ref().filter(|x| !x.wheelsets.is_empty());
         let largest = |f: &dyn Fn(&crate::dynamics::safety::WheelsetSafety) -> f64| {
@@ -173,6 +190,9 @@ impl Extract {
                 Named::CriticalSpeed => s.critical_speed_m_s,
                 Named::Derailed => Some(if s.outcome == "derailed" { 1.0 } else { 0.0 }),
                 Named::Simulated => Some(s.simulated_s),
+                Named::LinearMaxReal => linear.map(|l| l.max_real_1_s),
+                Named::LinearHz => linear.map(|l| l.frequency_hz),
+                Named::LinearDamping => linear.map(|l| l.damping_ratio),
             },
             Extract::Stat {
                 stat,
@@ -243,9 +263,11 @@ mod tests {
         let s = samples(|t| 2e-3 * (2.0 * std::f64::consts::PI * 5.0 * t).sin());
         let col = CSV_COLUMNS.iter().position(|&c| c == "y_mm").unwrap();
         let get = |stat| statistic(stat, &s, col).unwrap();
+        // 401 samples over 20 whole periods: Σ sin² = 200 (the last sample is 0).
+        let rms = 2.0 * (200.0f64 / 401.0).sqrt();
         assert!(
-            (get(Stat::Rms) - 2.0 / 2f64.sqrt()).abs() < 1e-3,
-            "{}",
+            (get(Stat::Rms) - rms).abs() < 1e-12,
+            "{} vs {rms}",
             get(Stat::Rms)
         );
         assert!(get(Stat::Mean).abs() < 1e-9);

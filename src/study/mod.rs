@@ -6,6 +6,7 @@
 //! the study seed and its index: the same results whatever the number of jobs or shards) and
 //! joins their results, [`extract`] computes what each case keeps.
 
+pub mod critical;
 pub mod extract;
 pub mod run;
 pub mod spec;

@@ -36,6 +36,9 @@ pub struct Manifest {
     pub cases: usize,
     pub axes: Vec<String>,
     pub extracts: Vec<String>,
+    /// A critical-speed study: the hunting amplitude threshold, mm.
+    #[serde(default)]
+    pub critical_speed_threshold_mm: Option<f64>,
 }
 
 impl Manifest {
@@ -46,6 +49,7 @@ impl Manifest {
             cases: study.cases.len(),
             axes: study.axes.iter().map(|a| a.key.clone()).collect(),
             extracts: study.extracts.iter().map(|x| x.name()).collect(),
+            critical_speed_threshold_mm: study.critical_speed.map(|c| c.threshold_mm),
         }
     }
 }
@@ -317,6 +321,23 @@ pub fn run_case(
         Err(e) => result.diagnosis = format!("not run: {e}"),
         Ok(built) => {
             let names = built.vehicle.wheelset_names();
+            // The linear stability at the case's speed, where an extract asks for it (a failure
+            // is the case's diagnosis; the run goes on).
+            let mut linear_note = None;
+            let linear = if study.extracts.iter().any(|x| x.needs_linear()) {
+                match crate::dynamics::linear::linear_stability(
+                    built.vehicle.as_ref(),
+                    &built.settings.integrator,
+                ) {
+                    Ok(l) => l,
+                    Err(e) => {
+                        linear_note = Some(format!("linearisation failed: {e}"));
+                        None
+                    }
+                }
+            } else {
+                None
+            };
             let mut csv = CsvWriter::create(&dir, &names).map_err(|e| io(&dir, e))?;
             let output = {
                 let mut observers: Vec<&mut dyn RunObserver> = vec![&mut csv];
@@ -331,12 +352,16 @@ pub fn run_case(
                 &serde_json::to_string_pretty(summary).map_err(|e| io(&dir, e))?,
             )?;
             result.status = summary.outcome.to_string();
-            result.diagnosis = summary
-                .error
-                .clone()
-                .or_else(|| summary.stopped.clone())
-                .unwrap_or_default();
-            result.extracts = study.extracts.iter().map(|x| x.value(&output)).collect();
+            result.diagnosis = [summary.error.clone(), summary.stopped.clone(), linear_note]
+                .into_iter()
+                .flatten()
+                .collect::<Vec<_>>()
+                .join("; ");
+            result.extracts = study
+                .extracts
+                .iter()
+                .map(|x| x.value(&output, linear.as_ref()))
+                .collect();
             result.wheelsets = names;
             result.simulated_s = summary.simulated_s;
             result.run_wall_s = summary.wall_s;
@@ -431,11 +456,19 @@ pub fn results_csv(manifest: &Manifest, rows: &[CaseResult]) -> Result<String, S
     String::from_utf8(bytes).map_err(|x| io(Path::new("results.csv"), x))
 }
 
-/// Joins the results of `out` into `out/results.csv` (every case must be finished).
+/// Joins the results of `out` into `out/results.csv` (every case must be finished) and, for a
+/// critical-speed study, `out/critical_speeds.csv`.
 pub fn merge(out: &Path) -> Result<(Manifest, Vec<CaseResult>, PathBuf), StudyError> {
     let (manifest, rows) = collect(out)?;
     let path = out.join("results.csv");
     write_atomic(&path, &results_csv(&manifest, &rows)?)?;
+    if let Some(threshold) = manifest.critical_speed_threshold_mm {
+        let list = super::critical::critical_speeds(&manifest, &rows, threshold);
+        write_atomic(
+            &out.join("critical_speeds.csv"),
+            &super::critical::critical_csv(&list),
+        )?;
+    }
     Ok((manifest, rows, path))
 }
 
@@ -464,14 +497,22 @@ pub fn results_markdown(manifest: &Manifest, rows: &[CaseResult]) -> String {
     header.extend(manifest.extracts.iter().cloned());
     header.push("diagnosis".into());
     let mut s = format!(
-        "# Study: {}\n\n{} cases ({} completed); study id {}.\n\n| {} |\n|{}\n",
+        "# Study: {}\n\n{} cases ({} completed); study id {}.\n\n",
         manifest.name,
         rows.len(),
         rows.iter().filter(|r| r.status == "completed").count(),
         manifest.id,
+    );
+    if let Some(threshold) = manifest.critical_speed_threshold_mm {
+        let list = super::critical::critical_speeds(manifest, rows, threshold);
+        s.push_str(&super::critical::critical_markdown(&list, threshold));
+        s.push_str("\n## Cases\n\n");
+    }
+    s.push_str(&format!(
+        "| {} |\n|{}\n",
         header.join(" | "),
         "---|".repeat(header.len())
-    );
+    ));
     for r in rows {
         let mut cells = vec![r.case.to_string(), r.status.clone()];
         cells.extend(r.values.iter().cloned());

@@ -57,6 +57,52 @@ struct StudyToml {
     extract: Vec<Spanned<String>>,
     #[serde(default)]
     axis: Vec<Spanned<AxisToml>>,
+    #[serde(default)]
+    kind: Option<Spanned<String>>,
+    #[serde(default)]
+    critical_speed: Option<Spanned<CriticalToml>>,
+}
+
+/// `[critical_speed]` of `kind = "critical_speed"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CriticalToml {
+    speeds: RangeToml,
+    #[serde(default = "default_release")]
+    release_lateral_m: f64,
+    #[serde(default = "default_critical_duration")]
+    duration_s: f64,
+    #[serde(default = "default_threshold")]
+    threshold_mm: f64,
+}
+
+fn default_release() -> f64 {
+    0.004
+}
+fn default_critical_duration() -> f64 {
+    10.0
+}
+fn default_threshold() -> f64 {
+    0.1
+}
+
+/// A critical-speed study (`kind = "critical_speed"`): a speed sweep at constant speed, each
+/// case released from `release_lateral_m` (on the hunting limit cycle where one exists), with the
+/// limit cycle's amplitude (`amplitude(*.y_mm)`) and the linear stability at that speed
+/// (`linear_max_real_1_s`, `linear_hunting_hz`) extracted.
+///
+/// Why a sweep, not a ramp or a bisection: the cases are independent (all cores, a cluster's
+/// shards), the amplitudes against speed are the bifurcation diagram itself, and each case runs at
+/// constant speed, so its amplitude is the cycle's at that speed (a ramp's lags behind it). The
+/// nonlinear critical speed — the lowest speed at which a limit cycle lives, the cycle's fold —
+/// is bracketed by the sweep's step (refine with a finer `speeds` over the bracket); the linear
+/// one is interpolated where Re λ crosses zero.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CriticalSpeedSettings {
+    pub release_lateral_m: f64,
+    pub duration_s: f64,
+    /// A case hunts where its amplitude over the last quarter exceeds this, mm.
+    pub threshold_mm: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -136,6 +182,8 @@ pub struct Study {
     /// The line of the study file that names each extract.
     pub extract_lines: Vec<usize>,
     pub cases: Vec<Case>,
+    /// `Some`: a critical-speed study (its first axis is the speed).
+    pub critical_speed: Option<CriticalSpeedSettings>,
     /// Identifies the study's content (its cases' scenarios, axes and extracts): shards and
     /// finished cases are matched on it (FNV-1a, 64 bit).
     pub id: String,
@@ -235,6 +283,86 @@ impl Study {
         let random = matches!(sampling, Sampling::Random { .. });
 
         let mut axes = Vec::new();
+        let mut extracts = Vec::new();
+        let mut extract_lines = Vec::new();
+        let critical_speed =
+            match (
+                raw.kind.as_ref().map(|k| k.get_ref().as_str()),
+                &raw.critical_speed,
+            ) {
+                (None | Some("cases"), None) => None,
+                (None | Some("cases"), Some(c)) => {
+                    return Err(at(
+                        c.span().start,
+                        "[critical_speed] belongs to kind = \"critical_speed\"".into(),
+                    ))
+                }
+                (Some("critical_speed"), None) => return Err(at(
+                    raw.kind.as_ref().map_or(0, |k| k.span().start),
+                    "kind = \"critical_speed\" needs a [critical_speed] table (speeds = { from, to, step })"
+                        .into(),
+                )),
+                (Some("critical_speed"), Some(c)) => {
+                    let line = line_of(text, c.span().start);
+                    let here = |m: String| StudyError::Input {
+                        path: origin.clone(),
+                        line,
+                        message: format!("[critical_speed]: {m}"),
+                    };
+                    if random {
+                        return Err(here(
+                            "a critical-speed study is a sweep: it takes no sampling = \"random\"".into(),
+                        ));
+                    }
+                    let c = c.get_ref();
+                    if !(c.release_lateral_m.is_finite() && (0.0..=0.02).contains(&c.release_lateral_m)) {
+                        return Err(here(format!(
+                            "release_lateral_m = {}: expected 0 ..= 0.02 m",
+                            c.release_lateral_m
+                        )));
+                    }
+                    if !(c.duration_s.is_finite() && c.duration_s > 0.0) {
+                        return Err(here(format!("duration_s = {}: expected > 0", c.duration_s)));
+                    }
+                    if !(c.threshold_mm.is_finite() && c.threshold_mm > 0.0) {
+                        return Err(here(format!("threshold_mm = {}: expected > 0", c.threshold_mm)));
+                    }
+                    let speeds = range_values(&c.speeds).map_err(|m| here(format!("speeds: {m}")))?;
+                    for (key, values) in [
+                        ("simulation.speed_m_s", speeds),
+                        ("simulation.speed_ramp_m_s2", vec![Value::Float(0.0)]),
+                        (
+                            "simulation.initial.lateral_m",
+                            vec![Value::Float(c.release_lateral_m)],
+                        ),
+                        ("simulation.duration_s", vec![Value::Float(c.duration_s)]),
+                    ] {
+                        let values = AxisValues::List(values);
+                        check_axis(&base, key, &values, &scenario_origin)
+                            .map_err(|m| here(format!("`{key}`: {m}")))?;
+                        axes.push(Axis {
+                            key: key.to_string(),
+                            values,
+                            line,
+                        });
+                    }
+                    for x in ["amplitude(*.y_mm)", "linear_max_real_1_s", "linear_hunting_hz"] {
+                        extracts.push(Extract::parse(x).map_err(here)?);
+                        extract_lines.push(line);
+                    }
+                    Some(CriticalSpeedSettings {
+                        release_lateral_m: c.release_lateral_m,
+                        duration_s: c.duration_s,
+                        threshold_mm: c.threshold_mm,
+                    })
+                }
+                (Some(other), _) => {
+                    return Err(at(
+                        raw.kind.as_ref().map_or(0, |k| k.span().start),
+                        format!("kind = \"{other}\": expected \"cases\" (the default) or \"critical_speed\""),
+                    ))
+                }
+            };
         for a in &raw.axis {
             let line = line_of(text, a.span().start);
             let a = a.get_ref();
@@ -289,26 +417,10 @@ impl Study {
                     return Err(here("no values (an empty list or range)".into()));
                 }
             }
-            // The key must be one the scenario reads: the base with the axis's first value must
-            // still parse as a scenario (its fields are checked strictly, unknown keys rejected).
-            let first = match &values {
-                AxisValues::List(v) => v[0].clone(),
-                AxisValues::Uniform(lo, _) => Value::Float(*lo),
-            };
-            let mut probe = base.clone();
-            set_key(&mut probe, &key, first).map_err(here)?;
-            let probe_text = toml::to_string(&probe).map_err(|e| here(e.to_string()))?;
-            Scenario::parse(&probe_text, &scenario_origin).map_err(|e| {
-                here(format!(
-                    "the scenario does not take it: {}",
-                    scenario_message(&e.to_string(), &scenario_origin)
-                ))
-            })?;
+            check_axis(&base, &key, &values, &scenario_origin).map_err(here)?;
             axes.push(Axis { key, values, line });
         }
 
-        let mut extracts = Vec::new();
-        let mut extract_lines = Vec::new();
         for e in &raw.extract {
             extract_lines.push(line_of(text, e.span().start));
             let x = Extract::parse(e.get_ref()).map_err(|m| at(e.span().start, m))?;
@@ -399,6 +511,9 @@ impl Study {
         for x in &extracts {
             id.add(x.name().as_bytes());
         }
+        if let Some(c) = &critical_speed {
+            id.add(format!("critical_speed {}", c.threshold_mm).as_bytes());
+        }
         for c in &cases {
             id.add(c.scenario.as_bytes());
         }
@@ -412,6 +527,7 @@ impl Study {
             extracts,
             extract_lines,
             cases,
+            critical_speed,
             id: format!("{:016x}", id.finish()),
         })
     }
@@ -420,6 +536,24 @@ impl Study {
     pub fn scenario_dir(&self) -> &Path {
         self.scenario_path.parent().unwrap_or(Path::new("."))
     }
+}
+
+/// Checks that the scenario reads `key`: the base with the axis's first value must still parse
+/// as a scenario (its fields are checked strictly, unknown keys rejected).
+fn check_axis(base: &Table, key: &str, values: &AxisValues, origin: &str) -> Result<(), String> {
+    let first = match values {
+        AxisValues::List(v) => v.first().cloned().ok_or("no values (an empty list or range)")?,
+        AxisValues::Uniform(lo, _) => Value::Float(*lo),
+    };
+    let mut probe = base.clone();
+    set_key(&mut probe, key, first)?;
+    let probe_text = toml::to_string(&probe).map_err(|e| e.to_string())?;
+    Scenario::parse(&probe_text, origin).map(|_| ()).map_err(|e| {
+        format!(
+            "the scenario does not take it: {}",
+            scenario_message(&e.to_string(), origin)
+        )
+    })
 }
 
 /// `key = value, …` of a case.
