@@ -1,7 +1,8 @@
 //! `kecsim study`: one recording that compares a study's cases — each extract against the first
-//! axis (one line per value of the second axis: e.g. the statistic against speed, one line per
-//! track realisation, so that the scatter over seeds shows), every case's front wheelset y over
-//! time on one plot, and the results table.
+//! axis (one line per combination of the other axes that vary: e.g. the statistic against speed,
+//! one line per track realisation, so that the scatter over seeds shows; for a critical-speed
+//! study the limit cycle's amplitude against speed, the bifurcation diagram), every case's front
+//! wheelset y over time on one plot, and the results table.
 //!
 //! The diagrams are 2D views with linear axes: x from the first axis's smallest to largest value
 //! (its values' order where they are not numbers) mapped to 0..1000, y from the extract's smallest
@@ -11,14 +12,14 @@
 //! | entity | archetype | what |
 //! |---|---|---|
 //! | `study/EXTRACT/grid` | LineStrips2D, static | frame and labelled ticks |
-//! | `study/EXTRACT/GROUP` | LineStrips2D, Points2D, static | the cases of one value of the second axis |
+//! | `study/EXTRACT/group_K` | LineStrips2D, Points2D, static | the cases of one combination of the other varying axes |
 //! | `study/front_y/case_NNNNN` | Scalars on `time` | the case's first wheelset's lateral displacement, mm |
 //! | `study/summary` | TextDocument, static | the results table |
 
 use std::path::Path;
 
 use rerun::blueprint::{
-    Blueprint, Grid, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+    Blueprint, Grid, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument, TimeColumn};
 
@@ -43,7 +44,8 @@ fn slug(name: &str) -> String {
     s.trim_matches('_').replace("__", "_")
 }
 
-/// The layout: the extracts' diagrams in a grid, every case's front wheelset y, the table.
+/// The layout: the extracts' diagrams in a grid on the left; every case's front wheelset y and the
+/// table on the right.
 pub fn blueprint_for(manifest: &Manifest) -> Blueprint {
     let against = manifest.axes.first().map_or("case".to_string(), |a| a.clone());
     let views: Vec<rerun::blueprint::ContainerLike> = manifest
@@ -55,21 +57,24 @@ pub fn blueprint_for(manifest: &Manifest) -> Blueprint {
                 .into()
         })
         .collect();
-    let mut rows: Vec<rerun::blueprint::ContainerLike> = Vec::new();
-    if !views.is_empty() {
-        rows.push(Grid::new(views).into());
-    }
-    rows.push(
+    let right = Vertical::new([
         TimeSeriesView::new("every case: front wheelset y [mm]")
             .with_origin("/study/front_y")
             .into(),
-    );
-    rows.push(
         TextDocumentView::new("Results")
             .with_origin("/study/summary")
             .into(),
-    );
-    Blueprint::new(Vertical::new(rows)).with_time_panel(TimePanel::new().with_timeline(TIME))
+    ])
+    .into();
+    let columns = if views.len() > 4 { 3 } else { 2 };
+    let layout: rerun::blueprint::ContainerLike = if views.is_empty() {
+        right
+    } else {
+        Horizontal::new([Grid::new(views).with_grid_columns(columns).into(), right])
+            .with_column_shares([3.0, 2.0])
+            .into()
+    };
+    Blueprint::new(layout).with_time_panel(TimePanel::new().with_timeline(TIME))
 }
 
 /// A linear axis: the values' span mapped onto `0..len` (`flip`: len..0).
@@ -155,8 +160,22 @@ pub fn record(
             .collect(),
     };
     let x_name = manifest.axes.first().cloned().unwrap_or_else(|| "case".into());
-    // Groups: the second axis's values (one group without it).
-    let group_of = |r: &CaseResult| r.values.get(1).cloned().unwrap_or_default();
+    // Groups: the values of the other axes that vary (one line per combination).
+    let varies: Vec<bool> = (0..manifest.axes.len())
+        .map(|k| rows.iter().any(|r| r.values.get(k) != rows[0].values.get(k)))
+        .collect();
+    let group_of = |r: &CaseResult| {
+        manifest
+            .axes
+            .iter()
+            .zip(&r.values)
+            .zip(&varies)
+            .skip(1)
+            .filter(|(_, v)| **v)
+            .map(|((a, v), _)| format!("{a} = {v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     let mut groups: Vec<String> = Vec::new();
     for r in rows {
         let g = group_of(r);
@@ -219,10 +238,7 @@ pub fn record(
             if members.is_empty() {
                 continue;
             }
-            let label = match manifest.axes.get(1) {
-                Some(a) => format!("{a} = {g}"),
-                None => name.clone(),
-            };
+            let label = if g.is_empty() { name.clone() } else { g.clone() };
             let entity = format!("{base}/group_{k}");
             let pts: Vec<[f32; 2]> = members.iter().map(|m| [sx.at(m.0), sy.at(m.1)]).collect();
             log_static(
@@ -237,13 +253,8 @@ pub fn record(
                 rec,
                 &format!("{entity}/points"),
                 &Points2D::new(pts)
-                    .with_labels(
-                        members
-                            .iter()
-                            .map(|m| format!("case {}: {}", m.2.case, tick(m.1))),
-                    )
                     .with_colors(members.iter().map(|m| status_color(&m.2.status, color)))
-                    .with_radii([Radius::new_ui_points(4.0)]),
+                    .with_radii([Radius::new_ui_points(3.5)]),
             )?;
         }
     }
@@ -252,18 +263,19 @@ pub fn record(
         if y.is_empty() {
             continue;
         }
-        let label = format!(
-            "case {}{}{}",
-            r.case,
-            if r.values.is_empty() { "" } else { ": " },
-            manifest
-                .axes
-                .iter()
-                .zip(&r.values)
-                .map(|(a, v)| format!("{a} = {v}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+        let parts: Vec<String> = manifest
+            .axes
+            .iter()
+            .zip(&r.values)
+            .zip(&varies)
+            .filter(|(_, v)| **v)
+            .map(|((a, v), _)| format!("{a} = {v}"))
+            .collect();
+        let label = if parts.is_empty() {
+            format!("case {}", r.case)
+        } else {
+            format!("case {}: {}", r.case, parts.join(", "))
+        };
         send_scalar_rows(
             rec,
             vec![TimeColumn::new_duration_secs(TIME, y.iter().map(|p| p.0))],
