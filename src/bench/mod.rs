@@ -5,6 +5,7 @@ pub mod dynamics;
 pub mod hard;
 pub mod precision;
 pub mod scaling;
+pub mod study;
 
 use std::hint::black_box;
 use std::time::Instant;

@@ -18,7 +18,7 @@ pub(super) struct BenchArgs {
     #[arg(value_enum, default_value = "profiles")]
     target: BenchTarget,
     /// `precision`: the scenario file (TOML) with a [simulation] [default: the embedded MS scene,
-    /// the default of `kecsim run`].
+    /// the default of `kecsim run`]. `study`: the study file.
     scenario: Option<PathBuf>,
     /// Calls per measurement.
     #[arg(long, default_value_t = DEFAULT_CALLS)]
@@ -98,6 +98,9 @@ enum BenchTarget {
     /// widening — each with the elastic contact model (the reference) and the constraint models
     /// beside it: outcome, steps, smallest step, max |y|, Y/Q, lift, cost, difference to elastic.
     Hard,
+    /// A study's throughput (the study file in place of the scenario): one job, then one per
+    /// core; cases per minute, the speed-up, the overhead per case.
+    Study,
 }
 
 pub(super) fn run(a: BenchArgs) -> Result<()> {
@@ -120,6 +123,20 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         || !a.rtol.is_empty()
         || a.reference_contact.is_some()
         || a.reference_rtol.is_some();
+    if matches!(a.target, BenchTarget::Study) {
+        let path = a
+            .scenario
+            .as_ref()
+            .ok_or_else(|| anyhow::anyhow!("`kecsim bench study STUDY.toml`: give the study file"))?;
+        anyhow::ensure!(
+            a.contact.is_empty() && a.method.is_empty() && a.rtol.is_empty() && a.duration.is_none(),
+            "`kecsim bench study` takes the study file only"
+        );
+        let study = kecsim::study::Study::read(path)?;
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        print!("{}", kecsim::bench::study::throughput(&study, cores)?);
+        return Ok(());
+    }
     if matches!(a.target, BenchTarget::Hard) {
         anyhow::ensure!(!sweep_options, "`kecsim bench hard` takes --duration only");
         super::check_duration(a.duration)?;
@@ -177,7 +194,9 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
             "{}",
             kecsim::bench::dynamics::dispatch().map_err(anyhow::Error::msg)?
         ),
-        BenchTarget::Precision | BenchTarget::Scaling | BenchTarget::Hard => unreachable!("handled above"),
+        BenchTarget::Precision | BenchTarget::Scaling | BenchTarget::Hard | BenchTarget::Study => {
+            unreachable!("handled above")
+        }
     }
     Ok(())
 }
