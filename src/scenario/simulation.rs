@@ -290,7 +290,7 @@ impl BuiltRun {
     }
 }
 
-/// Contact preprocessing shared between runs ([`Scene::build_run_cached`]): each entry a built
+/// Contact preprocessing shared between runs ([`super::Scene::build_run_cached`]): each entry a built
 /// contact model and its pair's flange angle, keyed by the contact settings and the placed pair.
 #[derive(Debug, Default)]
 pub struct PreprocessingCache {
@@ -446,7 +446,7 @@ impl super::Scene {
         self.build_run_cached(options, None)
     }
 
-    /// [`Scene::build_run`], taking the contact preprocessing (the model's tables and profiles,
+    /// [`Self::build_run`], taking the contact preprocessing (the model's tables and profiles,
     /// the flange angle) from `cache` where an earlier run built it for the same profiles, placement
     /// and contact settings — a study's cases that vary only the speed or the track share it.
     /// A history-dependent model (its warm starts are the evaluators', but to be safe) is not

@@ -472,7 +472,7 @@ pub fn merge(out: &Path) -> Result<(Manifest, Vec<CaseResult>, PathBuf), StudyEr
     Ok((manifest, rows, path))
 }
 
-/// A case's first wheelset's (t [s], y [mm]) from its CSV (empty where it has none).
+/// A case's first wheelset's (t, y): s and mm, from its CSV (empty where it has none).
 pub fn front_wheelset_y(out: &Path, r: &CaseResult) -> Vec<(f64, f64)> {
     let Some(name) = r.wheelsets.first() else {
         return Vec::new();
