@@ -265,7 +265,17 @@ values = [0.2, 0.3, 0.4]
 fn bad_study_input_names_the_file_the_line_and_the_problem() {
     let d = tmpdir("study-bad");
     let base = scene("wheelset_klingel.toml");
-    let cases: [(&str, &str, &str); 9] = [
+    let cases: [(&str, &str, &str); 11] = [
+        (
+            "kind = \"critical_speed\"\n",
+            "line 5",
+            "needs a [critical_speed] table",
+        ),
+        (
+            "kind = \"critical_speed\"\n[critical_speed]\nspeeds = { from = 30.0, to = 20.0, step = 1.0 }\n",
+            "line 6",
+            "speeds: range from 30 to 20",
+        ),
         (
             "[[axis]]\nkey = \"simulation.sped_m_s\"\nvalues = [1.0]\n",
             "line 6",

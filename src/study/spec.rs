@@ -285,84 +285,50 @@ impl Study {
         let mut axes = Vec::new();
         let mut extracts = Vec::new();
         let mut extract_lines = Vec::new();
-        let critical_speed =
-            match (
-                raw.kind.as_ref().map(|k| k.get_ref().as_str()),
-                &raw.critical_speed,
-            ) {
-                (None | Some("cases"), None) => None,
-                (None | Some("cases"), Some(c)) => {
-                    return Err(at(
-                        c.span().start,
-                        "[critical_speed] belongs to kind = \"critical_speed\"".into(),
-                    ))
-                }
-                (Some("critical_speed"), None) => return Err(at(
+        let critical_speed = match (
+            raw.kind.as_ref().map(|k| k.get_ref().as_str()),
+            &raw.critical_speed,
+        ) {
+            (None | Some("cases"), None) => None,
+            (None | Some("cases"), Some(c)) => {
+                return Err(at(
+                    c.span().start,
+                    "[critical_speed] belongs to kind = \"critical_speed\"".into(),
+                ))
+            }
+            (Some("critical_speed"), None) => {
+                return Err(at(
                     raw.kind.as_ref().map_or(0, |k| k.span().start),
                     "kind = \"critical_speed\" needs a [critical_speed] table (speeds = { from, to, step })"
                         .into(),
-                )),
-                (Some("critical_speed"), Some(c)) => {
-                    let line = line_of(text, c.span().start);
-                    let here = |m: String| StudyError::Input {
-                        path: origin.clone(),
-                        line,
-                        message: format!("[critical_speed]: {m}"),
-                    };
-                    if random {
-                        return Err(here(
-                            "a critical-speed study is a sweep: it takes no sampling = \"random\"".into(),
-                        ));
-                    }
-                    let c = c.get_ref();
-                    if !(c.release_lateral_m.is_finite() && (0.0..=0.02).contains(&c.release_lateral_m)) {
-                        return Err(here(format!(
-                            "release_lateral_m = {}: expected 0 ..= 0.02 m",
-                            c.release_lateral_m
-                        )));
-                    }
-                    if !(c.duration_s.is_finite() && c.duration_s > 0.0) {
-                        return Err(here(format!("duration_s = {}: expected > 0", c.duration_s)));
-                    }
-                    if !(c.threshold_mm.is_finite() && c.threshold_mm > 0.0) {
-                        return Err(here(format!("threshold_mm = {}: expected > 0", c.threshold_mm)));
-                    }
-                    let speeds = range_values(&c.speeds).map_err(|m| here(format!("speeds: {m}")))?;
-                    for (key, values) in [
-                        ("simulation.speed_m_s", speeds),
-                        ("simulation.speed_ramp_m_s2", vec![Value::Float(0.0)]),
-                        (
-                            "simulation.initial.lateral_m",
-                            vec![Value::Float(c.release_lateral_m)],
-                        ),
-                        ("simulation.duration_s", vec![Value::Float(c.duration_s)]),
-                    ] {
-                        let values = AxisValues::List(values);
-                        check_axis(&base, key, &values, &scenario_origin)
-                            .map_err(|m| here(format!("`{key}`: {m}")))?;
-                        axes.push(Axis {
-                            key: key.to_string(),
-                            values,
-                            line,
-                        });
-                    }
-                    for x in ["amplitude(*.y_mm)", "linear_max_real_1_s", "linear_hunting_hz"] {
-                        extracts.push(Extract::parse(x).map_err(here)?);
-                        extract_lines.push(line);
-                    }
-                    Some(CriticalSpeedSettings {
-                        release_lateral_m: c.release_lateral_m,
-                        duration_s: c.duration_s,
-                        threshold_mm: c.threshold_mm,
-                    })
-                }
-                (Some(other), _) => {
+                ))
+            }
+            (Some("critical_speed"), Some(c)) => {
+                let line = line_of(text, c.span().start);
+                if random {
                     return Err(at(
-                        raw.kind.as_ref().map_or(0, |k| k.span().start),
-                        format!("kind = \"{other}\": expected \"cases\" (the default) or \"critical_speed\""),
-                    ))
+                            c.span().start,
+                            "[critical_speed]: a critical-speed study is a sweep: it takes no sampling = \"random\"".into(),
+                        ));
                 }
-            };
+                let (own, settings) = critical_speed_axes(c.get_ref(), &base, &scenario_origin)
+                    .map_err(|m| at(c.span().start, format!("[critical_speed]: {m}")))?;
+                for a in own {
+                    axes.push(Axis { line, ..a });
+                }
+                for x in ["amplitude(*.y_mm)", "linear_max_real_1_s", "linear_hunting_hz"] {
+                    extracts.push(Extract::parse(x).map_err(|m| at(c.span().start, m))?);
+                    extract_lines.push(line);
+                }
+                Some(settings)
+            }
+            (Some(other), _) => {
+                return Err(at(
+                    raw.kind.as_ref().map_or(0, |k| k.span().start),
+                    format!("kind = \"{other}\": expected \"cases\" (the default) or \"critical_speed\""),
+                ))
+            }
+        };
         for a in &raw.axis {
             let line = line_of(text, a.span().start);
             let a = a.get_ref();
@@ -375,43 +341,7 @@ impl Study {
             if axes.iter().any(|b: &Axis| b.key == key) {
                 return Err(here("named twice".into()));
             }
-            let given = [
-                a.values.is_some(),
-                a.range.is_some(),
-                a.seeds.is_some(),
-                a.uniform.is_some(),
-            ];
-            if given.iter().filter(|&&g| g).count() != 1 {
-                return Err(here(
-                    "give exactly one of `values`, `range`, `seeds`, `uniform`".into(),
-                ));
-            }
-            let values = if let Some(v) = &a.values {
-                AxisValues::List(v.clone())
-            } else if let Some(r) = &a.range {
-                AxisValues::List(range_values(r).map_err(here)?)
-            } else if let Some(n) = a.seeds {
-                if !(1..=MAX_CASES as i64).contains(&n) {
-                    return Err(here(format!("seeds = {n}: expected 1 ..= {MAX_CASES}")));
-                }
-                AxisValues::List(
-                    (0..n as u64)
-                        .map(|k| Value::Integer(derived_seed(raw.seed, k)))
-                        .collect(),
-                )
-            } else if let Some([lo, hi]) = a.uniform {
-                if !random {
-                    return Err(here(
-                        "`uniform` draws at random: it needs sampling = \"random\" (a grid takes `values`, `range` or `seeds`)".into(),
-                    ));
-                }
-                if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-                    return Err(here(format!("uniform = [{lo}, {hi}]: expected finite lo <= hi")));
-                }
-                AxisValues::Uniform(lo, hi)
-            } else {
-                unreachable!("one of the four is given (checked above)")
-            };
+            let values = axis_values(a, raw.seed, random).map_err(here)?;
             if let AxisValues::List(v) = &values {
                 if v.is_empty() {
                     return Err(here("no values (an empty list or range)".into()));
@@ -452,31 +382,7 @@ impl Study {
         };
         let mut cases = Vec::with_capacity(count);
         for index in 0..count {
-            let values: Vec<Value> = match &sampling {
-                Sampling::Grid => {
-                    let mut rest = index;
-                    let mut v = vec![Value::Boolean(false); axes.len()];
-                    for (k, a) in axes.iter().enumerate().rev() {
-                        if let AxisValues::List(list) = &a.values {
-                            v[k] = list[rest % list.len()].clone();
-                            rest /= list.len();
-                        }
-                    }
-                    v
-                }
-                Sampling::Random { .. } => {
-                    let mut rng =
-                        SplitMix64::new(raw.seed ^ (index as u64).wrapping_mul(0xD6E8_FEB8_6659_FD93));
-                    axes.iter()
-                        .map(|a| match &a.values {
-                            AxisValues::List(list) => {
-                                list[(rng.unit() * list.len() as f64) as usize % list.len()].clone()
-                            }
-                            AxisValues::Uniform(lo, hi) => Value::Float(lo + (hi - lo) * rng.unit()),
-                        })
-                        .collect()
-                }
-            };
+            let values = case_values(&sampling, &axes, raw.seed, index);
             let mut table = base.clone();
             for (a, v) in axes.iter().zip(&values) {
                 set_key(&mut table, &a.key, v.clone()).map_err(|m| StudyError::Input {
@@ -535,6 +441,112 @@ impl Study {
     /// The directory relative paths of the cases' scenarios start from.
     pub fn scenario_dir(&self) -> &Path {
         self.scenario_path.parent().unwrap_or(Path::new("."))
+    }
+}
+
+/// Case `index`'s value of every axis: its place in the grid (the last axis fastest), or drawn
+/// from a generator seeded by the study seed and the index.
+fn case_values(sampling: &Sampling, axes: &[Axis], seed: u64, index: usize) -> Vec<Value> {
+    match sampling {
+        Sampling::Grid => {
+            let mut rest = index;
+            let mut v = vec![Value::Boolean(false); axes.len()];
+            for (k, a) in axes.iter().enumerate().rev() {
+                if let AxisValues::List(list) = &a.values {
+                    v[k] = list[rest % list.len()].clone();
+                    rest /= list.len();
+                }
+            }
+            v
+        }
+        Sampling::Random { .. } => {
+            let mut rng = SplitMix64::new(seed ^ (index as u64).wrapping_mul(0xD6E8_FEB8_6659_FD93));
+            axes.iter()
+                .map(|a| match &a.values {
+                    AxisValues::List(list) => {
+                        list[(rng.unit() * list.len() as f64) as usize % list.len()].clone()
+                    }
+                    AxisValues::Uniform(lo, hi) => Value::Float(lo + (hi - lo) * rng.unit()),
+                })
+                .collect()
+        }
+    }
+}
+
+/// The axes a critical-speed study sets itself (speed sweep, constant speed, release, duration),
+/// checked against the base scenario, and its settings.
+fn critical_speed_axes(
+    c: &CriticalToml,
+    base: &Table,
+    origin: &str,
+) -> Result<(Vec<Axis>, CriticalSpeedSettings), String> {
+    if !(c.release_lateral_m.is_finite() && (0.0..=0.02).contains(&c.release_lateral_m)) {
+        return Err(format!(
+            "release_lateral_m = {}: expected 0 ..= 0.02 m",
+            c.release_lateral_m
+        ));
+    }
+    if !(c.duration_s.is_finite() && c.duration_s > 0.0) {
+        return Err(format!("duration_s = {}: expected > 0", c.duration_s));
+    }
+    if !(c.threshold_mm.is_finite() && c.threshold_mm > 0.0) {
+        return Err(format!("threshold_mm = {}: expected > 0", c.threshold_mm));
+    }
+    let speeds = range_values(&c.speeds).map_err(|m| format!("speeds: {m}"))?;
+    let mut axes = Vec::new();
+    for (key, values) in [
+        ("simulation.speed_m_s", speeds),
+        ("simulation.speed_ramp_m_s2", vec![Value::Float(0.0)]),
+        (
+            "simulation.initial.lateral_m",
+            vec![Value::Float(c.release_lateral_m)],
+        ),
+        ("simulation.duration_s", vec![Value::Float(c.duration_s)]),
+    ] {
+        let values = AxisValues::List(values);
+        check_axis(base, key, &values, origin).map_err(|m| format!("`{key}`: {m}"))?;
+        axes.push(Axis {
+            key: key.to_string(),
+            values,
+            line: 0,
+        });
+    }
+    Ok((
+        axes,
+        CriticalSpeedSettings {
+            release_lateral_m: c.release_lateral_m,
+            duration_s: c.duration_s,
+            threshold_mm: c.threshold_mm,
+        },
+    ))
+}
+
+/// The values an axis gives: exactly one of `values`, `range`, `seeds`, `uniform` (the latter
+/// with random sampling only).
+fn axis_values(a: &AxisToml, study_seed: u64, random: bool) -> Result<AxisValues, String> {
+    match (&a.values, &a.range, a.seeds, a.uniform) {
+        (Some(v), None, None, None) => Ok(AxisValues::List(v.clone())),
+        (None, Some(r), None, None) => range_values(r).map(AxisValues::List),
+        (None, None, Some(n), None) => {
+            if !(1..=MAX_CASES as i64).contains(&n) {
+                return Err(format!("seeds = {n}: expected 1 ..= {MAX_CASES}"));
+            }
+            Ok(AxisValues::List(
+                (0..n as u64)
+                    .map(|k| Value::Integer(derived_seed(study_seed, k)))
+                    .collect(),
+            ))
+        }
+        (None, None, None, Some([lo, hi])) => {
+            if !random {
+                return Err("`uniform` draws at random: it needs sampling = \"random\" (a grid takes `values`, `range` or `seeds`)".into());
+            }
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                return Err(format!("uniform = [{lo}, {hi}]: expected finite lo <= hi"));
+            }
+            Ok(AxisValues::Uniform(lo, hi))
+        }
+        _ => Err("give exactly one of `values`, `range`, `seeds`, `uniform`".into()),
     }
 }
 
