@@ -500,3 +500,91 @@ values = [0.02]
     assert!(csv.contains("linearly stable up to 35 m/s"), "{csv}");
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// Ctrl-C / SIGTERM stops a study: the running case stops at its next step and is not marked
+/// finished, no further case starts, the finished ones stay; the same command then runs the rest.
+#[test]
+fn an_interrupted_study_keeps_its_finished_cases_and_a_rerun_completes_it() {
+    use std::time::{Duration, Instant};
+    let d = tmpdir("study-interrupt");
+    let path = d.join("long.toml");
+    std::fs::write(
+        &path,
+        format!(
+            r#"schema_version = 1
+name = "long"
+scenario = "{}"
+extract = ["max_abs_y_mm"]
+
+[[axis]]
+key = "simulation.speed_m_s"
+values = [5.0, 6.0, 7.0, 8.0]
+
+[[axis]]
+key = "simulation.duration_s"
+values = [60.0]
+"#,
+            scene("wheelset_klingel.toml")
+        ),
+    )
+    .unwrap();
+    let out = d.join("out");
+    let args = [
+        "study",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--jobs",
+        "1",
+    ];
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_kecsim"))
+        .args(args)
+        .current_dir(&d)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t = Instant::now();
+    while !out.join("cases/00000/result.json").exists() {
+        assert!(
+            t.elapsed() < Duration::from_secs(120),
+            "no case finished after 120 s"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let pid = child.id().to_string();
+    assert!(std::process::Command::new("kill")
+        .args(["-TERM", &pid])
+        .status()
+        .unwrap()
+        .success());
+    let status = child.wait().unwrap();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+    assert!(
+        !status.success(),
+        "an interrupted study reports it in its exit status"
+    );
+    assert!(
+        stderr.contains("interrupted:") && stderr.contains("run the same command again"),
+        "{stderr}"
+    );
+    let finished: Vec<bool> = (0..4)
+        .map(|k| out.join(format!("cases/{k:05}/result.json")).exists())
+        .collect();
+    assert!(finished[0] && !finished[3], "{finished:?}");
+    assert!(
+        !out.join("results.csv").exists(),
+        "a table of an unfinished study"
+    );
+    let done = finished.iter().filter(|&&f| f).count();
+    let again = kecsim_ok(&args, &d);
+    assert!(
+        again.contains(&format!("ran {} cases", 4 - done))
+            && again.contains(&format!("{done} finished before:")),
+        "{again}"
+    );
+    assert_eq!(table(&out).lines().count(), 5);
+    std::fs::remove_dir_all(&d).ok();
+}

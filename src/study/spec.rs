@@ -184,8 +184,8 @@ pub struct Study {
     pub cases: Vec<Case>,
     /// `Some`: a critical-speed study (its first axis is the speed).
     pub critical_speed: Option<CriticalSpeedSettings>,
-    /// Identifies the study's content (its cases' scenarios, axes and extracts): shards and
-    /// finished cases are matched on it (FNV-1a, 64 bit).
+    /// Identifies the study's content (the kecsim version, its cases' scenarios, axes and
+    /// extracts): shards and finished cases are matched on it (FNV-1a, 64 bit).
     pub id: String,
 }
 
@@ -409,7 +409,10 @@ impl Study {
             });
         }
 
+        // The results of another kecsim version are another study's (the same scenario may give
+        // other figures).
         let mut id = Fnv::new();
+        id.add(concat!("kecsim ", env!("CARGO_PKG_VERSION")).as_bytes());
         id.add(raw.name.as_bytes());
         for a in &axes {
             id.add(a.key.as_bytes());
