@@ -588,3 +588,22 @@ values = [60.0]
     assert_eq!(table(&out).lines().count(), 5);
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// A `seeds` axis: its values are the study seed's derived seeds, and the study summarises the
+/// extracts over them (statistics.csv; the figures themselves are checked in the unit tests).
+#[test]
+fn a_seeds_axis_gives_derived_seeds_and_realisation_statistics() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/studies/ms_speed_realisations.toml");
+    let study = Study::read(&path).unwrap();
+    assert_eq!(study.cases.len(), 9);
+    let seeds: Vec<i64> = (0..3)
+        .map(|k| kecsim::study::spec::derived_seed(2026, k))
+        .collect();
+    assert!(seeds[0] != seeds[1] && seeds[1] != seeds[2]);
+    for (k, c) in study.cases.iter().enumerate() {
+        assert_eq!(c.values[1].as_integer(), Some(seeds[k % 3]), "case {k}");
+        assert!(c.scenario.contains(&format!("seed = {}", seeds[k % 3])));
+    }
+    let m = kecsim::study::Manifest::of(&study);
+    assert_eq!(m.seed_axes, vec![1]);
+}

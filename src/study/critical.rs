@@ -228,6 +228,7 @@ mod tests {
                 "linear_hunting_hz".into(),
             ],
             critical_speed_threshold_mm: Some(0.1),
+            seed_axes: vec![],
         };
         // Re λ = (v − 47) / 10: crosses at 47 m/s; cycles from 40 m/s on.
         let rows: Vec<CaseResult> = [30.0, 35.0, 40.0, 45.0, 50.0]

@@ -10,6 +10,7 @@ pub mod critical;
 pub mod extract;
 pub mod run;
 pub mod spec;
+pub mod statistics;
 
 use thiserror::Error;
 

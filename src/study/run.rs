@@ -39,6 +39,9 @@ pub struct Manifest {
     /// A critical-speed study: the hunting amplitude threshold, mm.
     #[serde(default)]
     pub critical_speed_threshold_mm: Option<f64>,
+    /// The axes whose values are derived seeds (realisations), by index.
+    #[serde(default)]
+    pub seed_axes: Vec<usize>,
 }
 
 impl Manifest {
@@ -50,6 +53,7 @@ impl Manifest {
             axes: study.axes.iter().map(|a| a.key.clone()).collect(),
             extracts: study.extracts.iter().map(|x| x.name()).collect(),
             critical_speed_threshold_mm: study.critical_speed.map(|c| c.threshold_mm),
+            seed_axes: (0..study.axes.len()).filter(|&k| study.axes[k].seeds).collect(),
         }
     }
 }
@@ -182,8 +186,8 @@ pub fn run_study(
                 this: format!("{} ({})", manifest.name, manifest.id),
             })
         }
-        Some(_) => {}
-        None => write_atomic(
+        // (Rewritten for the same study too: a manifest of an earlier kecsim may lack fields.)
+        _ => write_atomic(
             &out.join("study.json"),
             &serde_json::to_string_pretty(&manifest).map_err(|e| io(out, e))?,
         )?,
@@ -506,6 +510,11 @@ pub fn results_markdown(manifest: &Manifest, rows: &[CaseResult]) -> String {
     if let Some(threshold) = manifest.critical_speed_threshold_mm {
         let list = super::critical::critical_speeds(manifest, rows, threshold);
         s.push_str(&super::critical::critical_markdown(&list, threshold));
+        s.push_str("\n## Cases\n\n");
+    }
+    if !manifest.seed_axes.is_empty() {
+        let list = super::statistics::over_realisations(manifest, rows);
+        s.push_str(&super::statistics::statistics_markdown(manifest, &list));
         s.push_str("\n## Cases\n\n");
     }
     s.push_str(&format!(

@@ -157,6 +157,9 @@ pub struct Axis {
     pub values: AxisValues,
     /// The line of the study file that names it.
     pub line: usize,
+    /// Its values are derived seeds (`seeds = N`): realisations of one random input, over which
+    /// the results are summarised statistically.
+    pub seeds: bool,
 }
 
 /// One case: its index, the axes' values (in axis order) and the scenario text they give.
@@ -348,7 +351,12 @@ impl Study {
                 }
             }
             check_axis(&base, &key, &values, &scenario_origin).map_err(here)?;
-            axes.push(Axis { key, values, line });
+            axes.push(Axis {
+                key,
+                values,
+                line,
+                seeds: a.seeds.is_some(),
+            });
         }
 
         for e in &raw.extract {
@@ -512,6 +520,7 @@ fn critical_speed_axes(
             key: key.to_string(),
             values,
             line: 0,
+            seeds: false,
         });
     }
     Ok((
