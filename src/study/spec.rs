@@ -400,15 +400,15 @@ impl Study {
                 })?;
             }
             let scenario = toml::to_string(&table).map_err(|e| at(0, e.to_string()))?;
-            Scenario::parse(&scenario, &scenario_origin).map_err(|e| {
-                at(
-                    0,
-                    format!(
-                        "case {index} ({}): the scenario does not take it: {}",
-                        describe(&axes, &values),
-                        scenario_message(&e.to_string(), &scenario_origin)
-                    ),
-                )
+            // (A case's combination, not one line, is at fault: no line.)
+            Scenario::parse(&scenario, &scenario_origin).map_err(|e| StudyError::Input {
+                path: origin.clone(),
+                line: 0,
+                message: format!(
+                    "case {index} ({}): the scenario does not take it: {}",
+                    describe(&axes, &values),
+                    scenario_message(&e.to_string(), &scenario_origin)
+                ),
             })?;
             cases.push(Case {
                 index,
