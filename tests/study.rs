@@ -607,3 +607,42 @@ fn a_seeds_axis_gives_derived_seeds_and_realisation_statistics() {
     let m = kecsim::study::Manifest::of(&study);
     assert_eq!(m.seed_axes, vec![1]);
 }
+
+/// The Cooperrider car linearised with KEC against the online rigid-contact model (independent
+/// of KEC's preprocessing: the constraints solved at every evaluation): the same least-damped
+/// mode, stable at 56 m/s, unstable at 60 m/s with the same Re λ (measured +0.3860 and +0.3865
+/// 1/s: the scene's own deceleration ramp runs during the 1 s settling, hence not the constant-speed
+/// study's +0.3707).
+#[test]
+fn the_cooperrider_car_linearised_with_kec_and_with_online_contact_agrees() {
+    use kecsim::dynamics::linear::linear_stability;
+    use kecsim::scenario::RunOptions;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cooperrider_car.toml");
+    let scene = kecsim::scenario::Scenario::read(&path)
+        .unwrap()
+        .compile(&path.display().to_string(), path.parent().unwrap())
+        .unwrap();
+    for speed in [56.0, 60.0] {
+        let re: Vec<f64> = ["kec", "online"]
+            .iter()
+            .map(|c| {
+                let run = scene
+                    .build_run(&RunOptions {
+                        contact: Some(c.to_string()),
+                        speed_m_s: Some(speed),
+                    })
+                    .unwrap();
+                linear_stability(run.vehicle.as_ref(), &run.settings.integrator)
+                    .unwrap()
+                    .unwrap()
+                    .max_real_1_s
+            })
+            .collect();
+        println!("{speed} m/s: Re λ KEC {:.4}, online {:.4} 1/s", re[0], re[1]);
+        assert_eq!(re[0] > 0.0, speed > 58.0, "{speed} m/s: {re:?}");
+        assert!(
+            (re[0] - re[1]).abs() < 0.01 * re[1].abs().max(0.03),
+            "{speed} m/s: {re:?}"
+        );
+    }
+}
