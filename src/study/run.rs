@@ -10,6 +10,8 @@
 //! | `cases/NNNNN/summary.json` | the run summary (`kecsim run --json`) |
 //! | `cases/NNNNN/result.json` | the case's row: axis values, status, extracts, diagnosis — written last: a case without it is not finished |
 //! | `results.csv` | one row per case, in case order (written when every case is finished) |
+//! | `statistics.csv` | with a `seeds` axis: each extract over the realisations, per combination of the other axes |
+//! | `critical_speeds.csv` | a critical-speed study: the linear and nonlinear critical speeds |
 //!
 //! A case is run at most once per study: a rerun (or another shard) skips every case whose
 //! `result.json` belongs to this study (same id, same scenario). Cases are split between shards
