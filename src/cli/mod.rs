@@ -73,7 +73,8 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Bench(bench::BenchArgs),
     /// Run a study: one scenario over many variations (speeds, track realisations, any scenario
-    /// value), on all cores or as shards of a cluster job array; one table and one recording.
+    /// value), on all cores or as shards of a cluster job array; one table and one recording
+    /// (DIR/study.rrd, where no --save, --spawn or --connect says otherwise).
     #[command(allow_negative_numbers = true)]
     Study(study::StudyArgs),
 }
