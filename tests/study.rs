@@ -10,7 +10,7 @@ use common::{kecsim, kecsim_ok, rerun_verify, tmpdir};
 use kecsim::study::run::{collect, run_study, StudyOptions};
 use kecsim::study::{Study, StudyError};
 
-fn scene(file: &str) -> String {
+fn scene_path(file: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/scenes")
         .join(file)
@@ -41,7 +41,7 @@ range = {{ from = 0.2, to = 0.3, count = 2 }}
 key = "simulation.duration_s"
 values = [0.3]
 "#,
-            scene("wheelset_klingel.toml")
+            scene_path("wheelset_klingel.toml")
         ),
     )
     .unwrap();
@@ -227,7 +227,7 @@ uniform = [10.0, 20.0]
 key = "contact_forces.friction"
 values = [0.2, 0.3, 0.4]
 "#,
-                scene("wheelset_klingel.toml")
+                scene_path("wheelset_klingel.toml")
             ),
         )
         .unwrap();
@@ -264,7 +264,7 @@ values = [0.2, 0.3, 0.4]
 #[test]
 fn bad_study_input_names_the_file_the_line_and_the_problem() {
     let d = tmpdir("study-bad");
-    let base = scene("wheelset_klingel.toml");
+    let base = scene_path("wheelset_klingel.toml");
     let cases: [(&str, &str, &str); 11] = [
         (
             "kind = \"critical_speed\"\n",
@@ -481,7 +481,7 @@ duration_s = 8.0
 key = "simulation.stop_lateral_m"
 values = [0.02]
 "#,
-            scene("wheelset_critical_speed.toml")
+            scene_path("wheelset_critical_speed.toml")
         ),
     )
     .unwrap();
@@ -524,7 +524,7 @@ values = [5.0, 6.0, 7.0, 8.0]
 key = "simulation.duration_s"
 values = [60.0]
 "#,
-            scene("wheelset_klingel.toml")
+            scene_path("wheelset_klingel.toml")
         ),
     )
     .unwrap();
@@ -617,11 +617,7 @@ fn a_seeds_axis_gives_derived_seeds_and_realisation_statistics() {
 fn the_cooperrider_car_linearised_with_kec_and_with_online_contact_agrees() {
     use kecsim::dynamics::linear::linear_stability;
     use kecsim::scenario::RunOptions;
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cooperrider_car.toml");
-    let scene = kecsim::scenario::Scenario::read(&path)
-        .unwrap()
-        .compile(&path.display().to_string(), path.parent().unwrap())
-        .unwrap();
+    let scene = common::scene("cooperrider_car.toml");
     for speed in [56.0, 60.0] {
         let re: Vec<f64> = ["kec", "online"]
             .iter()

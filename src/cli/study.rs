@@ -224,11 +224,7 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
             } else {
                 r.status.as_str()
             },
-            axes.iter()
-                .zip(&r.values)
-                .map(|(a, v)| format!("{a} = {v}"))
-                .collect::<Vec<_>>()
-                .join(", "),
+            r.axes_text(&axes, |_| true),
             if skipped {
                 String::new()
             } else {

@@ -24,7 +24,7 @@ use rerun::blueprint::{
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument, TimeColumn};
 
 use super::{log_static, send_scalar_rows, InspectError};
-use crate::study::run::{front_wheelset_y, CaseResult, Manifest};
+use crate::study::run::{first_appearances, front_wheelset_y, CaseResult, Manifest};
 
 /// The simulated-time timeline.
 pub const TIME: &str = "time";
@@ -145,12 +145,7 @@ pub fn record(
         .map(|r| r.values.first().cloned().unwrap_or_default())
         .collect();
     let numeric: Option<Vec<f64>> = first.iter().map(|v| v.parse::<f64>().ok()).collect();
-    let mut distinct: Vec<&String> = Vec::new();
-    for v in &first {
-        if !distinct.contains(&v) {
-            distinct.push(v);
-        }
-    }
+    let distinct = first_appearances(first.iter());
     let xs: Vec<f64> = match (&numeric, manifest.axes.is_empty()) {
         (_, true) => rows.iter().map(|r| r.case as f64).collect(),
         (Some(v), false) => v.clone(),
@@ -164,25 +159,8 @@ pub fn record(
     let varies: Vec<bool> = (0..manifest.axes.len())
         .map(|k| rows.iter().any(|r| r.values.get(k) != rows[0].values.get(k)))
         .collect();
-    let group_of = |r: &CaseResult| {
-        manifest
-            .axes
-            .iter()
-            .zip(&r.values)
-            .zip(&varies)
-            .skip(1)
-            .filter(|(_, v)| **v)
-            .map(|((a, v), _)| format!("{a} = {v}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let mut groups: Vec<String> = Vec::new();
-    for r in rows {
-        let g = group_of(r);
-        if !groups.contains(&g) {
-            groups.push(g);
-        }
-    }
+    let group_of = |r: &CaseResult| r.axes_text(&manifest.axes, |k| k >= 1 && varies[k]);
+    let groups = first_appearances(rows.iter().map(group_of));
     let Some(sx) = Scale::of(xs.iter().copied(), 1000.0, false) else {
         return log_static(rec, "study/summary", &TextDocument::from_markdown(table));
     };
@@ -263,18 +241,11 @@ pub fn record(
         if y.is_empty() {
             continue;
         }
-        let parts: Vec<String> = manifest
-            .axes
-            .iter()
-            .zip(&r.values)
-            .zip(&varies)
-            .filter(|(_, v)| **v)
-            .map(|((a, v), _)| format!("{a} = {v}"))
-            .collect();
-        let label = if parts.is_empty() {
+        let varying = r.axes_text(&manifest.axes, |k| varies[k]);
+        let label = if varying.is_empty() {
             format!("case {}", r.case)
         } else {
-            format!("case {}: {}", r.case, parts.join(", "))
+            format!("case {}: {varying}", r.case)
         };
         send_scalar_rows(
             rec,

@@ -8,7 +8,7 @@
 
 use std::fmt::Write;
 
-use super::run::{CaseResult, Manifest};
+use super::run::{first_appearances, CaseResult, Manifest};
 
 /// The axes a critical-speed study sets itself (its first four).
 pub const OWN_AXES: usize = 4;
@@ -43,23 +43,8 @@ pub fn critical_speeds(manifest: &Manifest, rows: &[CaseResult], threshold_mm: f
     ) else {
         return Vec::new();
     };
-    let group_of = |r: &CaseResult| {
-        manifest
-            .axes
-            .iter()
-            .zip(&r.values)
-            .skip(OWN_AXES)
-            .map(|(a, v)| format!("{a} = {v}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let mut groups: Vec<String> = Vec::new();
-    for r in rows {
-        let g = group_of(r);
-        if !groups.contains(&g) {
-            groups.push(g);
-        }
-    }
+    let group_of = |r: &CaseResult| r.axes_text(&manifest.axes, |k| k >= OWN_AXES);
+    let groups = first_appearances(rows.iter().map(group_of));
     groups
         .into_iter()
         .map(|g| {

@@ -87,6 +87,30 @@ pub struct CaseResult {
     pub simulated_s: f64,
 }
 
+impl CaseResult {
+    /// `key = value, …` of the axes `keep` selects (by index; `axes` the study's keys).
+    pub fn axes_text(&self, axes: &[String], keep: impl Fn(usize) -> bool) -> String {
+        axes.iter()
+            .zip(&self.values)
+            .enumerate()
+            .filter(|(k, _)| keep(*k))
+            .map(|(_, (a, v))| format!("{a} = {v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// The distinct items, in order of first appearance (the groups of a table's rows).
+pub fn first_appearances<T: PartialEq>(items: impl IntoIterator<Item = T>) -> Vec<T> {
+    let mut out: Vec<T> = Vec::new();
+    for x in items {
+        if !out.contains(&x) {
+            out.push(x);
+        }
+    }
+    out
+}
+
 /// How to run a study.
 #[derive(Debug, Clone)]
 pub struct StudyOptions {

@@ -7,7 +7,7 @@
 
 use std::fmt::Write;
 
-use super::run::{CaseResult, Manifest};
+use super::run::{first_appearances, CaseResult, Manifest};
 use super::StudyError;
 
 /// One extract's figures over one group's realisations.
@@ -36,13 +36,7 @@ pub fn over_realisations(manifest: &Manifest, rows: &[CaseResult]) -> Vec<Summar
             .map(|&k| r.values.get(k).cloned().unwrap_or_default())
             .collect()
     };
-    let mut groups: Vec<Vec<String>> = Vec::new();
-    for r in rows {
-        let g = group_of(r);
-        if !groups.contains(&g) {
-            groups.push(g);
-        }
-    }
+    let groups = first_appearances(rows.iter().map(group_of));
     let mut out = Vec::new();
     for g in groups {
         let members: Vec<&CaseResult> = rows.iter().filter(|r| group_of(r) == g).collect();
