@@ -952,4 +952,28 @@ fn ms_vehicle_settles_and_runs() {
     assert!(out.summary.error.is_none(), "{:?}", out.summary.error);
     assert!(out.summary.min_normal_n > 0.0);
     assert!(out.summary.max_abs_y_mm < 7.0, "{}", out.summary.max_abs_y_mm);
+    // Every state named once, by the layout the model reads its states with: a wheelset's lateral
+    // position second in its slot, its wheels' lifts where the model keeps them.
+    let names = sys.state_names();
+    assert_eq!(names.len(), sys.dim());
+    let unique: std::collections::HashSet<&String> = names.iter().collect();
+    assert_eq!(unique.len(), names.len(), "{names:?}");
+    for (((o, _), w), lift) in sys.wheelset_slots().into_iter().zip(sys.wheelset_names()).zip(sys.lift_offsets()) {
+        assert_eq!(names[o + 1], format!("{w}.y"));
+        assert_eq!(names[o + 4], format!("{w}.y_dot"));
+        assert_eq!(names[lift], format!("{w}.lift_left"));
+        assert_eq!(names[lift + 3], format!("{w}.lift_rate_right"));
+    }
+    for ((o, _), b) in sys.kinematic_blocks().into_iter().zip(sys.body_names()) {
+        assert_eq!(names[o + 5], format!("{b}.psi"));
+        assert_eq!(names[o + 11], format!("{b}.psi_dot"));
+    }
+    // The summary names what limited the step: states of this vehicle, most first.
+    let limits = &out.summary.step_limiting;
+    println!("MS vehicle, 2 s: step limited by {limits:?}");
+    assert!(!limits.is_empty());
+    assert!(limits.iter().all(|l| names.contains(&l.state)), "{limits:?}");
+    assert!(limits.windows(2).all(|w| w[0].share >= w[1].share));
+    let counted: usize = limits.iter().map(|l| l.accepted_steps).sum();
+    assert!(counted <= out.summary.steps && limits.iter().map(|l| l.share).sum::<f64>() <= 1.0 + 1e-12);
 }

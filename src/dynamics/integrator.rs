@@ -100,6 +100,10 @@ pub trait OdeSystem {
     fn inactive(&self, _x: &[f64], _j: usize) -> bool {
         false
     }
+    /// The name of state i, for the diagnosis of what limits the step ([`Stats::limiting`]).
+    fn state_name(&self, i: usize) -> String {
+        format!("x[{i}]")
+    }
 }
 
 /// What the output observer tells the integrator: go on, or stop here (a stop condition met; the
@@ -194,7 +198,7 @@ pub enum IntegrationError<E> {
 }
 
 /// Work done.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Stats {
     pub accepted: usize,
     pub rejected: usize,
@@ -205,6 +209,45 @@ pub struct Stats {
     pub largest_step: f64,
     /// Events located and applied ([`OdeSystem::jump`]).
     pub events: usize,
+    /// What limits the step: per state, the accepted and the rejected steps in which it had the
+    /// largest term of the error norm (err_i / (atol + rtol max(|x₀ᵢ|, |x₁ᵢ|)) of largest
+    /// magnitude). The step size follows the error norm, so the states counted most are the
+    /// ones whose motion sets the step (e.g. a flanging wheelset's lateral velocity).
+    pub limiting: Vec<[usize; 2]>,
+}
+
+/// One state's share in what limited the steps ([`Stats::limiting`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StepLimit {
+    /// The state's name ([`OdeSystem::state_name`]).
+    pub state: String,
+    /// Accepted steps in which it had the largest error term.
+    pub accepted_steps: usize,
+    /// Rejected steps in which it had the largest error term.
+    pub rejected_steps: usize,
+    /// Its share of all steps tried (accepted and rejected), 0–1.
+    pub share: f64,
+}
+
+impl Stats {
+    /// The `top` states that limited most steps (accepted and rejected together), most first,
+    /// named by `name`.
+    pub fn limiting_states(&self, top: usize, name: impl Fn(usize) -> String) -> Vec<StepLimit> {
+        let total: usize = self.limiting.iter().map(|c| c[0] + c[1]).sum();
+        let mut idx: Vec<usize> = (0..self.limiting.len())
+            .filter(|&i| self.limiting[i][0] + self.limiting[i][1] > 0)
+            .collect();
+        idx.sort_by_key(|&i| (std::cmp::Reverse(self.limiting[i][0] + self.limiting[i][1]), i));
+        idx.into_iter()
+            .take(top)
+            .map(|i| StepLimit {
+                state: name(i),
+                accepted_steps: self.limiting[i][0],
+                rejected_steps: self.limiting[i][1],
+                share: (self.limiting[i][0] + self.limiting[i][1]) as f64 / total.max(1) as f64,
+            })
+            .collect()
+    }
 }
 
 // Dormand–Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Nørsett & Wanner I, Table II.5.2).
@@ -363,6 +406,7 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
     }
     *stats = Stats {
         smallest_step: f64::INFINITY,
+        limiting: vec![[0, 0]; n],
         ..Stats::default()
     };
     let model = |t: f64| move |error: S::Error| IntegrationError::Model { t, error };
@@ -418,6 +462,7 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
         if last {
             h = t_end - t;
         }
+        stepper.limiting = None;
         let attempt = stepper.step(sys, t, &x, &f0, h, settings, &mut x1, &mut f1, stats);
         let err = match &attempt {
             Ok(e) if e.is_finite() && all_finite(&x1) && all_finite(&f1) => *e,
@@ -440,6 +485,9 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             // No control: accept.
         } else if err > 1.0 {
             stats.rejected += 1;
+            if let (Some(i), true) = (stepper.limiting.take(), err.is_finite()) {
+                stats.limiting[i][1] += 1;
+            }
             rejections += 1;
             let q = stepper.error_order();
             stepper.rejected(err, rejections);
@@ -486,6 +534,9 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             next_out = t0 + out_index as f64 * dt_out;
         }
         stats.accepted += 1;
+        if let Some(i) = stepper.limiting.take() {
+            stats.limiting[i][0] += 1;
+        }
         let q = stepper.error_order();
         stepper.accepted(settings.jacobian_max_age);
         if settings.method == Method::Bdf {
@@ -701,16 +752,29 @@ impl IterationMatrix {
 struct ErrorNorm {
     sum: f64,
     count: usize,
+    /// Components added so far (idle ones included): the next one's index.
+    next: usize,
+    /// The largest squared term and its component.
+    worst: f64,
+    worst_index: Option<usize>,
 }
 
 impl ErrorNorm {
+    /// Adds component `next` (components are added in order, every one of them).
     fn add(&mut self, x0: f64, x1: f64, e: f64, s: &Settings) {
+        let i = self.next;
+        self.next += 1;
         if x0 == 0.0 && x1 == 0.0 && e == 0.0 {
             return;
         }
         let sc = s.atol + s.rtol * x0.abs().max(x1.abs());
-        self.sum += (e / sc).powi(2);
+        let term = (e / sc).powi(2);
+        self.sum += term;
         self.count += 1;
+        if term > self.worst {
+            self.worst = term;
+            self.worst_index = Some(i);
+        }
     }
 
     fn value(&self) -> f64 {
@@ -766,6 +830,8 @@ struct Stepper {
     /// BDF: the factored Newton matrix and the α₀ it was factored for (None after a new
     /// Jacobian).
     newton_matrix: Option<(IterationMatrix, f64)>,
+    /// The component with the largest error term in the last trial step ([`Stats::limiting`]).
+    limiting: Option<usize>,
 }
 
 impl Stepper {
@@ -782,6 +848,7 @@ impl Stepper {
             bdf: bdf::Bdf::new(),
             newton_blocks: None,
             newton_matrix: None,
+            limiting: None,
         }
     }
 
@@ -1075,6 +1142,7 @@ impl Stepper {
                     + E7 * f1[i]);
             norm.add(x[i], x1[i], e, s);
         }
+        self.limiting = norm.worst_index;
         Ok(norm.value())
     }
 
@@ -1134,6 +1202,7 @@ impl Stepper {
             let e = R_E[0] * k1[i] + R_E[1] * k2[i] + R_E[2] * k3[i];
             norm.add(x[i], x1[i], e, s);
         }
+        self.limiting = norm.worst_index;
         sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
         stats.rhs_evaluations += 1;
         Ok(norm.value())
@@ -1194,6 +1263,7 @@ impl Stepper {
             let e: f64 = (0..4).map(|j| (W_B[j] - W_BHAT[j]) * self.k[j][m]).sum();
             norm.add(x[m], x1[m], e, s);
         }
+        self.limiting = norm.worst_index;
         sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
         stats.rhs_evaluations += 1;
         Ok(norm.value())
@@ -1307,6 +1377,7 @@ impl Stepper {
             f1[m] = alpha0 * x1[m] + known[m];
             norm.add(x[m], x1[m], c * (x1[m] - self.bdf.predicted[m]), s);
         }
+        self.limiting = norm.worst_index;
         Ok(norm.value())
     }
 

@@ -107,6 +107,10 @@ pub struct RunSummary {
     /// Jacobians evaluated (implicit and linearly implicit methods; their finite-difference
     /// right-hand sides are counted in `rhs_evaluations`).
     pub jacobians: usize,
+    /// What limited the step size: the states with the largest term of the error norm in most
+    /// steps tried (accepted and rejected), most first (see
+    /// [`crate::dynamics::integrator::Stats::limiting`]).
+    pub step_limiting: Vec<crate::dynamics::integrator::StepLimit>,
     pub preprocessing_s: f64,
     pub max_abs_y_mm: f64,
     pub max_abs_yaw_mrad: f64,
@@ -164,6 +168,18 @@ impl fmt::Display for RunSummary {
             self.rhs_evaluations,
             self.jacobians
         )?;
+        if !self.step_limiting.is_empty() {
+            let shown: Vec<String> = self
+                .step_limiting
+                .iter()
+                .map(|l| format!("{} {:.0} %", l.state, 100.0 * l.share))
+                .collect();
+            writeln!(
+                f,
+                "step size limited by (largest error term of the steps tried): {}",
+                shown.join(", ")
+            )?;
+        }
         if self.samples == 0 {
             writeln!(f, "no output samples")?;
         } else {

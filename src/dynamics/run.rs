@@ -355,6 +355,10 @@ pub fn run(
     };
     let landings = std::mem::take(&mut sys.data.landings);
     let mut summary = summarise(settings, labels, &wheelsets, wall_s, &stats, &end, &landings);
+    let state_names = vehicle.state_names();
+    summary.step_limiting = stats.limiting_states(STEP_LIMITING_SHOWN, |i| {
+        state_names.get(i).cloned().unwrap_or_else(|| format!("x[{i}]"))
+    });
     let ramp = vehicle.reference().speed.ramp_m_s2;
     if ramp > 0.0 {
         summary.critical_speed_m_s = wheelsets.first().and_then(|w| hunting_onset(&w.1, 2.0));
@@ -395,6 +399,9 @@ pub fn run(
         landings,
     }
 }
+
+/// How many of the states that limited the step the summary names ([`RunSummary::step_limiting`]).
+const STEP_LIMITING_SHOWN: usize = 6;
 
 fn summarise(
     settings: &RunSettings,
@@ -451,6 +458,7 @@ fn summarise(
         },
         rhs_evaluations: stats.rhs_evaluations,
         jacobians: stats.jacobians,
+        step_limiting: Vec::new(),
         preprocessing_s: labels.preprocessing_s,
         max_abs_y_mm: fold(&|s| s.y.abs() * 1e3),
         max_abs_yaw_mrad: fold(&|s| s.yaw.abs() * 1e3),

@@ -195,6 +195,33 @@ pub trait VehicleModel: Send + Sync {
     }
     /// Per wheelset: its states (offset, count; see [`WheelsetState::read`]).
     fn wheelset_slots(&self) -> Vec<(usize, usize)>;
+    /// Every state's name, "wheelset.state" or "body.state" (e.g. `w1.y_dot`, `c1.psi`): the
+    /// wheelsets' slots by [`WheelsetState::slot_names`], the bodies' [`Self::kinematic_blocks`]
+    /// as [x, y, z, φ, θ, ψ] in the track frame and their rates; any other state `x[i]`.
+    fn state_names(&self) -> Vec<String> {
+        let mut names: Vec<String> = (0..self.dim()).map(|i| format!("x[{i}]")).collect();
+        for ((o, len), w) in self.wheelset_slots().into_iter().zip(self.wheelset_names()) {
+            let slot = WheelsetState::slot_names(len == WheelsetState::slot_size(true));
+            for (k, n) in slot.iter().enumerate().take(len) {
+                if let Some(v) = names.get_mut(o + k) {
+                    *v = format!("{w}.{n}");
+                }
+            }
+        }
+        const BODY: [&str; 12] = [
+            "x", "y", "z", "phi", "theta", "psi", "x_dot", "y_dot", "z_dot", "phi_dot", "theta_dot", "psi_dot",
+        ];
+        for ((o, len), b) in self.kinematic_blocks().into_iter().zip(self.body_names()) {
+            if len == BODY.len() {
+                for (k, n) in BODY.iter().enumerate() {
+                    if let Some(v) = names.get_mut(o + k) {
+                        *v = format!("{b}.{n}");
+                    }
+                }
+            }
+        }
+        names
+    }
     /// Per rigid body: its states [q, q̇] (offset, 2 m), q̇ the derivative of q (none by default).
     fn kinematic_blocks(&self) -> Vec<(usize, usize)> {
         Vec::new()
@@ -291,6 +318,10 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
             g[2 * j] = x[o];
             g[2 * j + 1] = x[o + 1];
         }
+    }
+
+    fn state_name(&self, i: usize) -> String {
+        self.model.state_names().get(i).cloned().unwrap_or_else(|| format!("x[{i}]"))
     }
 
     /// The lift states of a wheel on its rail (θ = θ̇ = 0) are left out of finite-difference

@@ -115,6 +115,21 @@ impl WheelsetState {
         Self::lift_index(irw) + 6
     }
 
+    /// The slot's states by name, in slot order (see [`Self::slot_size`]).
+    pub fn slot_names(irw: bool) -> &'static [&'static str] {
+        if irw {
+            &[
+                "x", "y", "psi", "x_dot", "y_dot", "psi_dot", "omega_left", "omega_right", "lift_left",
+                "lift_right", "lift_rate_left", "lift_rate_right", "track_shift", "track_shift_rate",
+            ]
+        } else {
+            &[
+                "x", "y", "psi", "x_dot", "y_dot", "psi_dot", "omega", "lift_left", "lift_right",
+                "lift_rate_left", "lift_rate_right", "track_shift", "track_shift_rate",
+            ]
+        }
+    }
+
     /// Index of θ_l in the slot (θ_r, θ̇_l, θ̇_r follow).
     pub fn lift_index(irw: bool) -> usize {
         if irw {

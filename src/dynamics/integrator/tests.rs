@@ -693,3 +693,49 @@ fn bdf_newton_matrix_groups_and_kinematic_blocks() {
     }
     assert!(10 * work[2] < 7 * work[0], "right-hand sides {work:?}");
 }
+
+/// Two uncoupled oscillators, ω = 1 and ω = 40 rad/s, unit amplitude: a method of order p makes a
+/// local error ∝ (ωh)^{p+1} on each, 40^{p+1} times larger on the fast one, so the fast
+/// oscillator's states must be named as what limits (nearly) every step, by every method; each
+/// accepted step is counted once, each rejected one at most once.
+#[test]
+fn the_state_that_limits_the_step_is_named() {
+    struct Two;
+    impl OdeSystem for Two {
+        type Error = String;
+        fn dim(&self) -> usize {
+            4
+        }
+        fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            d[0] = x[1];
+            d[1] = -x[0];
+            d[2] = x[3];
+            d[3] = -1600.0 * x[2];
+            Ok(())
+        }
+        fn state_name(&self, i: usize) -> String {
+            ["slow", "slow_dot", "fast", "fast_dot"][i].to_string()
+        }
+    }
+    for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2, Method::Bdf] {
+        let s = Settings::new(method, 1e-6, 1e-6);
+        let (_, st) = run(&mut Two, &[1.0, 0.0, 1.0, 0.0], 5.0, 0.1, &s);
+        assert_eq!(st.limiting.len(), 4);
+        let accepted: usize = st.limiting.iter().map(|c| c[0]).sum();
+        let rejected: usize = st.limiting.iter().map(|c| c[1]).sum();
+        assert_eq!(accepted, st.accepted, "{method:?}");
+        assert!(rejected <= st.rejected, "{method:?}");
+        let sys = Two;
+        let top = st.limiting_states(4, |i| sys.state_name(i));
+        println!("{method:?}: {} steps, limited by {top:?}", st.accepted);
+        assert!(top.windows(2).all(|w| w[0].share >= w[1].share), "{top:?}");
+        let total: f64 = top.iter().map(|l| l.share).sum();
+        assert!((total - 1.0).abs() < 1e-12, "{total}");
+        let fast: f64 = top
+            .iter()
+            .filter(|l| l.state.starts_with("fast"))
+            .map(|l| l.share)
+            .sum();
+        assert!(fast > 0.95, "{method:?}: the fast oscillator limits {fast}");
+    }
+}
