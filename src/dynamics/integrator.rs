@@ -26,7 +26,9 @@
 //!   (each wheelset, by finite differences; with [`OdeSystem::newton_groups`] also the bogie
 //!   frames, in passes of their own) and the exact q̇ = v coupling of the other bodies
 //!   ([`OdeSystem::kinematic_blocks`]). About 3–4 right-hand sides per step, steps set by
-//!   accuracy, not by the creep forces' stiffness. Output: cubic Hermite.
+//!   accuracy, not by the creep forces' stiffness. The matrix is renewed where the Newton
+//!   iteration stops converging with it (or after [`Settings::jacobian_max_age`] steps), never for
+//!   a step the error test rejects: the BDF solution does not depend on it. Output: cubic Hermite.
 //!
 //! After a rejected step the next accepted one does not grow the step (Hairer–Wanner I, §II.4).
 //!
@@ -940,7 +942,11 @@ impl Stepper {
     /// (err > 10) or a second rejection in a row.
     fn rejected(&mut self, err: f64, rejections: usize) {
         self.bdf.rejected(rejections);
-        if self.jac_age.is_some_and(|a| a > 0) && (err > 10.0 || rejections >= 2) {
+        // The BDF's solution is whatever Newton converges to, whatever its matrix: a finite error
+        // norm the error test rejects says nothing of the Jacobian (a Newton iteration that fails
+        // with an old one renews it, `bdf_step`). The W-methods' solution depends on the matrix.
+        let jacobian_blameless = self.method == Method::Bdf && err.is_finite();
+        if !jacobian_blameless && self.jac_age.is_some_and(|a| a > 0) && (err > 10.0 || rejections >= 2) {
             self.jac_age = None;
         }
     }

@@ -209,7 +209,18 @@ pub trait VehicleModel: Send + Sync {
             }
         }
         const BODY: [&str; 12] = [
-            "x", "y", "z", "phi", "theta", "psi", "x_dot", "y_dot", "z_dot", "phi_dot", "theta_dot", "psi_dot",
+            "x",
+            "y",
+            "z",
+            "phi",
+            "theta",
+            "psi",
+            "x_dot",
+            "y_dot",
+            "z_dot",
+            "phi_dot",
+            "theta_dot",
+            "psi_dot",
         ];
         for ((o, len), b) in self.kinematic_blocks().into_iter().zip(self.body_names()) {
             if len == BODY.len() {
@@ -321,7 +332,11 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
     }
 
     fn state_name(&self, i: usize) -> String {
-        self.model.state_names().get(i).cloned().unwrap_or_else(|| format!("x[{i}]"))
+        self.model
+            .state_names()
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("x[{i}]"))
     }
 
     /// The lift states of a wheel on its rail (θ = θ̇ = 0) are left out of finite-difference

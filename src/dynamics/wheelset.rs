@@ -119,13 +119,36 @@ impl WheelsetState {
     pub fn slot_names(irw: bool) -> &'static [&'static str] {
         if irw {
             &[
-                "x", "y", "psi", "x_dot", "y_dot", "psi_dot", "omega_left", "omega_right", "lift_left",
-                "lift_right", "lift_rate_left", "lift_rate_right", "track_shift", "track_shift_rate",
+                "x",
+                "y",
+                "psi",
+                "x_dot",
+                "y_dot",
+                "psi_dot",
+                "omega_left",
+                "omega_right",
+                "lift_left",
+                "lift_right",
+                "lift_rate_left",
+                "lift_rate_right",
+                "track_shift",
+                "track_shift_rate",
             ]
         } else {
             &[
-                "x", "y", "psi", "x_dot", "y_dot", "psi_dot", "omega", "lift_left", "lift_right",
-                "lift_rate_left", "lift_rate_right", "track_shift", "track_shift_rate",
+                "x",
+                "y",
+                "psi",
+                "x_dot",
+                "y_dot",
+                "psi_dot",
+                "omega",
+                "lift_left",
+                "lift_right",
+                "lift_rate_left",
+                "lift_rate_right",
+                "track_shift",
+                "track_shift_rate",
             ]
         }
     }

@@ -739,3 +739,45 @@ fn the_state_that_limits_the_step_is_named() {
         assert!(fast > 0.95, "{method:?}: the fast oscillator limits {fast}");
     }
 }
+
+/// BDF: the solution Newton converges to does not depend on the iteration matrix, so a step the
+/// error test rejects says nothing of the Jacobian. On a linear stiff problem (J = −λ, constant)
+/// driven by a forcing that jumps at t = 1 and t = 2 (the error test rejects steps at each jump,
+/// two and more in a row), one Jacobian serves the whole run when its age is unlimited.
+#[test]
+fn bdf_error_test_rejections_keep_the_jacobian() {
+    struct Jumps;
+    impl OdeSystem for Jumps {
+        type Error = String;
+        fn dim(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            let g = if t < 1.0 {
+                0.0
+            } else if t < 2.0 {
+                1.0
+            } else {
+                -0.5
+            };
+            d[0] = -1.0e4 * (x[0] - g);
+            Ok(())
+        }
+    }
+    let mut s = Settings::new(Method::Bdf, 1e-6, 1e-8);
+    s.jacobian_max_age = usize::MAX;
+    let (out, st) = run(&mut Jumps, &[0.0], 3.0, 0.5, &s);
+    println!(
+        "BDF on jumps: {} steps, {} rejected, {} Jacobians, {} rhs",
+        st.accepted, st.rejected, st.jacobians, st.rhs_evaluations
+    );
+    assert!(
+        st.rejected >= 4,
+        "the jumps must be rejected into: {}",
+        st.rejected
+    );
+    assert_eq!(st.jacobians, 1);
+    // x follows g within its 0.1 ms time constant: at t = 3 it sits at −0.5.
+    let last = out.last().map(|p| p.1[0]).unwrap_or(f64::NAN);
+    assert!((last + 0.5).abs() < 1e-6, "{last}");
+}
