@@ -958,7 +958,12 @@ fn ms_vehicle_settles_and_runs() {
     assert_eq!(names.len(), sys.dim());
     let unique: std::collections::HashSet<&String> = names.iter().collect();
     assert_eq!(unique.len(), names.len(), "{names:?}");
-    for (((o, _), w), lift) in sys.wheelset_slots().into_iter().zip(sys.wheelset_names()).zip(sys.lift_offsets()) {
+    for (((o, _), w), lift) in sys
+        .wheelset_slots()
+        .into_iter()
+        .zip(sys.wheelset_names())
+        .zip(sys.lift_offsets())
+    {
         assert_eq!(names[o + 1], format!("{w}.y"));
         assert_eq!(names[o + 4], format!("{w}.y_dot"));
         assert_eq!(names[lift], format!("{w}.lift_left"));
