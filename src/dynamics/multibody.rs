@@ -418,7 +418,8 @@ impl Multibody {
         }
     }
 
-    /// Evaluates the system at (t, x): accelerations into `dxdt` (when given) and the sample.
+    /// Evaluates the system at (t, x): accelerations into `dxdt` (when given; the sample is then
+    /// left empty, the right-hand side needing none) or the sample (without `dxdt`).
     pub fn evaluate(
         &self,
         data: &mut VehicleData,
@@ -433,7 +434,9 @@ impl Multibody {
         let mut poses = Vec::with_capacity(nb + nw);
         let mut frames = Vec::with_capacity(nb + nw);
         let mut motions = Vec::with_capacity(nb + nw);
-        let mut body_samples = Vec::with_capacity(nb);
+        // A right-hand side (dxdt given) builds no sample: only the output asks for one.
+        let sampling = dxdt.is_none();
+        let mut body_samples = Vec::with_capacity(if sampling { nb } else { 0 });
         for (i, b) in self.bodies.iter().enumerate() {
             let o = self.body_offset(i);
             let q = &x[o..o + 6];
@@ -452,11 +455,13 @@ impl Multibody {
             });
             frames.push(frame_loads(&f.motion));
             motions.push(f.motion);
-            body_samples.push(BodySample {
-                s,
-                q: [q[0], q[1], q[2], q[3], q[4], q[5]],
-                q_dot: [qd[0], qd[1], qd[2], qd[3], qd[4], qd[5]],
-            });
+            if sampling {
+                body_samples.push(BodySample {
+                    s,
+                    q: [q[0], q[1], q[2], q[3], q[4], q[5]],
+                    q_dot: [qd[0], qd[1], qd[2], qd[3], qd[4], qd[5]],
+                });
+            }
         }
         // Each wheelset's contact kinematics depends only on its own state and warm start: the
         // wheelsets are evaluated in parallel (the results, errors included, in wheelset order).
@@ -560,12 +565,13 @@ impl Multibody {
                 .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))
             })
             .collect();
-        let mut ws_samples = Vec::with_capacity(nw);
+        let mut ws_samples = Vec::with_capacity(if sampling { nw } else { 0 });
         for (j, (dynamics, (_, pose))) in dynamics.into_iter().zip(kins).enumerate() {
             let dynamics = dynamics?;
             if let Some(d) = dxdt.as_deref_mut() {
                 let o = self.wheelset_offset(j);
                 WheelsetState::write_rates(&x[o..], &mut d[o..], &dynamics, self.is_irw(j));
+                continue;
             }
             ws_samples.push(WheelsetSample {
                 state: ws_states[j],
@@ -579,7 +585,11 @@ impl Multibody {
         Ok(VehicleSample {
             bodies: body_samples,
             wheelsets: ws_samples,
-            elements: loads.iter().map(|l| (l.deflection, l.local_force)).collect(),
+            elements: if sampling {
+                loads.iter().map(|l| (l.deflection, l.local_force)).collect()
+            } else {
+                Vec::new()
+            },
             joint_error,
         })
     }
