@@ -25,23 +25,9 @@
 use anyhow::{anyhow, bail, Context, Result};
 use kecsim::dynamics::integrator::{integrate, Flow};
 use kecsim::dynamics::linear::{damping_ratio as damping, eigenvector, jacobian};
-use kecsim::dynamics::system::{Evaluator, VehicleModel};
+use kecsim::dynamics::system::Evaluator;
 use kecsim::scenario::{RunOptions, Scenario};
 use nalgebra::{Complex, DMatrix};
-
-const BODY_STATES: [&str; 12] = [
-    "x", "y", "z", "roll", "pitch", "yaw", "x'", "y'", "z'", "roll'", "pitch'", "yaw'",
-];
-/// [`kecsim::dynamics::wheelset::WheelsetState::read`]'s layout (an IRW-wheelset has two spins).
-const WHEELSET_STATES: [&str; 8] = ["x", "y", "yaw", "x'", "y'", "yaw'", "spin", "spin_right"];
-const LIFT_STATES: [&str; 6] = [
-    "lift_left",
-    "lift_right",
-    "lift_left'",
-    "lift_right'",
-    "track_shift",
-    "track_shift'",
-];
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().collect();
@@ -59,7 +45,7 @@ fn main() -> Result<()> {
     let scene = Scenario::read(path)?.compile(scene, base)?;
     let run = scene.build_run(&RunOptions::default())?;
     let vehicle = run.vehicle.as_ref();
-    let names = state_names(vehicle);
+    let names = vehicle.state_names();
     let mut sys = Evaluator::new(vehicle);
     let x0 = vehicle.initial_state(&run.settings.initial);
     let mut x = x0.clone();
@@ -99,24 +85,6 @@ fn main() -> Result<()> {
         print_modes(&block, &names[o..o + m], modes, 1.0);
     }
     Ok(())
-}
-
-/// Every state's name: `body.coordinate` or `wheelset.state`.
-fn state_names(vehicle: &dyn VehicleModel) -> Vec<String> {
-    let mut names = vec![String::new(); vehicle.dim()];
-    for (body, (o, _)) in vehicle.body_names().iter().zip(vehicle.kinematic_blocks()) {
-        for (k, s) in BODY_STATES.iter().enumerate() {
-            names[o + k] = format!("{body}.{s}");
-        }
-    }
-    for (ws, (o, m)) in vehicle.wheelset_names().iter().zip(vehicle.wheelset_slots()) {
-        let spins = m - LIFT_STATES.len();
-        let own = WHEELSET_STATES[..spins].iter().chain(LIFT_STATES.iter());
-        for (k, s) in own.enumerate() {
-            names[o + k] = format!("{ws}.{s}");
-        }
-    }
-    names
 }
 
 /// The `count` least-damped eigenvalue pairs of `jac` above `min_hz`, with their largest

@@ -136,6 +136,26 @@ fn run_with_no_arguments_writes_kecsim_rrd() {
     }
     assert!(stdout.contains("real-time factor"), "{stdout}");
     assert!(stdout.contains("MS vehicle"), "{stdout}");
+    // The first wheelset's cross-section every 20 ms of the 51 s (sent in batches as columns):
+    // one wheel outline and one contact point per side per snapshot, one plan position each, the
+    // contact points on the rail heads (half the 1435 mm gauge out, give or take the flange).
+    let snapshots = rec["/run/section/left/wheel"].strips.len();
+    assert!((2540..=2552).contains(&snapshots), "{snapshots} snapshots");
+    assert_eq!(rec["/run/section/right/wheel"].strips.len(), snapshots);
+    for e in [
+        "/run/section/left/contact",
+        "/run/section/right/contact",
+        "/run/track/position",
+    ] {
+        assert_eq!(rec[e].points.len(), snapshots, "{e}");
+    }
+    for e in ["/run/section/left/contact", "/run/section/right/contact"] {
+        assert!(
+            rec[e].points.iter().all(|p| (690.0..790.0).contains(&p[0].abs())),
+            "{e}: a contact point off the rail head"
+        );
+    }
+    assert!(rec["/run/section/left/wheel"].strips.iter().all(|s| s.len() > 50));
 }
 
 #[test]

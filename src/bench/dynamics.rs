@@ -174,7 +174,7 @@ pub fn dynamics() -> Result<String, String> {
         "\nreal-time factor = simulated / wall time of the integration (the contact-table and KEC preprocessing excluded, reported by `kecsim run`); differences against the KEC run of the same scene, all wheelsets, all samples; the KEC row's integration error is its difference from the same scene integrated by DOPRI5 at rtol 1e-9, atol 1e-11\n",
     );
     out.push_str(&streaming);
-    out.push_str("\nstreaming: the KEC run again with the live recorder writing an .rrd file as the samples come (batches every 50 ms of wall time); the samples are identical\n");
+    out.push_str("\nstreaming: the KEC run again with the live recorder writing an .rrd file as the samples come (batches every 1 s of wall time to a file); the samples are identical\n");
     out.push_str(&dispatch()?);
     Ok(out)
 }

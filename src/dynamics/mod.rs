@@ -7,7 +7,6 @@
 //! * [`elastic`](mod@elastic): a free wheelset on elastic contacts (the elastic contact model);
 //! * [`reference`](mod@reference): the reference motion along the track and the frames it gives;
 //! * [`integrator`]: DOPRI5, ROS3, ROS34PW2, BDF with dense output and diagnosed failures;
-//! * [`small_lu`]: the small dense solves of the Newton matrix's blocks;
 //! * [`run`](mod@run): the run loop, stop conditions, summary; [`output`]: samples, observers, CSV.
 //!
 //! The contact models are [`crate::contact::ContactModel`]s; the dynamics never knows which one.
@@ -21,7 +20,6 @@ pub mod reference;
 pub mod run;
 pub mod safety;
 pub mod single_wheelset;
-pub mod small_lu;
 pub mod system;
 pub mod wheelset;
 

@@ -116,41 +116,24 @@ impl WheelsetState {
     }
 
     /// The slot's states by name, in slot order (see [`Self::slot_size`]).
-    pub fn slot_names(irw: bool) -> &'static [&'static str] {
-        if irw {
-            &[
-                "x",
-                "y",
-                "psi",
-                "x_dot",
-                "y_dot",
-                "psi_dot",
-                "omega_left",
-                "omega_right",
-                "lift_left",
-                "lift_right",
-                "lift_rate_left",
-                "lift_rate_right",
-                "track_shift",
-                "track_shift_rate",
-            ]
+    pub fn slot_names(irw: bool) -> Vec<&'static str> {
+        let spins: &[&str] = if irw {
+            &["omega_left", "omega_right"]
         } else {
-            &[
-                "x",
-                "y",
-                "psi",
-                "x_dot",
-                "y_dot",
-                "psi_dot",
-                "omega",
+            &["omega"]
+        };
+        ["x", "y", "psi", "x_dot", "y_dot", "psi_dot"]
+            .into_iter()
+            .chain(spins.iter().copied())
+            .chain([
                 "lift_left",
                 "lift_right",
                 "lift_rate_left",
                 "lift_rate_right",
                 "track_shift",
                 "track_shift_rate",
-            ]
-        }
+            ])
+            .collect()
     }
 
     /// Index of θ_l in the slot (θ_r, θ̇_l, θ̇_r follow).
