@@ -136,6 +136,17 @@ fn run_with_no_arguments_writes_kecsim_rrd() {
     }
     assert!(stdout.contains("real-time factor"), "{stdout}");
     assert!(stdout.contains("MS vehicle"), "{stdout}");
+    // The layout's detailed views look where the first wheelset's series are (they pointed at a
+    // single wheelset's `run/wheelset_1` and stayed empty for named wheelsets).
+    let names: Vec<String> = (1..=6).map(|k| format!("w{k}")).collect();
+    let origin = kecsim::inspect::run::detail_origin(&names);
+    for series in ["y_mm", "normal_kn", "s_wheel_mm", "lift_mm"] {
+        assert!(
+            rec.contains_key(&format!("{origin}/{series}")),
+            "{origin}/{series}: {:?}",
+            rec.keys()
+        );
+    }
     // The first wheelset's cross-section every 20 ms of the 51 s (sent in batches as columns):
     // one wheel outline and one contact point per side per snapshot, one plan position each, the
     // contact points on the rail heads (half the 1435 mm gauge out, give or take the flange).

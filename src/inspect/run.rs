@@ -57,14 +57,23 @@ pub const DISTANCE: &str = "distance_mm";
 
 /// The layout of a single-wheelset run.
 pub fn blueprint() -> Blueprint {
-    blueprint_for(1)
+    blueprint_for(&["wheelset_1".to_string()])
 }
 
-/// The layout for `wheelsets` wheelsets: the first wheelset in detail, and with more than one a
-/// row with every wheelset side by side.
-pub fn blueprint_for(wheelsets: usize) -> Blueprint {
+/// Where the run's detailed views look: the first of `wheelsets` (its series are logged under
+/// `run/NAME/`).
+pub fn detail_origin(wheelsets: &[String]) -> String {
+    format!("/run/{}", wheelsets.first().map_or("wheelset_1", String::as_str))
+}
+
+/// The layout for the run of `wheelsets` (by name): the first wheelset in detail, and with more
+/// than one a row with every wheelset side by side.
+pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
     let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
-    let w = "/run/wheelset_1";
+    let w = detail_origin(wheelsets);
+    // The detailed views' titles name their wheelset.
+    let first = wheelsets.first().map_or("wheelset_1", String::as_str);
+    let title = |t: &str| format!("{first}: {t}");
     let mut rows: Vec<ContainerLike> = vec![Horizontal::new([
         Spatial2DView::new("Right wheel and rail (−Y)")
             .with_origin("/run/section/right")
@@ -78,7 +87,7 @@ pub fn blueprint_for(wheelsets: usize) -> Blueprint {
     ])
     .into()];
     let mut shares = vec![3.0];
-    if wheelsets > 1 {
+    if wheelsets.len() > 1 {
         rows.push(
             Horizontal::new([
                 plot("every wheelset: y [mm]", "/run/vehicle/y_mm"),
@@ -95,28 +104,28 @@ pub fn blueprint_for(wheelsets: usize) -> Blueprint {
     }
     rows.push(
         Horizontal::new([
-            plot("y [mm]", &format!("{w}/y_mm")),
-            plot("yaw [mrad]", &format!("{w}/yaw_mrad")),
-            plot("z − r0 [mm]", &format!("{w}/z_mm")),
-            plot("roll [mrad]", &format!("{w}/roll_mrad")),
+            plot(&title("y [mm]"), &format!("{w}/y_mm")),
+            plot(&title("yaw [mrad]"), &format!("{w}/yaw_mrad")),
+            plot(&title("z − r0 [mm]"), &format!("{w}/z_mm")),
+            plot(&title("roll [mrad]"), &format!("{w}/roll_mrad")),
         ])
         .into(),
     );
     rows.push(
         Horizontal::new([
-            plot("normal force [kN]", &format!("{w}/normal_kn")),
-            plot("creep Fx [kN]", &format!("{w}/creep_fx_kn")),
-            plot("creep Fy [kN]", &format!("{w}/creep_fy_kn")),
-            plot("Y/Q", &format!("{w}/y_over_q")),
+            plot(&title("normal force [kN]"), &format!("{w}/normal_kn")),
+            plot(&title("creep Fx [kN]"), &format!("{w}/creep_fx_kn")),
+            plot(&title("creep Fy [kN]"), &format!("{w}/creep_fy_kn")),
+            plot(&title("Y/Q"), &format!("{w}/y_over_q")),
         ])
         .into(),
     );
     rows.push(
         Horizontal::new([
-            plot("contact on wheel s^w [mm]", &format!("{w}/s_wheel_mm")),
-            plot("contact on rail s^r [mm]", &format!("{w}/s_rail_mm")),
-            plot("KEC contact s^k [mm]", &format!("{w}/s_knife_mm")),
-            plot("wheel lift [mm]", &format!("{w}/lift_mm")),
+            plot(&title("contact on wheel s^w [mm]"), &format!("{w}/s_wheel_mm")),
+            plot(&title("contact on rail s^r [mm]"), &format!("{w}/s_rail_mm")),
+            plot(&title("KEC contact s^k [mm]"), &format!("{w}/s_knife_mm")),
+            plot(&title("wheel lift [mm]"), &format!("{w}/lift_mm")),
             TextDocumentView::new("Summary")
                 .with_origin("/run/summary")
                 .into(),
@@ -260,8 +269,7 @@ impl LiveRecorder {
     /// Opens the recording on `sink` with the run layout for `wheelsets`, and logs the statics
     /// (rails, track plan, series styles): a sink that cannot be opened fails before the run.
     pub fn open(sink: &Sink, scene: &Scene, wheelsets: &[String]) -> Result<LiveRecorder, InspectError> {
-        let n = wheelsets.len();
-        let rec = open_recording("kecsim", sink, || blueprint_for(n))?;
+        let rec = open_recording("kecsim", sink, || blueprint_for(wheelsets))?;
         let mut r = Self::on(rec, scene, wheelsets)?;
         if matches!(sink, Sink::Save(_)) {
             r.batch_wall = BATCH_WALL_FILE;
