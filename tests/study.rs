@@ -18,11 +18,18 @@ fn scene_path(file: &str) -> String {
         .to_string()
 }
 
+/// Writes the study file `file` into `dir`.
+fn write_study(dir: &Path, file: &str, text: String) -> PathBuf {
+    let path = dir.join(file);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
 /// A 4-case grid (speed × friction) of the Klingel wheelset, 0.3 s each.
 fn grid_study(dir: &Path) -> PathBuf {
-    let path = dir.join("grid.toml");
-    std::fs::write(
-        &path,
+    write_study(
+        dir,
+        "grid.toml",
         format!(
             r#"schema_version = 1
 name = "test grid"
@@ -44,8 +51,6 @@ values = [0.3]
             scene_path("wheelset_klingel.toml")
         ),
     )
-    .unwrap();
-    path
 }
 
 fn table(dir: &Path) -> String {
@@ -208,9 +213,9 @@ fn a_directory_of_another_study_is_refused_and_nothing_in_it_lost() {
 fn random_samples_depend_on_the_seed_and_the_case_index_only() {
     let d = tmpdir("study-random");
     let write = |samples: usize, seed: u64| {
-        let p = d.join(format!("r{samples}-{seed}.toml"));
-        std::fs::write(
-            &p,
+        let p = write_study(
+            &d,
+            &format!("r{samples}-{seed}.toml"),
             format!(
                 r#"schema_version = 1
 name = "random"
@@ -229,8 +234,7 @@ values = [0.2, 0.3, 0.4]
 "#,
                 scene_path("wheelset_klingel.toml")
             ),
-        )
-        .unwrap();
+        );
         Study::read(&p).unwrap()
     };
     let (a, b, c) = (write(5, 11), write(9, 11), write(5, 12));
@@ -464,9 +468,9 @@ fn linear_stability_agrees_with_the_simulated_small_disturbance() {
 #[test]
 fn the_critical_speed_study_brackets_the_ramp_down_figure() {
     let d = tmpdir("study-critical");
-    let path = d.join("critical.toml");
-    std::fs::write(
-        &path,
+    let path = write_study(
+        &d,
+        "critical.toml",
         format!(
             r#"schema_version = 1
 name = "critical"
@@ -483,8 +487,7 @@ values = [0.02]
 "#,
             scene_path("wheelset_critical_speed.toml")
         ),
-    )
-    .unwrap();
+    );
     let out = d.join("out");
     let text = kecsim_ok(
         &["study", path.to_str().unwrap(), "--out", out.to_str().unwrap()],
@@ -507,9 +510,9 @@ values = [0.02]
 fn an_interrupted_study_keeps_its_finished_cases_and_a_rerun_completes_it() {
     use std::time::{Duration, Instant};
     let d = tmpdir("study-interrupt");
-    let path = d.join("long.toml");
-    std::fs::write(
-        &path,
+    let path = write_study(
+        &d,
+        "long.toml",
         format!(
             r#"schema_version = 1
 name = "long"
@@ -526,8 +529,7 @@ values = [60.0]
 "#,
             scene_path("wheelset_klingel.toml")
         ),
-    )
-    .unwrap();
+    );
     let out = d.join("out");
     let args = [
         "study",

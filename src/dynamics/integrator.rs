@@ -102,10 +102,6 @@ pub trait OdeSystem {
     fn inactive(&self, _x: &[f64], _j: usize) -> bool {
         false
     }
-    /// The name of state i, for the diagnosis of what limits the step ([`Stats::limiting`]).
-    fn state_name(&self, i: usize) -> String {
-        format!("x[{i}]")
-    }
 }
 
 /// What the output observer tells the integrator: go on, or stop here (a stop condition met; the
@@ -221,7 +217,8 @@ pub struct Stats {
 /// One state's share in what limited the steps ([`Stats::limiting`]).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct StepLimit {
-    /// The state's name ([`OdeSystem::state_name`]).
+    /// The state's name (as the caller of [`Stats::limiting_states`] names it; the vehicles':
+    /// [`crate::dynamics::VehicleModel::state_names`]).
     pub state: String,
     /// Accepted steps in which it had the largest error term.
     pub accepted_steps: usize,

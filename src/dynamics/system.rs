@@ -331,14 +331,6 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
         }
     }
 
-    fn state_name(&self, i: usize) -> String {
-        self.model
-            .state_names()
-            .get(i)
-            .cloned()
-            .unwrap_or_else(|| format!("x[{i}]"))
-    }
-
     /// The lift states of a wheel on its rail (θ = θ̇ = 0) are left out of finite-difference
     /// Jacobians: a perturbation there would release the wheel (a switch, not a derivative).
     fn inactive(&self, x: &[f64], j: usize) -> bool {

@@ -153,6 +153,23 @@ struct SectionRow {
     plan: Option<[f32; 2]>,
 }
 
+/// Sends one entity's cross-section columns, one row per snapshot of `rows`, on `time` and
+/// `distance_mm`.
+fn send_section_columns<C: IntoIterator<Item = rerun::SerializedComponentColumn>>(
+    rec: &RecordingStream,
+    entity: &str,
+    rows: &[&SectionRow],
+    columns: Result<C, rerun::SerializationError>,
+) -> Result<(), InspectError> {
+    let columns = columns.map_err(|e| log_err(entity)(e.into()))?;
+    let timelines = [
+        TimeColumn::new_duration_secs(TIME, rows.iter().map(|r| r.t)),
+        TimeColumn::new_sequence(DISTANCE, rows.iter().map(|r| r.distance_mm)),
+    ];
+    rec.send_columns(entity, timelines, columns)
+        .map_err(log_err(entity))
+}
+
 /// Wall time between two batches of samples sent to a viewer (`--spawn`, `--connect`).
 pub const BATCH_WALL: Duration = Duration::from_millis(50);
 
@@ -476,57 +493,42 @@ impl LiveRecorder {
     /// the recording then cost ~20 % of the MS kilometre's wall time).
     fn send_sections(&mut self) -> Result<(), InspectError> {
         let rows = std::mem::take(&mut self.sections);
-        let n = rows.len();
+        let all: Vec<&SectionRow> = rows.iter().collect();
+        let n = all.len();
         if n == 0 {
             return Ok(());
         }
-        let timelines = |rows: &mut dyn Iterator<Item = &SectionRow>| {
-            let rows: Vec<&SectionRow> = rows.collect();
-            vec![
-                TimeColumn::new_duration_secs(TIME, rows.iter().map(|r| r.t)),
-                TimeColumn::new_sequence(DISTANCE, rows.iter().map(|r| r.distance_mm)),
-            ]
-        };
-        let columns_err = |entity: &str| {
-            let entity = entity.to_string();
-            move |e: rerun::SerializationError| InspectError::Log {
-                entity: entity.clone(),
-                source: e.into(),
-            }
-        };
         for (i, side) in Side::BOTH.into_iter().enumerate() {
-            let e = format!("run/section/{}/wheel", side.name());
-            let columns = LineStrips2D::new(rows.iter().map(|r| r.wheel[i].clone()))
+            let wheel = LineStrips2D::new(all.iter().map(|r| r.wheel[i].clone()))
                 .with_colors(std::iter::repeat_n(Color::from_rgb(70, 140, 230), n))
                 .with_radii(std::iter::repeat_n(Radius::new_ui_points(1.5), n))
-                .columns(std::iter::repeat_n(1, n))
-                .map_err(columns_err(&e))?;
-            self.rec
-                .send_columns(e.as_str(), timelines(&mut rows.iter()), columns)
-                .map_err(log_err(&e))?;
-            let e = format!("run/section/{}/contact", side.name());
-            let columns = Points2D::new(rows.iter().map(|r| r.contact[i]))
+                .columns(std::iter::repeat_n(1, n));
+            send_section_columns(
+                &self.rec,
+                &format!("run/section/{}/wheel", side.name()),
+                &all,
+                wheel,
+            )?;
+            let contact = Points2D::new(all.iter().map(|r| r.contact[i]))
                 .with_colors(std::iter::repeat_n(Color::from_rgb(230, 50, 50), n))
                 .with_radii(std::iter::repeat_n(Radius::new_ui_points(5.0), n))
-                .with_labels(rows.iter().map(|r| format!("{:.1} kN", r.normal_n[i] * 1e-3)))
-                .columns(std::iter::repeat_n(1, n))
-                .map_err(columns_err(&e))?;
-            self.rec
-                .send_columns(e.as_str(), timelines(&mut rows.iter()), columns)
-                .map_err(log_err(&e))?;
+                .with_labels(all.iter().map(|r| format!("{:.1} kN", r.normal_n[i] * 1e-3)))
+                .columns(std::iter::repeat_n(1, n));
+            send_section_columns(
+                &self.rec,
+                &format!("run/section/{}/contact", side.name()),
+                &all,
+                contact,
+            )?;
         }
         let placed: Vec<&SectionRow> = rows.iter().filter(|r| r.plan.is_some()).collect();
         if !placed.is_empty() {
-            let e = "run/track/position";
             let m = placed.len();
-            let columns = Points2D::new(placed.iter().filter_map(|r| r.plan))
+            let position = Points2D::new(placed.iter().filter_map(|r| r.plan))
                 .with_colors(std::iter::repeat_n(Color::from_rgb(230, 50, 50), m))
                 .with_radii(std::iter::repeat_n(Radius::new_ui_points(6.0), m))
-                .columns(std::iter::repeat_n(1, m))
-                .map_err(columns_err(e))?;
-            self.rec
-                .send_columns(e, timelines(&mut placed.iter().copied()), columns)
-                .map_err(log_err(e))?;
+                .columns(std::iter::repeat_n(1, m));
+            send_section_columns(&self.rec, "run/track/position", &placed, position)?;
         }
         Ok(())
     }

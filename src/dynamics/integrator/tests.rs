@@ -713,9 +713,6 @@ fn the_state_that_limits_the_step_is_named() {
             d[3] = -1600.0 * x[2];
             Ok(())
         }
-        fn state_name(&self, i: usize) -> String {
-            ["slow", "slow_dot", "fast", "fast_dot"][i].to_string()
-        }
     }
     for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2, Method::Bdf] {
         let s = Settings::new(method, 1e-6, 1e-6);
@@ -725,8 +722,7 @@ fn the_state_that_limits_the_step_is_named() {
         let rejected: usize = st.limiting.iter().map(|c| c[1]).sum();
         assert_eq!(accepted, st.accepted, "{method:?}");
         assert!(rejected <= st.rejected, "{method:?}");
-        let sys = Two;
-        let top = st.limiting_states(4, |i| sys.state_name(i));
+        let top = st.limiting_states(4, |i| ["slow", "slow_dot", "fast", "fast_dot"][i].to_string());
         println!("{method:?}: {} steps, limited by {top:?}", st.accepted);
         assert!(top.windows(2).all(|w| w[0].share >= w[1].share), "{top:?}");
         let total: f64 = top.iter().map(|l| l.share).sum();
