@@ -284,29 +284,128 @@ fn integrator_convergence_on_the_scene() {
     }
 }
 
-/// The speed ramp finds the hunting onset; runs at fixed speed confirm it: 15 % below, a 0.3 mm
-/// disturbance decays; 25 % above, it does not (it grows or settles on a limit cycle). Well above
-/// (1.6×) the hunting reaches the flanges and the run ends on its stop condition (|y| > 5 mm),
-/// normally, with the samples up to it. (With the two-point transitions as wide as the elastic
-/// sharing, the ramp's own motion near the onset stays small: the centred wheelset's neutral
-/// growth starts from round-off.)
+/// The hunting of the critical-speed wheelset (S1002/60E1 1:40) against its two critical speeds,
+/// each measured by a method independent of the accelerating ramp: the **nonlinear** one v_nl (the
+/// decelerating ramp, `wheelset_critical_speed_down.toml`: the hunting cycle slowed down until it
+/// dies out) and the **linear** one v_lin (Re λ of the linearised wheelset crossing zero). Between
+/// them the wheelset is bistable — the centred running is stable, a large enough disturbance runs
+/// onto the hunting cycle — so where the accelerating ramp's onset falls within [v_nl, v_lin]
+/// depends on the motion's history down to round-off (the README says so): it is asserted inside
+/// that range, and the fixed-speed runs are placed by v_nl and v_lin, not by the onset. (Placed
+/// by the onset — 15 % below and 25 % above it — a last-bit change of the solver's arithmetic that
+/// moved the onset from 37 to 50 m/s put the "decays" run inside the bistable range, where a
+/// 0.3 mm disturbance is already on the cycle's side.) Well above v_lin the hunting reaches the
+/// flanges and the run ends on its stop condition (|y| > 5 mm), normally, with the samples up to it.
 #[test]
 fn critical_speed_by_speed_ramp() {
+    use kecsim::dynamics::linear::linear_stability;
     let sc = scene("wheelset_critical_speed.toml");
+    // Re λ of the least-damped oscillatory mode at constant speed v (1 s settling).
+    let re_lambda = |v: f64| {
+        let mut at = sc.clone();
+        let sim = &mut at.simulation.as_mut().unwrap().0;
+        sim.speed_ramp_m_s2 = 0.0;
+        sim.initial.lateral_m = 0.0;
+        let run = at
+            .build_run(&RunOptions {
+                contact: Some("kec".into()),
+                speed_m_s: Some(v),
+            })
+            .unwrap();
+        linear_stability(run.vehicle.as_ref(), &run.settings.integrator)
+            .unwrap()
+            .expect("an oscillatory mode")
+            .max_real_1_s
+    };
+    let v_nl = simulate(&scene("wheelset_critical_speed_down.toml"), |_| {}, "kec")
+        .summary
+        .critical_speed_m_s
+        .expect("the decelerating ramp finds where the cycle dies out");
     let ramp = simulate(&sc, |_| {}, "kec");
     let vc = ramp
         .summary
         .critical_speed_m_s
         .expect("hunting onset found on the ramp");
+    let (re_vc, re_above) = (re_lambda(vc), re_lambda(70.0));
     println!(
-        "hunting onset on the ramp: {vc:.2} m/s; stopped: {:?}",
+        "nonlinear critical speed (decelerating ramp) {v_nl:.2} m/s; hunting onset on the accelerating ramp {vc:.2} m/s \
+         (Re λ there {re_vc:.3} 1/s); Re λ at 70 m/s {re_above:.3} 1/s; stopped: {:?}",
         ramp.summary.stopped
     );
-    assert!((20.0..60.0).contains(&vc), "{vc}");
+    assert!((25.0..40.0).contains(&v_nl), "{v_nl}");
+    assert!(
+        vc >= 0.95 * v_nl,
+        "onset {vc} below the nonlinear critical speed {v_nl}"
+    );
+    assert!(
+        re_vc < 0.0,
+        "onset {vc} above the linear critical speed (Re λ {re_vc})"
+    );
+    assert!(re_above > 0.0, "70 m/s: Re λ {re_above}");
+    // Peak |y| early (1/12..1/4 of a 12 s run), in its third quarter and in its last quarter at
+    // constant speed v from the lateral offset y0.
+    let envelope = |v: f64, y0: f64| {
+        let out = simulate(
+            &sc,
+            |s| {
+                s.speed_m_s = v;
+                s.speed_ramp_m_s2 = 0.0;
+                s.duration_s = 12.0;
+                s.initial.lateral_m = y0;
+                s.stop_lateral_m = None;
+            },
+            "kec",
+        );
+        let s = out.samples();
+        let n = s.len();
+        let peak = |r: &[Sample]| r.iter().map(|p| p.y.abs()).fold(0.0, f64::max);
+        (
+            peak(&s[n / 12..n / 4]),
+            peak(&s[n / 2..3 * n / 4]),
+            peak(&s[3 * n / 4..]),
+        )
+    };
+    // Below v_nl every motion decays, a large one too.
+    let v_low = 0.85 * v_nl;
+    let (a0, _, a1) = envelope(v_low, 0.004);
+    println!(
+        "at {v_low:.1} m/s from 4 mm: |y| {:.4} → {:.4} mm",
+        a0 * 1e3,
+        a1 * 1e3
+    );
+    assert!(
+        a1 < 0.1 * a0,
+        "below the nonlinear critical speed the motion must decay"
+    );
+    // Between v_nl and v_lin: bistable — a small disturbance decays, a large one keeps hunting.
+    let v_mid = 1.25 * v_nl;
+    assert!(
+        re_lambda(v_mid) < 0.0,
+        "{v_mid} m/s must be below the linear critical speed"
+    );
+    let (b0, _, b1) = envelope(v_mid, 1e-6);
+    let (c0, c1, c2) = envelope(v_mid, 0.004);
+    println!(
+        "at {v_mid:.1} m/s: from 1 µm |y| {:.6} → {:.6} mm; from 4 mm |y| {:.4} → {:.4} → {:.4} mm",
+        b0 * 1e3,
+        b1 * 1e3,
+        c0 * 1e3,
+        c1 * 1e3,
+        c2 * 1e3
+    );
+    assert!(
+        b1 < 0.5 * b0,
+        "between the critical speeds a small disturbance must decay"
+    );
+    assert!(
+        c2 > 0.9 * c1 && c2 > 1e-4,
+        "between the critical speeds a large disturbance must stay on the hunting cycle"
+    );
+    // Above v_lin: the hunting grows to the flanges.
     let hunting = simulate(
         &sc,
         |s| {
-            s.speed_m_s = 1.6 * vc;
+            s.speed_m_s = 70.0;
             s.speed_ramp_m_s2 = 0.0;
             s.duration_s = 10.0;
         },
@@ -320,42 +419,6 @@ fn critical_speed_by_speed_ramp() {
         other => panic!("expected the lateral stop, got {other:?}"),
     }
     assert_eq!(hunting.summary.outcome, "stopped");
-    let envelope = |v: f64| {
-        let out = simulate(
-            &sc,
-            |s| {
-                s.speed_m_s = v;
-                s.speed_ramp_m_s2 = 0.0;
-                s.duration_s = 6.0;
-                s.initial.lateral_m = 0.0003;
-                s.stop_lateral_m = None;
-            },
-            "kec",
-        );
-        let s = out.samples();
-        let n = s.len();
-        let peak = |r: &[Sample]| r.iter().map(|p| p.y.abs()).fold(0.0, f64::max);
-        (peak(&s[n / 12..n / 4]), peak(&s[3 * n / 4..]))
-    };
-    let (a0, a1) = envelope(0.85 * vc);
-    println!(
-        "at {:.1} m/s: |y| {:.4} → {:.4} mm",
-        0.85 * vc,
-        a0 * 1e3,
-        a1 * 1e3
-    );
-    assert!(a1 < 0.5 * a0, "below the critical speed the motion must decay");
-    let (b0, b1) = envelope(1.25 * vc);
-    println!(
-        "at {:.1} m/s: |y| {:.4} → {:.4} mm",
-        1.25 * vc,
-        b0 * 1e3,
-        b1 * 1e3
-    );
-    assert!(
-        b1 > 0.8 * b0,
-        "above the critical speed the motion must not decay"
-    );
 }
 
 /// `kecsim run SCENE --contact --speed --csv --json`: the Interface columns and keys, a recording
