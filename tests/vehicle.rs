@@ -982,3 +982,112 @@ fn ms_vehicle_settles_and_runs() {
     let counted: usize = limits.iter().map(|l| l.accepted_steps).sum();
     assert!(counted <= out.summary.steps && limits.iter().map(|l| l.share).sum::<f64>() <= 1.0 + 1e-12);
 }
+
+/// Zero-phase 4th-order Butterworth high-pass (two RBJ biquads, Q = 0.5412 and 1.3066, run
+/// forwards and backwards) of `x` sampled at `fs`, corner `fc`.
+fn high_pass(x: &[f64], fs: f64, fc: f64) -> Vec<f64> {
+    let w0 = std::f64::consts::TAU * fc / fs;
+    let mut y = x.to_vec();
+    for q in [0.541_196_1, 1.306_563] {
+        let alpha = w0.sin() / (2.0 * q);
+        let c = w0.cos();
+        let a0 = 1.0 + alpha;
+        let (b0, b1, b2) = ((1.0 + c) / 2.0 / a0, -(1.0 + c) / a0, (1.0 + c) / 2.0 / a0);
+        let (a1, a2) = (-2.0 * c / a0, (1.0 - alpha) / a0);
+        for pass in 0..2 {
+            if pass == 1 {
+                y.reverse();
+            }
+            let (mut x1, mut x2, mut y1, mut y2) = (y[0], y[0], 0.0, 0.0);
+            for v in y.iter_mut() {
+                let out = b0 * *v + b1 * x1 + b2 * x2 - a1 * y1 - a2 * y2;
+                (x2, x1, y2, y1) = (x1, *v, y1, out);
+                *v = out;
+            }
+            if pass == 1 {
+                y.reverse();
+            }
+        }
+    }
+    y
+}
+
+/// What holds the MS kilometre's step in the curve (README, *Speed*): the leading IRW-wheelset of
+/// each bogie against its flange has a lateral mode at ~90–100 Hz with ζ ≈ 0.01–0.02
+/// (`examples/linear_modes.rs`: its flanging wheel's spin swings with its lateral velocity as the
+/// rolling radius changes; the frequency does not move with the wheel's spin inertia — the mass is
+/// the wheelset's, the stiffness the flange's). The motion hardly excites it: DOPRI5 at rtol 1e-7
+/// finds nanometres above 50 Hz. BDF of orders 3–5 is not A-stable: a mode that lightly damped is
+/// unstable for them once ωh passes ≈ 0.4–0.5, so the step control holds the step there (~0.9 ms)
+/// with a spurious ripple of a few micrometres, whatever the tolerance — while BDF2 (A-stable)
+/// at the same tolerance takes several times longer steps through the same curve (and is less
+/// accurate: README).
+#[test]
+fn ms_vehicle_flanging_mode_holds_bdf_at_its_stability_boundary() {
+    use kecsim::dynamics::integrator::Method;
+    let sc = scene("ms_vehicle_tab6.toml");
+    let fs = 2000.0;
+    let (from, to) = (9.0, 13.0);
+    // Steps, and per wheelset the rms of y above 50 Hz over [from, to) with the mean frequency
+    // of that part (zero crossings), of a run to `end` with the integrator edited by `edit`.
+    let run = |end: f64, edit: &dyn Fn(&mut kecsim::scenario::SimulationSpec)| {
+        let out = run_scene(&sc, "kec", |s| {
+            s.duration_s = end;
+            s.record_rate_hz = fs;
+            edit(s);
+        });
+        assert!(out.summary.error.is_none(), "{:?}", out.summary.error);
+        let ripple: Vec<(String, f64, f64)> = out
+            .wheelsets
+            .iter()
+            .filter(|_| end > to)
+            .map(|(name, s)| {
+                let window: Vec<&Sample> = s.iter().filter(|p| p.t >= from - 0.5).collect();
+                let hp = high_pass(&window.iter().map(|p| p.y).collect::<Vec<_>>(), fs, 50.0);
+                let inner: Vec<f64> = window
+                    .iter()
+                    .zip(&hp)
+                    .filter(|(p, _)| p.t >= from && p.t < to)
+                    .map(|(_, v)| *v)
+                    .collect();
+                let rms = (inner.iter().map(|v| v * v).sum::<f64>() / inner.len() as f64).sqrt();
+                let crossings = inner.windows(2).filter(|w| w[0] * w[1] < 0.0).count();
+                (name.clone(), rms, crossings as f64 / (2.0 * (to - from)))
+            })
+            .collect();
+        (out.summary.steps, ripple)
+    };
+    let (bdf_steps, bdf) = run(to + 0.5, &|_| {});
+    let (dopri_steps, dopri) = run(to + 0.5, &|s| {
+        s.integrator.method = Method::Dopri5;
+        s.integrator.rtol = 1e-7;
+    });
+    for ((w, a, fa), (_, b, fb)) in bdf.iter().zip(&dopri) {
+        println!(
+            "{w}: lateral motion above 50 Hz, {from}-{to} s: rms {:.4} µm at {fa:.0} Hz (BDF, rtol 1e-4), {:.4} µm at {fb:.0} Hz (DOPRI5, rtol 1e-7)",
+            a * 1e6,
+            b * 1e6
+        );
+        // Not in the motion; in the BDF's, well inside its tolerance.
+        assert!(*b < 1e-7, "{w}: {b} m rms above 50 Hz with DOPRI5 1e-7");
+        assert!(*a < 1e-5, "{w}: {a} m rms above 50 Hz with BDF");
+    }
+    // The BDF's ripple is the flanging wheelsets' mode (w3, w5 lead the trailer and the rear motor
+    // bogie into the flange), at its frequency, far above the motion's.
+    for ((w, a, fa), (_, b, _)) in bdf.iter().zip(&dopri).filter(|(w, _)| w.0 == "w3" || w.0 == "w5") {
+        assert!((70.0..130.0).contains(fa), "{w}: {fa} Hz");
+        assert!(*a > 10.0 * b, "{w}: BDF {a}, DOPRI5 {b}");
+    }
+    // The step through the curve: BDF up to order 5 against BDF2, same tolerance.
+    let curve_steps = |max_order: usize| {
+        let edit = move |s: &mut kecsim::scenario::SimulationSpec| s.integrator.max_order = max_order;
+        run(to, &edit).0 - run(from, &edit).0
+    };
+    let (bdf5, bdf2) = (curve_steps(5), curve_steps(2));
+    println!(
+        "steps {from}-{to} s: BDF up to order 5 {bdf5} ({:.2} ms), BDF2 {bdf2} ({:.2} ms); whole {to} s: BDF {bdf_steps}, DOPRI5 1e-7 {dopri_steps}",
+        (to - from) / bdf5 as f64 * 1e3,
+        (to - from) / bdf2 as f64 * 1e3
+    );
+    assert!(bdf5 > 2 * bdf2, "order 5: {bdf5} steps, order 2: {bdf2}");
+}

@@ -777,3 +777,112 @@ fn bdf_error_test_rejections_keep_the_jacobian() {
     let last = out.last().map(|p| p.1[0]).unwrap_or(f64::NAN);
     assert!((last + 0.5).abs() < 1e-6, "{last}");
 }
+
+/// BDF-3…5 are not A-stable: on a lightly damped mode (ζ = 0.015, ω = 600 rad/s — the MS
+/// vehicle's flanging wheelsets) the constant-step characteristic roots of BDF-k leave the unit
+/// disc once ωh passes 0.42 (k = 3), 0.55 (4), 0.79 (5) (computed here from the formulas'
+/// coefficients), so a slowly forced motion that does not excite the mode still holds the step
+/// below that: the step control sees the spurious growth as error. The same motion with the mode
+/// well damped (ζ = 0.7: inside BDF-5's 51.8° stability sector) is stepped by its accuracy alone.
+#[test]
+fn bdf_on_a_lightly_damped_mode_is_held_at_its_stability_boundary() {
+    struct Forced {
+        w: f64,
+        zeta: f64,
+    }
+    // x'' + 2ζω x' + ω² x = ω² u(t), u = 1 mm · sin(2π t): the motion follows u (1 Hz ≪ 95 Hz).
+    impl OdeSystem for Forced {
+        type Error = String;
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            let u = 1e-3 * (std::f64::consts::TAU * t).sin();
+            d[0] = x[1];
+            d[1] = -self.w * self.w * (x[0] - u) - 2.0 * self.zeta * self.w * x[1];
+            Ok(())
+        }
+    }
+    let (w, zeta) = (600.0, 0.015);
+    // Constant-step BDF-k on y' = λy: Σ_j (1/j) ∇^j y_{n+1} = hλ y_{n+1}; the largest ωh up to
+    // which every root of the characteristic polynomial lies in the unit disc, by bisection.
+    let largest_root = |k: usize, wh: f64| {
+        let z = nalgebra::Complex::new(-zeta * wh, wh * (1.0 - zeta * zeta).sqrt());
+        // Coefficients of y_{n+1-m}, m = 0..k; polynomial in r of degree k (companion matrix).
+        let mut a = vec![0.0; k + 1];
+        for j in 1..=k {
+            let mut binom = 1.0;
+            for (m, am) in a.iter_mut().enumerate().take(j + 1) {
+                if m > 0 {
+                    binom *= (j + 1 - m) as f64 / m as f64;
+                }
+                *am += binom * if m % 2 == 0 { 1.0 } else { -1.0 } / j as f64;
+            }
+        }
+        let lead = nalgebra::Complex::new(a[0], 0.0) - z;
+        let mut c = nalgebra::DMatrix::<nalgebra::Complex<f64>>::zeros(k, k);
+        for m in 1..=k {
+            c[(0, m - 1)] = -nalgebra::Complex::new(a[m], 0.0) / lead;
+        }
+        for i in 1..k {
+            c[(i, i - 1)] = nalgebra::Complex::new(1.0, 0.0);
+        }
+        c.eigenvalues()
+            .map_or(f64::NAN, |e| e.iter().map(|r| r.norm()).fold(0.0, f64::max))
+    };
+    let boundary = |k: usize| {
+        let (mut lo, mut hi) = (0.05, 3.0);
+        for _ in 0..50 {
+            let mid = 0.5 * (lo + hi);
+            if largest_root(k, mid) > 1.0 + 1e-12 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        lo
+    };
+    let bounds: Vec<f64> = (2..=5).map(boundary).collect();
+    println!("BDF-2..5 stable up to ωh = {bounds:.3?} (ζ = {zeta})");
+    assert!(bounds[0] > 2.9, "BDF2 is A-stable: {}", bounds[0]);
+    for (b, want) in bounds[1..].iter().zip([0.416, 0.552, 0.794]) {
+        assert!((b - want).abs() < 0.01, "{b} vs {want}");
+    }
+    // The integrator, from the forced motion's own state (no transient of the mode): the steady
+    // response to u, 1 mm · Im(H e^{iΩt}) with H = ω²/(ω² − Ω² + 2iζωΩ), and its rate.
+    let om = std::f64::consts::TAU;
+    let mut steps = Vec::new();
+    for zeta in [zeta, 0.7] {
+        let gain =
+            nalgebra::Complex::new(w * w, 0.0) / nalgebra::Complex::new(w * w - om * om, 2.0 * zeta * w * om);
+        let exact = |t: f64| {
+            let e = gain * nalgebra::Complex::new(0.0, om * t).exp();
+            (1e-3 * e.im, 1e-3 * om * e.re)
+        };
+        let x0 = [exact(0.0).0, exact(0.0).1];
+        let s = Settings::new(Method::Bdf, 1e-4, 1e-7);
+        let (out, st) = run(&mut Forced { w, zeta }, &x0, 2.0, 0.01, &s);
+        let err = out
+            .iter()
+            .map(|(t, x)| (x[0] - exact(*t).0).abs())
+            .fold(0.0, f64::max);
+        let wh = w * 2.0 / st.accepted as f64;
+        println!(
+            "ζ = {zeta}: BDF {} steps ({} rejected), mean ωh {wh:.3}, max |x − exact| {err:.2e} m",
+            st.accepted, st.rejected
+        );
+        assert!(err < 2e-6, "ζ = {zeta}: error {err}");
+        steps.push((st.accepted, wh));
+    }
+    assert!(
+        steps[0].1 < bounds[3],
+        "mean ωh {} beyond BDF-5's boundary",
+        steps[0].1
+    );
+    assert!(
+        steps[0].0 > 3 * steps[1].0,
+        "ζ 0.015: {:?}, ζ 0.7: {:?}",
+        steps[0],
+        steps[1]
+    );
+}
