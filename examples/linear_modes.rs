@@ -14,7 +14,10 @@
 //! their rails are left out (a perturbation there releases the wheel: a switch, not a
 //! derivative). Each eigenvalue λ = −ζω₀ ± iω₀√(1−ζ²) is printed as its frequency Im λ/2π and
 //! damping ratio ζ = −Re λ/|λ|; a mode's states are the largest components of its eigenvector
-//! (inverse iteration), in the state's units (m, rad, m/s, rad/s), normalised to 1.
+//! (inverse iteration), in the state's units (m, rad, m/s, rad/s), normalised to 1 — and with the
+//! longest constant step at which BDF-3, 4, 5 stay stable on it ([`stable_step`]; "any" inside
+//! their stability sectors, "-" for a growing mode): a BDF run cannot step longer where such a mode is present, whether or
+//! not the motion excites it.
 //!
 //! What it showed (2026-12-01, the MS kilometre at 14 s, in the curve): the leading wheelset of
 //! each bogie has a mode at 91–100 Hz with ζ = 0.011–0.02 — its flanging wheel's spin against its
@@ -27,6 +30,7 @@
 //! against the flange transition, the free wheel's spin following the rolling radius.
 
 use anyhow::{anyhow, bail, Context, Result};
+use kecsim::dynamics::integrator::bdf::stable_step;
 use kecsim::dynamics::integrator::{integrate, Flow};
 use kecsim::dynamics::linear::{damping_ratio as damping, eigenvector, jacobian};
 use kecsim::dynamics::system::Evaluator;
@@ -111,12 +115,22 @@ fn print_modes(jac: &DMatrix<f64>, names: &[String], count: usize, min_hz: f64) 
             .filter(|p| p.1 > 0.05)
             .map(|&(i, v)| format!("{} {v:.2}", names[i]))
             .collect();
+        // The longest steps BDF-3, 4, 5 stay stable on this mode at.
+        let bounds: Vec<String> = (3..=5)
+            .map(|k| match stable_step(k, *l) {
+                // A growing mode: the exact solution grows too, no bound applies.
+                _ if l.re >= 0.0 => "-".into(),
+                h if h.is_finite() => format!("{:.2}", h * 1e3),
+                _ => "any".into(),
+            })
+            .collect();
         println!(
-            "  {:8.2} Hz  zeta {:7.4}  (λ = {:.2} {:+.2}i)  {}",
+            "  {:8.2} Hz  zeta {:7.4}  (λ = {:.2} {:+.2}i)  BDF-3/4/5 stable to h = {} ms  {}",
             l.im / std::f64::consts::TAU,
             damping(l),
             l.re,
             l.im,
+            bounds.join("/"),
             states.join(", ")
         );
     }
