@@ -64,9 +64,16 @@ pub(super) fn milne(k: usize, with_f: bool) -> f64 {
 /// their stability sectors of 86°, 73°, 52°). For a lightly damped mode λ = ω(−ζ + i√(1−ζ²)),
 /// BDF-3…5 are unstable from ωh ≈ 0.42, 0.55, 0.79 at ζ = 0.015: a step control holding the error
 /// then holds the step there, whether or not the motion excites the mode (README, *What sets the
-/// MS kilometre's step*).
+/// MS kilometre's step*). A growing mode (Re λ > 0) gives 0 — its own solution grows; λ = 0 or
+/// not finite gives ∞ (no bound).
 pub fn stable_step(k: usize, lambda: nalgebra::Complex<f64>) -> f64 {
     use nalgebra::{Complex, DMatrix};
+    if !(lambda.norm() > 0.0 && lambda.norm().is_finite()) {
+        return f64::INFINITY;
+    }
+    if lambda.re > 0.0 {
+        return 0.0;
+    }
     let k = k.clamp(1, MAX_ORDER);
     // Coefficients a_m of y_{n+1−m}, m = 0..k, of Σ_j (1/j) ∇^j.
     let mut a = vec![0.0; k + 1];

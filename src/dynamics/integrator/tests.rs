@@ -781,8 +781,9 @@ fn bdf_error_test_rejections_keep_the_jacobian() {
 /// BDF-3…5 are not A-stable: on a lightly damped mode (ζ = 0.015, ω = 600 rad/s — the MS
 /// vehicle's flanging wheelsets) the constant-step characteristic roots of BDF-k leave the unit
 /// disc once ωh passes 0.42 (k = 3), 0.55 (4), 0.79 (5) (`bdf::stable_step`, checked against
-/// these values from numpy's polynomial roots and against the published stability sectors), so a slowly forced motion that does not excite the mode still holds the step
-/// below that: the step control sees the spurious growth as error. The same motion with the mode
+/// these values from numpy's polynomial roots and against the published stability sectors), so a
+/// slowly forced motion that does not excite the mode still holds the step below that: the step
+/// control sees the spurious growth as error. The same motion with the mode
 /// well damped (ζ = 0.7: inside BDF-5's 51.8° stability sector) is stepped by its accuracy alone.
 #[test]
 fn bdf_on_a_lightly_damped_mode_is_held_at_its_stability_boundary() {
@@ -816,6 +817,12 @@ fn bdf_on_a_lightly_damped_mode_is_held_at_its_stability_boundary() {
     // A-stable BDF-1; BDF-3, 4, 5 just outside and just inside their published A(α) sectors
     // (86.03°, 73.35°, 51.84°): bounded outside, unbounded inside.
     assert!(bdf::stable_step(1, lambda).is_infinite());
+    assert_eq!(
+        bdf::stable_step(5, nalgebra::Complex::new(0.1, w)),
+        0.0,
+        "a growing mode"
+    );
+    assert!(bdf::stable_step(5, nalgebra::Complex::new(0.0, 0.0)).is_infinite());
     let at = |deg: f64| {
         let a = deg.to_radians();
         nalgebra::Complex::new(-w * a.cos(), w * a.sin())
