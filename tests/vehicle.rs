@@ -984,7 +984,9 @@ fn ms_vehicle_settles_and_runs() {
 }
 
 /// Zero-phase 4th-order Butterworth high-pass (two RBJ biquads, Q = 0.5412 and 1.3066, run
-/// forwards and backwards) of `x` sampled at `fs`, corner `fc`.
+/// forwards and backwards) of `x` sampled at `fs`, corner `fc`. (Not `track::spectrum::
+/// band_variance`: its rectangular-window periodogram leaks a trending record's drift into the
+/// high band — ~0.08 mm rms here, where the motion has nanometres.)
 fn high_pass(x: &[f64], fs: f64, fc: f64) -> Vec<f64> {
     let w0 = std::f64::consts::TAU * fc / fs;
     let mut y = x.to_vec();

@@ -60,10 +60,15 @@ pub fn blueprint() -> Blueprint {
     blueprint_for(&["wheelset_1".to_string()])
 }
 
+/// The wheelset the run's detailed views show: the first of `wheelsets`.
+fn detail_wheelset(wheelsets: &[String]) -> &str {
+    wheelsets.first().map_or("wheelset_1", String::as_str)
+}
+
 /// Where the run's detailed views look: the first of `wheelsets` (its series are logged under
 /// `run/NAME/`).
 pub fn detail_origin(wheelsets: &[String]) -> String {
-    format!("/run/{}", wheelsets.first().map_or("wheelset_1", String::as_str))
+    format!("/run/{}", detail_wheelset(wheelsets))
 }
 
 /// The layout for the run of `wheelsets` (by name): the first wheelset in detail, and with more
@@ -72,7 +77,7 @@ pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
     let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
     let w = detail_origin(wheelsets);
     // The detailed views' titles name their wheelset.
-    let first = wheelsets.first().map_or("wheelset_1", String::as_str);
+    let first = detail_wheelset(wheelsets);
     let title = |t: &str| format!("{first}: {t}");
     let mut rows: Vec<ContainerLike> = vec![Horizontal::new([
         Spatial2DView::new("Right wheel and rail (−Y)")

@@ -75,17 +75,11 @@ pub fn stable_step(k: usize, lambda: nalgebra::Complex<f64>) -> f64 {
         return 0.0;
     }
     let k = k.clamp(1, MAX_ORDER);
-    // Coefficients a_m of y_{n+1−m}, m = 0..k, of Σ_j (1/j) ∇^j.
-    let mut a = vec![0.0; k + 1];
-    for j in 1..=k {
-        let mut binom = 1.0;
-        for (m, am) in a.iter_mut().enumerate().take(j + 1) {
-            if m > 0 {
-                binom *= (j + 1 - m) as f64 / m as f64;
-            }
-            *am += binom * if m % 2 == 0 { 1.0 } else { -1.0 } / j as f64;
-        }
-    }
+    // Coefficients a_m of y_{n+1−m}, m = 0..k, of Σ_j (1/j) ∇^j: the formula's own derivative
+    // weights on unit-spaced nodes 0, −1, …, −k.
+    let nodes: Vec<f64> = (0..=k).map(|m| -(m as f64)).collect();
+    let mut a = Vec::with_capacity(k + 1);
+    derivative_weights(&nodes, &mut a);
     let largest_root = |h: f64| {
         let lead = Complex::new(a[0], 0.0) - lambda * h;
         let mut c = DMatrix::<Complex<f64>>::zeros(k, k);
