@@ -5,6 +5,7 @@ mod bench;
 mod compare;
 mod contact;
 mod creep;
+mod design;
 mod generate;
 mod kec;
 mod profiles;
@@ -66,6 +67,10 @@ enum Command {
     /// The track: centreline from its sections, curvature, cant, twist, irregularities.
     #[command(allow_negative_numbers = true)]
     Track(track::TrackArgs),
+    /// Design a wheel profile on a rail from a target contact-angle function (jump-free by
+    /// construction), write it as CSV (mm) and record it beside a reference wheel.
+    #[command(allow_negative_numbers = true)]
+    DesignWheel(design::DesignArgs),
     /// Write the standard profiles (S1002, 60E1, 54E1) as CSV files, mm.
     #[command(allow_negative_numbers = true)]
     GenerateProfiles(generate::GenerateArgs),
@@ -93,6 +98,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Creep(a) => creep::run(a),
         Command::Track(a) => track::run(a),
         Command::GenerateProfiles(a) => generate::run(a),
+        Command::DesignWheel(a) => design::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Study(a) => study::run(a),
     }

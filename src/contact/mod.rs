@@ -12,6 +12,7 @@
 //! own field-side coordinate).
 
 pub mod conicity;
+pub mod design;
 pub mod elastic;
 pub mod forces;
 pub mod geometry;

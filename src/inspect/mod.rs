@@ -18,6 +18,7 @@
 pub mod compare;
 pub mod contact;
 pub mod creep;
+pub mod design;
 pub mod kec;
 pub mod precision;
 pub mod profiles;

@@ -500,9 +500,17 @@ pub fn shape_problem(kind: ProfileKind, s: &[f64], z: &[f64]) -> Option<String> 
 /// naming its source; the points are the spline's knots, so reading the file back gives the same
 /// profile.
 pub fn write_csv(profile: &Profile, path: &Path) -> std::io::Result<()> {
+    write_csv_with_header(profile, path, &[])
+}
+
+/// [`write_csv`] with more `#` lines after the source (a designed profile's target and result).
+pub fn write_csv_with_header(profile: &Profile, path: &Path, header: &[String]) -> std::io::Result<()> {
     let mut f = std::io::BufWriter::new(fs::File::create(path)?);
     writeln!(f, "# kecsim {} profile '{}'", profile.kind, profile.name)?;
     writeln!(f, "# source: {}", profile.source)?;
+    for line in header {
+        writeln!(f, "# {}", line.replace('\n', " "))?;
+    }
     writeln!(
         f,
         "# y lateral towards the field side of a left-side profile, z up, both in mm"

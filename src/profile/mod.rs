@@ -16,6 +16,7 @@
 //! [`placement`].
 
 pub mod io;
+pub mod measures;
 pub mod placement;
 pub mod standard;
 

@@ -1,0 +1,152 @@
+//! The design-target file of `kecsim design-wheel` (TOML, mm and degrees as a profile file's
+//! boundary; converted to SI once, here):
+//!
+//! ```toml
+//! name = "my-wheel"
+//! # the left wheel's contact angle against the wheelset's lateral displacement towards it
+//! contact_angle = [
+//!   { y_mm = -10.0, angle_deg = 0.0 },
+//!   { y_mm =   0.0, angle_deg = 2.86 },
+//!   { y_mm =   6.0, angle_deg = 70.0 },   # the last: the flank
+//! ]
+//! flange_height_mm = 28.0
+//! flange_tip_radius_mm = 10.0
+//! field_end_mm = 60.0
+//! # where the wheel will run (each optional; the command line's flags override them)
+//! rail = "54e1"
+//! inclination = "1:20"
+//! gauge_mm = 1435.0
+//! back_to_back_mm = 1366.0
+//! nominal_radius_mm = 295.0
+//! ```
+//!
+//! Errors name the file, the line and the value.
+
+use serde::Deserialize;
+
+use super::DesignTarget;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TargetFile {
+    name: String,
+    contact_angle: Vec<toml::Spanned<AnglePoint>>,
+    flange_height_mm: f64,
+    flange_tip_radius_mm: f64,
+    #[serde(default = "default_field_end")]
+    field_end_mm: f64,
+    rail: Option<String>,
+    inclination: Option<String>,
+    gauge_mm: Option<f64>,
+    back_to_back_mm: Option<f64>,
+    nominal_radius_mm: Option<f64>,
+}
+
+/// Where the designed wheel will run, as the target file gives it (mm as written; `None` where
+/// the file is silent).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PlacementSpec {
+    pub rail: Option<String>,
+    pub inclination: Option<String>,
+    pub gauge_mm: Option<f64>,
+    pub back_to_back_mm: Option<f64>,
+    pub nominal_radius_mm: Option<f64>,
+}
+
+fn default_field_end() -> f64 {
+    60.0
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AnglePoint {
+    y_mm: f64,
+    angle_deg: f64,
+}
+
+/// 1-based line of byte offset `at` in `text`.
+fn line_of(text: &str, at: usize) -> usize {
+    text[..at.min(text.len())].bytes().filter(|&b| b == b'\n').count() + 1
+}
+
+/// Parses a design target; `origin` names it in errors. Every problem is reported, each with its
+/// line where it has one.
+pub fn parse_target(text: &str, origin: &str) -> Result<(DesignTarget, PlacementSpec), String> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let f: TargetFile = toml::from_str(text).map_err(|e| {
+        let line = e.span().map(|s| format!(":{}", line_of(text, s.start))).unwrap_or_default();
+        format!("{origin}{line}: {}", e.message())
+    })?;
+    let target = DesignTarget {
+        name: f.name.clone(),
+        contact_angle: f
+            .contact_angle
+            .iter()
+            .map(|p| (p.get_ref().y_mm * 1e-3, p.get_ref().angle_deg.to_radians()))
+            .collect(),
+        flange_height_m: f.flange_height_mm * 1e-3,
+        flange_tip_radius_m: f.flange_tip_radius_mm * 1e-3,
+        field_end_m: f.field_end_mm * 1e-3,
+    };
+    let mut problems = Vec::new();
+    if f.name.trim().is_empty() || f.name.contains(['/', '\\', '\n']) {
+        problems.push(format!("name = {:?}: expected a plain name (it names the profile and its file)", f.name));
+    }
+    for p in target.problems() {
+        // "contact_angle point K ..." / "points K and L ...": the line of point K.
+        let line = p
+            .strip_prefix("contact_angle point")
+            .map(|rest| rest.trim_start_matches('s'))
+            .and_then(|rest| rest.trim_start().split(|c: char| !c.is_ascii_digit()).next())
+            .and_then(|k| k.parse::<usize>().ok())
+            .and_then(|k| f.contact_angle.get(k.wrapping_sub(1)))
+            .map(|sp| format!("line {}: ", line_of(text, sp.span().start)))
+            .unwrap_or_default();
+        problems.push(format!("{line}{p}"));
+    }
+    let placement = PlacementSpec {
+        rail: f.rail,
+        inclination: f.inclination,
+        gauge_mm: f.gauge_mm,
+        back_to_back_mm: f.back_to_back_mm,
+        nominal_radius_mm: f.nominal_radius_mm,
+    };
+    if problems.is_empty() {
+        Ok((target, placement))
+    } else {
+        Err(format!("{origin}: invalid design target:\n  - {}", problems.join("\n  - ")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = "name = \"w\"\ncontact_angle = [\n  { y_mm = -8.0, angle_deg = 1.0 },\n  { y_mm = 0.0, angle_deg = 3.0 },\n  { y_mm = 6.0, angle_deg = 70.0 },\n]\nflange_height_mm = 28\nflange_tip_radius_mm = 10\n";
+
+    #[test]
+    fn a_target_reads_in_si() {
+        let (t, p) = parse_target(GOOD, "t.toml").unwrap();
+        assert_eq!(p, PlacementSpec::default());
+        assert_eq!(t.contact_angle.len(), 3);
+        assert!((t.contact_angle[2].0 - 0.006).abs() < 1e-15);
+        assert!((t.contact_angle[2].1 - 70f64.to_radians()).abs() < 1e-15);
+        assert_eq!(t.field_end_m, 0.06);
+    }
+
+    #[test]
+    fn bad_targets_name_file_line_and_value() {
+        let falling = GOOD.replace("angle_deg = 3.0", "angle_deg = 0.5");
+        let e = parse_target(&falling, "t.toml").unwrap_err();
+        assert!(e.contains("t.toml") && e.contains("line 3") && e.contains("non-monotone contact"), "{e}");
+        let unknown = GOOD.replace("field", "flield").replace("flange_height_mm", "flange_height_mm = 28\nfield_end");
+        let e = parse_target(&unknown, "t.toml").unwrap_err();
+        assert!(e.contains("t.toml:"), "{e}");
+        let typo = GOOD.replace("y_mm = 6.0", "y = 6.0");
+        let e = parse_target(&typo, "t.toml").unwrap_err();
+        assert!(e.contains("t.toml:5") && e.contains("unknown field `y`"), "{e}");
+        let no_centre = GOOD.replace("y_mm = -8.0", "y_mm = 0.5").replace("y_mm = 0.0", "y_mm = 1.0");
+        let e = parse_target(&no_centre, "t.toml").unwrap_err();
+        assert!(e.contains("must include the centred position"), "{e}");
+    }
+}

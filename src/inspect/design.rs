@@ -1,0 +1,98 @@
+//! `kecsim design-wheel`: the designed wheel beside the reference wheel on the rail, and both
+//! pairs' contact geometry against the lateral displacement y (the paper's Fig. 14–16).
+//!
+//! Timeline `y_um` (as `kecsim contact`). Entities (mm; cross-sections stored as `[Y, −Z]`):
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
+//! | `design/profiles/{rail,designed,reference}` | LineStrips2D, static | the left rail and both wheels centred on it, Y from the taping line |
+//! | `design/section/{designed,reference}/{left,right}/…` | as `kecsim contact` | each pair's wheels and contact points at every y |
+//! | `design/plots/{s_wheel_mm,s_rail_mm,contact_angle_deg,dr_mm}/{designed,reference}` | Scalars (left, right) on `y_um` | contact on wheel and rail, contact angles, Δr |
+//! | `design/summary` | TextDocument | target, flange measures, jumps, conicity |
+
+use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical};
+use rerun::{Color, LineStrips2D, Radius, RecordingStream, TextDocument};
+
+use super::contact::{log_real_sections, send_series, TIMELINE};
+use super::{log_static, section_mm, InspectError};
+use crate::contact::design::DesignReport;
+use crate::contact::lookup::{LookupTable1, TableRow};
+use crate::profile::placement::WheelRailPair;
+use crate::profile::Side;
+
+/// Layout: the profiles and the designed pair's sections on top, the functions of y below.
+pub fn blueprint() -> Blueprint {
+    let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
+    Blueprint::new(
+        Vertical::new([
+            Horizontal::new([
+                Spatial2DView::new("Wheels on the left rail (designed blue, reference grey)")
+                    .with_origin("/design/profiles")
+                    .into(),
+                Spatial2DView::new("Designed pair, right")
+                    .with_origin("/design/section/designed/right")
+                    .into(),
+                Spatial2DView::new("Designed pair, left")
+                    .with_origin("/design/section/designed/left")
+                    .into(),
+            ])
+            .into(),
+            Horizontal::new([
+                plot("contact on wheel s^w [mm] (Fig. 14 left)", "/design/plots/s_wheel_mm"),
+                plot("contact on rail s^r [mm] (Fig. 14 right)", "/design/plots/s_rail_mm"),
+            ])
+            .into(),
+            Horizontal::new([
+                plot("contact angle [deg]", "/design/plots/contact_angle_deg"),
+                plot("Δr = r_left − r_right [mm]", "/design/plots/dr_mm"),
+                TextDocumentView::new("Summary").with_origin("/design/summary").into(),
+            ])
+            .into(),
+        ])
+        .with_row_shares([3.0, 2.0, 2.0]),
+    )
+    .with_time_panel(TimePanel::new().with_timeline(TIMELINE))
+}
+
+/// The left rail and a wheel centred on it, Y measured from the taping line.
+fn strip(points: Vec<(f64, f64)>, l_w: f64, color: [u8; 3]) -> LineStrips2D {
+    let pts: Vec<[f32; 2]> = points.into_iter().map(|(y, z)| section_mm(y - l_w, z)).collect();
+    LineStrips2D::new([pts])
+        .with_colors([Color::from_rgb(color[0], color[1], color[2])])
+        .with_radii([Radius::new_ui_points(1.5)])
+}
+
+/// One pair's functions of y under `design/plots/*/{name}`.
+fn plots(rec: &RecordingStream, table: &LookupTable1, name: &str) -> Result<(), InspectError> {
+    let ys: Vec<i64> = table.rows.iter().map(|r| (r.y * 1e6).round() as i64).collect();
+    let col = |f: &dyn Fn(&TableRow) -> Vec<f64>| table.rows.iter().flat_map(f).collect::<Vec<f64>>();
+    send_series(rec, &format!("design/plots/s_wheel_mm/{name}"), &ys, col(&|r| vec![r.x[2] * 1e3, r.x[4] * 1e3]), &["left", "right"])?;
+    send_series(rec, &format!("design/plots/s_rail_mm/{name}"), &ys, col(&|r| vec![r.x[3] * 1e3, r.x[5] * 1e3]), &["left", "right"])?;
+    send_series(
+        rec,
+        &format!("design/plots/contact_angle_deg/{name}"),
+        &ys,
+        col(&|r| vec![r.contact_angle[0].to_degrees(), r.contact_angle[1].to_degrees()]),
+        &["left", "right"],
+    )?;
+    send_series(rec, &format!("design/plots/dr_mm/{name}"), &ys, col(&|r| vec![r.delta_r() * 1e3]), &["Δr"])
+}
+
+/// Records the design report: profiles, sections and functions of y of both pairs, the summary.
+pub fn record(
+    rec: &RecordingStream,
+    report: &DesignReport,
+    designed: &WheelRailPair,
+    reference: &WheelRailPair,
+    summary: &str,
+) -> Result<(), InspectError> {
+    let l_w = designed.wheelset.l_w();
+    log_static(rec, "design/profiles/rail", &strip(designed.rail_positions(Side::Left), l_w, [150, 150, 160]))?;
+    log_static(rec, "design/profiles/reference", &strip(reference.centred_wheel_positions(Side::Left), l_w, [120, 120, 120]))?;
+    log_static(rec, "design/profiles/designed", &strip(designed.centred_wheel_positions(Side::Left), l_w, [70, 140, 230]))?;
+    log_real_sections(rec, "design/section/designed", designed, &report.table)?;
+    log_real_sections(rec, "design/section/reference", reference, &report.reference_table)?;
+    plots(rec, &report.table, "designed")?;
+    plots(rec, &report.reference_table, "reference")?;
+    log_static(rec, "design/summary", &TextDocument::from_markdown(summary.to_string()))
+}
