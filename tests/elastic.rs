@@ -126,7 +126,7 @@ fn the_free_wheelset_rests_on_its_hertz_contacts() {
 /// millimetres after the jumps: the README.)
 #[test]
 fn the_elastic_reference_does_not_depend_on_its_numerics() {
-    let sc = scene("ms_vehicle_tab6.toml");
+    let sc = scene("ms_vehicle_tab6_s1002.toml");
     let short = |s: &mut SimulationSpec| s.duration_s = 3.0;
     let base = run(&sc, "elastic", short);
     let tight = run(&sc, "elastic", |s| {
@@ -176,7 +176,7 @@ fn the_elastic_reference_does_not_depend_on_its_numerics() {
 /// the tread's Hertz approach (0.09 mm) it starts to carry load ~0.5 mm of y before the rigid jump.
 #[test]
 fn ms_vehicle_elastic_matches_kec_until_the_first_contact_jump() {
-    let sc = scene("ms_vehicle_tab6.toml");
+    let sc = scene("ms_vehicle_tab6_s1002.toml");
     let go = |kind| run(&sc, kind, |s| s.duration_s = 1.3);
     let (mut elastic, mut kec) = (go("elastic"), go("kec"));
     let first_jump = |o: &RunOutput| {
@@ -300,7 +300,7 @@ fn run_any(sc: &Scene, contact: &str, edit: impl Fn(&mut SimulationSpec)) -> Run
 /// ΣY within a few per cent. Both complete with no wheel lifting.
 #[test]
 fn ms_vehicle_kilometre_kec_against_elastic() {
-    let sc = scene("ms_vehicle_tab6.toml");
+    let sc = scene("ms_vehicle_tab6_s1002.toml");
     let (elastic, kec) = (run(&sc, "elastic", |_| {}), run(&sc, "kec", |_| {}));
     let mut least_share = 1.0f64;
     let mut median_curve = 0.0f64;

@@ -355,7 +355,7 @@ fn a_thrown_wheelset_flies_off_both_rails_and_lands() {
 /// landings reported.
 #[test]
 fn ms_vehicle_completes_the_kilometre_with_kec() {
-    let sc = scene("ms_vehicle_tab6.toml");
+    let sc = scene("ms_vehicle_tab6_s1002.toml");
     let built = sc
         .build_run(&RunOptions {
             contact: Some("kec".into()),

@@ -416,7 +416,7 @@ fn manchester_vehicle_settles_and_runs_on_irregular_track() {
 /// keep the difference (millimetres after a few jumps: the README's `kecsim compare` section).
 #[test]
 fn ms_vehicle_kec_and_table_match_online_until_the_first_contact_jump() {
-    let sc = scene("ms_vehicle_tab6.toml");
+    let sc = scene("ms_vehicle_tab6_s1002.toml");
     let go = |kind| run_scene(&sc, kind, |s| s.duration_s = 1.3);
     let (kec, lookup, online) = (go("kec"), go("lookup"), go("online"));
     for o in [&kec, &lookup, &online] {
@@ -572,7 +572,7 @@ fn two_coupled_ms_vehicles_settle_and_run() {
 /// trailing ones of their bogies; wheel unloading stays below the lift (ΔQ/Q₀ < 1, no lift here).
 #[test]
 fn ms_vehicle_running_safety_into_the_curve() {
-    let sc = scene("ms_vehicle_tab6.toml");
+    let sc = scene("ms_vehicle_tab6_s1002.toml");
     let out = run_scene(&sc, "kec", |s| s.duration_s = 8.0);
     assert_eq!(out.summary.outcome, "completed");
     let safety = out.summary.safety.as_ref().expect("safety figures");
@@ -1027,7 +1027,7 @@ fn high_pass(x: &[f64], fs: f64, fc: f64) -> Vec<f64> {
 #[test]
 fn ms_vehicle_flanging_mode_holds_bdf_at_its_stability_boundary() {
     use kecsim::dynamics::integrator::Method;
-    let sc = scene("ms_vehicle_tab6.toml");
+    let sc = scene("ms_vehicle_tab6_s1002.toml");
     let fs = 2000.0;
     let (from, to) = (9.0, 13.0);
     // Steps, and per wheelset the rms of y above 50 Hz over [from, to) with the mean frequency

@@ -104,7 +104,7 @@ pub(super) fn run(a: DesignArgs) -> Result<()> {
         inspect::finish_recording(rec, &sink)
     };
     print!("{summary}");
-    kecsim::profile::io::write_csv_with_header(&design.profile, &csv, &report.header_lines(&inclination.to_string()))
+    kecsim::profile::io::write_csv_with_header(&design.profile, &csv, &report.header_lines(&inclination.to_string(), &pair))
         .with_context(|| format!("cannot write {}", csv.display()))?;
     println!("wrote {}", csv.display());
     println!("{}", delivered.map_err(anyhow::Error::msg)?);

@@ -46,19 +46,32 @@ pub fn read_profile(path: &Path, expected: ProfileKind) -> Result<Profile, Profi
         path: p.clone(),
         source,
     })?;
-    // A byte-order mark (editors on Windows write one) is not part of the first number.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
-    let (points, mut notes) = match ext.as_str() {
+    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("profile");
+    parse_profile(&text, &ext, name, &p, expected)
+}
+
+/// Parses profile text in the format of the file extension `ext` (`csv`, `prw`/`prr`, anything
+/// else: columns); `origin` names it in errors and as its source.
+pub fn parse_profile(
+    text: &str,
+    ext: &str,
+    name: &str,
+    origin: &str,
+    expected: ProfileKind,
+) -> Result<Profile, ProfileError> {
+    let p = origin.to_string();
+    // A byte-order mark (editors on Windows write one) is not part of the first number.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let (points, mut notes) = match ext {
         "prw" | "prr" => read_simpack(&p, text, expected)?,
         "csv" => (read_csv(&p, text)?, Vec::new()),
         _ => (read_columns(&p, text)?, Vec::new()),
     };
-    let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("profile");
     let CheckedPoints { s, z, notes: more } = check_points(&p, points, expected)?;
     notes.extend(more);
     let mut profile = Profile::from_points(name, expected, &p, s, z).map_err(|e| ProfileError::InFile {

@@ -15,6 +15,7 @@
 //! [`io`]. Placement on the track cross-section (gauge, inclination, back-to-back, mirroring) is
 //! [`placement`].
 
+pub mod embedded;
 pub mod io;
 pub mod measures;
 pub mod placement;
@@ -77,7 +78,12 @@ pub enum ProfileError {
 }
 
 fn standard_names() -> String {
-    StandardProfile::ALL.map(|p| p.name()).join(", ")
+    StandardProfile::ALL
+        .map(|p| p.name())
+        .into_iter()
+        .chain(embedded::ALL.map(|p| p.name))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// A wheel or rail profile: z(s) in its own frame, SI units (see the module doc).
@@ -164,8 +170,8 @@ impl Profile {
             .collect()
     }
 
-    /// Resolves `spec`, a standard name (`s1002`, `60e1`, `54e1`) or a file path, to a profile of
-    /// the expected kind.
+    /// Resolves `spec`, a standard name (`s1002`, `60e1`, `54e1`), a shipped profile's name
+    /// (`ms-standin`, see [`embedded`]) or a file path, to a profile of the expected kind.
     pub fn resolve(spec: &str, expected: ProfileKind) -> Result<Profile, ProfileError> {
         if let Some(std) = StandardProfile::from_name(spec) {
             if std.kind() != expected {
@@ -176,6 +182,16 @@ impl Profile {
                 });
             }
             return Ok(std.profile());
+        }
+        if let Some(e) = embedded::EmbeddedProfile::from_name(spec) {
+            if e.kind != expected {
+                return Err(ProfileError::WrongKind {
+                    path: spec.to_string(),
+                    expected,
+                    found: e.kind,
+                });
+            }
+            return e.profile();
         }
         let path = Path::new(spec);
         if !path.exists() && path.extension().is_none() {
@@ -233,7 +249,7 @@ mod tests {
     fn resolve_reports_unknown_names_and_wrong_kinds() {
         let e = Profile::resolve("s1003", ProfileKind::Wheel).unwrap_err();
         assert!(e.to_string().contains("unknown profile 's1003'"), "{e}");
-        assert!(e.to_string().contains("s1002, 60e1, 54e1"), "{e}");
+        assert!(e.to_string().contains("s1002, 60e1, 54e1, ms-standin"), "{e}");
         let e = Profile::resolve("60e1", ProfileKind::Wheel).unwrap_err();
         assert!(e.to_string().contains("rail profile"), "{e}");
     }

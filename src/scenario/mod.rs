@@ -402,7 +402,10 @@ fn locate(origin: &str, source: &str, problem: &str) -> String {
 
 /// A standard profile name stays as it is; anything else is a path relative to `base`.
 fn resolve_path(spec: &str, base: &Path) -> String {
-    if crate::profile::StandardProfile::from_name(spec).is_some() || Path::new(spec).is_absolute() {
+    if crate::profile::StandardProfile::from_name(spec).is_some()
+        || crate::profile::embedded::EmbeddedProfile::from_name(spec).is_some()
+        || Path::new(spec).is_absolute()
+    {
         return spec.to_string();
     }
     let p: PathBuf = base.join(spec);

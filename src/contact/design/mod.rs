@@ -900,7 +900,7 @@ impl DesignReport {
             rlo * 1e3,
             rhi * 1e3
         );
-        s += &format!("Contact jumps, designed: {}\n\n", Self::checks_line(&self.checks));
+        s += &format!("Contact jumps, designed: {}\n\n{}\n\n", Self::checks_line(&self.checks), jump_free_span(&self.checks));
         s += &format!("Contact jumps, {}: {}\n\n", self.reference_name, Self::checks_line(&self.reference_checks));
         s += &format!("Equivalent conicity (EN 15302 Annex B):\n\n| ŷ [mm] | {} | {} |\n|---|---|---|\n", t.name, self.reference_name);
         let f = |v: &Option<f64>| v.map_or("—".to_string(), |v| format!("{v:.4}"));
@@ -910,14 +910,24 @@ impl DesignReport {
         s
     }
 
-    /// The profile file's header: where it comes from and the target, so that it can be redone.
-    pub fn header_lines(&self, inclination: &str) -> Vec<String> {
+    /// The profile file's header: where it comes from, where it runs and the target, so that it
+    /// can be redone (`kecsim design-wheel --target` with these values).
+    pub fn header_lines(&self, inclination: &str, pair: &WheelRailPair) -> Vec<String> {
         let d = &self.design;
         let t = &d.target;
-        let mut h = vec![
+        let w = &pair.wheelset;
+        vec![
             format!(
-                "designed by `kecsim design-wheel` on {} at {} (direct conjugate design: the wheel built point by point from a target contact angle gamma(y), its roll iterated on the constraints Eq. 35-42)",
-                self.rail, inclination
+                "designed by `kecsim design-wheel` (direct conjugate design: the wheel built point by point from a target contact angle gamma(y), its roll iterated on the constraints Eq. 35-42)"
+            ),
+            format!(
+                "for rail {} at {}, gauge {:.1} mm, back-to-back {:.1} mm, taping line {:.1} mm from the flange back, r0 {:.1} mm",
+                self.rail,
+                inclination,
+                pair.rail_placement.gauge.gauge_m * 1e3,
+                w.back_to_back_m * 1e3,
+                w.rolling_circle_from_back_m * 1e3,
+                w.nominal_radius_m * 1e3
             ),
             format!(
                 "target contact angle (y_mm -> deg): {}",
@@ -934,16 +944,52 @@ impl DesignReport {
                 t.field_end_m * 1e3
             ),
             format!(
-                "result: S_h {:.2} mm, S_d {:.2} mm, qR {:.2} mm, steepest flank {:.2} deg; flange contact at +-{:.2} mm; {} contact jumps over the 21 gauge columns",
+                "result: S_h {:.2} mm, S_d {:.2} mm, qR {:.2} mm, steepest flank {:.2} deg; flange contact at +-{:.2} mm; {}",
                 d.measures.height_m * 1e3,
                 d.measures.thickness_m * 1e3,
                 d.measures.qr_m * 1e3,
                 d.measures.steepest_angle_rad.to_degrees(),
                 self.table.range().1 * 1e3,
-                self.checks.iter().map(|c| c.jumps.len()).sum::<usize>()
+                jump_free_span(&self.checks)
             ),
-        ];
-        h.retain(|l| !l.is_empty());
-        h
+        ]
     }
+}
+
+/// The contact jumps of the gauge columns in words: the gauge variations (around 0) free of
+/// them, and how many the others have.
+pub fn jump_free_span(checks: &[ColumnCheck]) -> String {
+    let free = |c: &ColumnCheck| c.jumps.is_empty();
+    let Some(k0) = checks.iter().position(|c| c.gv == 0.0) else {
+        return "no centred column".into();
+    };
+    if !free(&checks[k0]) {
+        return format!("{} contact jumps on the centred gauge", checks[k0].jumps.len());
+    }
+    let mut lo = k0;
+    while lo > 0 && free(&checks[lo - 1]) {
+        lo -= 1;
+    }
+    let mut hi = k0;
+    while hi + 1 < checks.len() && free(&checks[hi + 1]) {
+        hi += 1;
+    }
+    let others: usize = checks.iter().map(|c| c.jumps.len()).sum();
+    let mut s = format!(
+        "no contact jump at gauge variations {:+.0} .. {:+.0} mm (each column up to its flange-climb limit)",
+        checks[lo].gv * 1e3,
+        checks[hi].gv * 1e3
+    );
+    if others > 0 {
+        s += &format!(
+            "; {others} at gv {} mm (both flanges at their walls: the gauge narrowed below the wheelset's play)",
+            checks
+                .iter()
+                .filter(|c| !free(c))
+                .map(|c| format!("{:+.0}", c.gv * 1e3))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    s
 }
