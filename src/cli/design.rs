@@ -57,24 +57,40 @@ pub(super) fn run(a: DesignArgs) -> Result<()> {
     let sink = a.sink.sink();
     let (text, origin) = match &a.target {
         Some(p) => (
-            kecsim::limits::read_text(p).with_context(|| format!("{}: cannot read the design target", p.display()))?,
+            kecsim::limits::read_text(p)
+                .with_context(|| format!("{}: cannot read the design target", p.display()))?,
             p.display().to_string(),
         ),
-        None => (MS_STANDIN_TARGET.to_string(), "<embedded ms-standin target>".to_string()),
+        None => (
+            MS_STANDIN_TARGET.to_string(),
+            "<embedded ms-standin target>".to_string(),
+        ),
     };
     let (target, placed) = parse_target(&text, &origin).map_err(anyhow::Error::msg)?;
     let rail_spec = a.rail.clone().or(placed.rail).unwrap_or_else(|| "60e1".into());
     let inclination: Inclination = match (a.inclination, &placed.inclination) {
         (Some(i), _) => i,
-        (None, Some(t)) => t.parse().map_err(|e: String| anyhow::anyhow!("{origin}: inclination: {e}"))?,
+        (None, Some(t)) => t
+            .parse()
+            .map_err(|e: String| anyhow::anyhow!("{origin}: inclination: {e}"))?,
         (None, None) => Inclination::one_in(40.0),
     };
     let gauge_mm = a.gauge.or(placed.gauge_mm).unwrap_or(1435.0);
     let b2b_mm = a.back_to_back.or(placed.back_to_back_mm).unwrap_or(1360.0);
     let r0_mm = a.wheel_radius.or(placed.nominal_radius_mm).unwrap_or(460.0);
-    let csv = a.csv.clone().unwrap_or_else(|| PathBuf::from(format!("{}.csv", target.name)));
-    let inputs = [a.target.as_deref(), Some(Path::new(&rail_spec)), Some(Path::new(&a.reference))];
-    check_distinct(&[("--csv", Some(&csv)), ("--save", super::sink_file(&sink))], &inputs)?;
+    let csv = a
+        .csv
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{}.csv", target.name)));
+    let inputs = [
+        a.target.as_deref(),
+        Some(Path::new(&rail_spec)),
+        Some(Path::new(&a.reference)),
+    ];
+    check_distinct(
+        &[("--csv", Some(&csv)), ("--save", super::sink_file(&sink))],
+        &inputs,
+    )?;
     check_output_file("--csv", &csv)?;
     check_sink(&sink)?;
     let y_check = positive_mm("--y-check", a.y_check)?;
@@ -104,8 +120,12 @@ pub(super) fn run(a: DesignArgs) -> Result<()> {
         inspect::finish_recording(rec, &sink)
     };
     print!("{summary}");
-    kecsim::profile::io::write_csv_with_header(&design.profile, &csv, &report.header_lines(&inclination.to_string(), &pair))
-        .with_context(|| format!("cannot write {}", csv.display()))?;
+    kecsim::profile::io::write_csv_with_header(
+        &design.profile,
+        &csv,
+        &report.header_lines(&inclination.to_string(), &pair),
+    )
+    .with_context(|| format!("cannot write {}", csv.display()))?;
     println!("wrote {}", csv.display());
     println!("{}", delivered.map_err(anyhow::Error::msg)?);
     Ok(())

@@ -10,7 +10,9 @@
 //! | `design/plots/{s_wheel_mm,s_rail_mm,contact_angle_deg,dr_mm}/{designed,reference}` | Scalars (left, right) on `y_um` | contact on wheel and rail, contact angles, Δr |
 //! | `design/summary` | TextDocument | target, flange measures, jumps, conicity |
 
-use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical};
+use rerun::blueprint::{
+    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+};
 use rerun::{Color, LineStrips2D, Radius, RecordingStream, TextDocument};
 
 use super::contact::{log_real_sections, send_series, TIMELINE};
@@ -38,14 +40,22 @@ pub fn blueprint() -> Blueprint {
             ])
             .into(),
             Horizontal::new([
-                plot("contact on wheel s^w [mm] (Fig. 14 left)", "/design/plots/s_wheel_mm"),
-                plot("contact on rail s^r [mm] (Fig. 14 right)", "/design/plots/s_rail_mm"),
+                plot(
+                    "contact on wheel s^w [mm] (Fig. 14 left)",
+                    "/design/plots/s_wheel_mm",
+                ),
+                plot(
+                    "contact on rail s^r [mm] (Fig. 14 right)",
+                    "/design/plots/s_rail_mm",
+                ),
             ])
             .into(),
             Horizontal::new([
                 plot("contact angle [deg]", "/design/plots/contact_angle_deg"),
                 plot("Δr = r_left − r_right [mm]", "/design/plots/dr_mm"),
-                TextDocumentView::new("Summary").with_origin("/design/summary").into(),
+                TextDocumentView::new("Summary")
+                    .with_origin("/design/summary")
+                    .into(),
             ])
             .into(),
         ])
@@ -66,8 +76,20 @@ fn strip(points: Vec<(f64, f64)>, l_w: f64, color: [u8; 3]) -> LineStrips2D {
 fn plots(rec: &RecordingStream, table: &LookupTable1, name: &str) -> Result<(), InspectError> {
     let ys: Vec<i64> = table.rows.iter().map(|r| (r.y * 1e6).round() as i64).collect();
     let col = |f: &dyn Fn(&TableRow) -> Vec<f64>| table.rows.iter().flat_map(f).collect::<Vec<f64>>();
-    send_series(rec, &format!("design/plots/s_wheel_mm/{name}"), &ys, col(&|r| vec![r.x[2] * 1e3, r.x[4] * 1e3]), &["left", "right"])?;
-    send_series(rec, &format!("design/plots/s_rail_mm/{name}"), &ys, col(&|r| vec![r.x[3] * 1e3, r.x[5] * 1e3]), &["left", "right"])?;
+    send_series(
+        rec,
+        &format!("design/plots/s_wheel_mm/{name}"),
+        &ys,
+        col(&|r| vec![r.x[2] * 1e3, r.x[4] * 1e3]),
+        &["left", "right"],
+    )?;
+    send_series(
+        rec,
+        &format!("design/plots/s_rail_mm/{name}"),
+        &ys,
+        col(&|r| vec![r.x[3] * 1e3, r.x[5] * 1e3]),
+        &["left", "right"],
+    )?;
     send_series(
         rec,
         &format!("design/plots/contact_angle_deg/{name}"),
@@ -75,7 +97,13 @@ fn plots(rec: &RecordingStream, table: &LookupTable1, name: &str) -> Result<(), 
         col(&|r| vec![r.contact_angle[0].to_degrees(), r.contact_angle[1].to_degrees()]),
         &["left", "right"],
     )?;
-    send_series(rec, &format!("design/plots/dr_mm/{name}"), &ys, col(&|r| vec![r.delta_r() * 1e3]), &["Δr"])
+    send_series(
+        rec,
+        &format!("design/plots/dr_mm/{name}"),
+        &ys,
+        col(&|r| vec![r.delta_r() * 1e3]),
+        &["Δr"],
+    )
 }
 
 /// Records the design report: profiles, sections and functions of y of both pairs, the summary.
@@ -87,12 +115,37 @@ pub fn record(
     summary: &str,
 ) -> Result<(), InspectError> {
     let l_w = designed.wheelset.l_w();
-    log_static(rec, "design/profiles/rail", &strip(designed.rail_positions(Side::Left), l_w, [150, 150, 160]))?;
-    log_static(rec, "design/profiles/reference", &strip(reference.centred_wheel_positions(Side::Left), l_w, [120, 120, 120]))?;
-    log_static(rec, "design/profiles/designed", &strip(designed.centred_wheel_positions(Side::Left), l_w, [70, 140, 230]))?;
+    log_static(
+        rec,
+        "design/profiles/rail",
+        &strip(designed.rail_positions(Side::Left), l_w, [150, 150, 160]),
+    )?;
+    log_static(
+        rec,
+        "design/profiles/reference",
+        &strip(
+            reference.centred_wheel_positions(Side::Left),
+            l_w,
+            [120, 120, 120],
+        ),
+    )?;
+    log_static(
+        rec,
+        "design/profiles/designed",
+        &strip(designed.centred_wheel_positions(Side::Left), l_w, [70, 140, 230]),
+    )?;
     log_real_sections(rec, "design/section/designed", designed, &report.table)?;
-    log_real_sections(rec, "design/section/reference", reference, &report.reference_table)?;
+    log_real_sections(
+        rec,
+        "design/section/reference",
+        reference,
+        &report.reference_table,
+    )?;
     plots(rec, &report.table, "designed")?;
     plots(rec, &report.reference_table, "reference")?;
-    log_static(rec, "design/summary", &TextDocument::from_markdown(summary.to_string()))
+    log_static(
+        rec,
+        "design/summary",
+        &TextDocument::from_markdown(summary.to_string()),
+    )
 }

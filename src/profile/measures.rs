@@ -124,7 +124,8 @@ pub fn flange_measures(wheel: &Profile, back_from_taping_m: f64) -> Result<Flang
         ));
     }
     let sd_s = flank_at(wheel, tip_s, -SD_HEIGHT_M).ok_or("no flank point 10 mm above the taping line")?;
-    let qr_s = flank_at(wheel, tip_s, -(height_m - QR_TIP_OFFSET_M)).ok_or("no flank point 2 mm inside the tip")?;
+    let qr_s =
+        flank_at(wheel, tip_s, -(height_m - QR_TIP_OFFSET_M)).ok_or("no flank point 2 mm inside the tip")?;
     // Steepest flank angle between the tip and the taping line.
     let m = ((-tip_s) / 1e-5).ceil() as usize;
     let steepest = (0..=m)

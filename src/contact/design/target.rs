@@ -74,7 +74,10 @@ fn line_of(text: &str, at: usize) -> usize {
 pub fn parse_target(text: &str, origin: &str) -> Result<(DesignTarget, PlacementSpec), String> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let f: TargetFile = toml::from_str(text).map_err(|e| {
-        let line = e.span().map(|s| format!(":{}", line_of(text, s.start))).unwrap_or_default();
+        let line = e
+            .span()
+            .map(|s| format!(":{}", line_of(text, s.start)))
+            .unwrap_or_default();
         format!("{origin}{line}: {}", e.message())
     })?;
     let target = DesignTarget {
@@ -90,7 +93,10 @@ pub fn parse_target(text: &str, origin: &str) -> Result<(DesignTarget, Placement
     };
     let mut problems = Vec::new();
     if f.name.trim().is_empty() || f.name.contains(['/', '\\', '\n']) {
-        problems.push(format!("name = {:?}: expected a plain name (it names the profile and its file)", f.name));
+        problems.push(format!(
+            "name = {:?}: expected a plain name (it names the profile and its file)",
+            f.name
+        ));
     }
     for p in target.problems() {
         // "contact_angle point K ..." / "points K and L ...": the line of point K.
@@ -114,7 +120,10 @@ pub fn parse_target(text: &str, origin: &str) -> Result<(DesignTarget, Placement
     if problems.is_empty() {
         Ok((target, placement))
     } else {
-        Err(format!("{origin}: invalid design target:\n  - {}", problems.join("\n  - ")))
+        Err(format!(
+            "{origin}: invalid design target:\n  - {}",
+            problems.join("\n  - ")
+        ))
     }
 }
 
@@ -138,14 +147,21 @@ mod tests {
     fn bad_targets_name_file_line_and_value() {
         let falling = GOOD.replace("angle_deg = 3.0", "angle_deg = 0.5");
         let e = parse_target(&falling, "t.toml").unwrap_err();
-        assert!(e.contains("t.toml") && e.contains("line 3") && e.contains("non-monotone contact"), "{e}");
-        let unknown = GOOD.replace("field", "flield").replace("flange_height_mm", "flange_height_mm = 28\nfield_end");
+        assert!(
+            e.contains("t.toml") && e.contains("line 3") && e.contains("non-monotone contact"),
+            "{e}"
+        );
+        let unknown = GOOD
+            .replace("field", "flield")
+            .replace("flange_height_mm", "flange_height_mm = 28\nfield_end");
         let e = parse_target(&unknown, "t.toml").unwrap_err();
         assert!(e.contains("t.toml:"), "{e}");
         let typo = GOOD.replace("y_mm = 6.0", "y = 6.0");
         let e = parse_target(&typo, "t.toml").unwrap_err();
         assert!(e.contains("t.toml:5") && e.contains("unknown field `y`"), "{e}");
-        let no_centre = GOOD.replace("y_mm = -8.0", "y_mm = 0.5").replace("y_mm = 0.0", "y_mm = 1.0");
+        let no_centre = GOOD
+            .replace("y_mm = -8.0", "y_mm = 0.5")
+            .replace("y_mm = 0.0", "y_mm = 1.0");
         let e = parse_target(&no_centre, "t.toml").unwrap_err();
         assert!(e.contains("must include the centred position"), "{e}");
     }

@@ -1,0 +1,172 @@
+//! The design against closed forms and the independent contact solve.
+
+use super::*;
+use crate::contact::lookup::{LookupTable1, TableSettings};
+use crate::profile::embedded::EmbeddedProfile;
+use crate::profile::StandardProfile;
+
+/// The MS stand-in's target and placement, as shipped.
+fn ms_standin() -> (DesignTarget, Profile, Inclination, TrackGauge, WheelsetGeometry) {
+    let (t, p) = parse_target(
+        include_str!("../../../assets/designs/ms-standin.toml"),
+        "ms-standin.toml",
+    )
+    .unwrap();
+    assert_eq!(p.rail.as_deref(), Some("54e1"));
+    let wheelset = WheelsetGeometry {
+        back_to_back_m: p.back_to_back_mm.unwrap() * 1e-3,
+        nominal_radius_m: p.nominal_radius_mm.unwrap() * 1e-3,
+        ..WheelsetGeometry::default()
+    };
+    (
+        t,
+        StandardProfile::Rail54E1.profile(),
+        p.inclination.unwrap().parse().unwrap(),
+        TrackGauge::default(),
+        wheelset,
+    )
+}
+
+/// Circle on circle: on a rail head that is one arc of radius R, the target γ(y) = asin(y/Δ) is
+/// met by the wheel arc of radius R + Δ (at zero roll the contact sits where both normals make γ,
+/// y(γ) = ∫ (ρ_w − ρ_r) cos γ dγ = Δ sin γ). The design's wheel, with its roll iterated, must be
+/// that arc: its curvature from the profile's spline within 1 % of 1/(R + Δ).
+#[test]
+fn a_circular_rail_gets_the_conjugate_circle() {
+    let (r, delta) = (0.080, 0.020);
+    let s: Vec<f64> = (0..=800).map(|k| -0.04 + 0.08 * k as f64 / 800.0).collect();
+    let z: Vec<f64> = s.iter().map(|&x| (r * r - x * x).sqrt() - r).collect();
+    let rail = Profile::from_points("arc80", ProfileKind::Rail, "test", s, z).unwrap();
+    let target = DesignTarget {
+        name: "conjugate".into(),
+        contact_angle: (-32..=32)
+            .map(|k| {
+                let y = k as f64 * 0.25e-3;
+                (y, (y / delta).asin())
+            })
+            .collect(),
+        flange_height_m: 0.013,
+        flange_tip_radius_m: 0.003,
+        field_end_m: 0.05,
+    };
+    // The head's gauge point 5 mm below its top; a wide gauge leaves room for the shallow flank.
+    let gauge = TrackGauge {
+        gauge_m: 1.450,
+        measuring_depth_m: 0.005,
+    };
+    let d = design_wheel(
+        &rail,
+        Inclination::UPRIGHT,
+        gauge,
+        WheelsetGeometry::default(),
+        &target,
+    )
+    .unwrap();
+    // Curvature at the designed nodes.
+    let mut worst: f64 = 0.0;
+    // (Both wheels touch at equal radii here, so the roll stays zero and the relation is exact;
+    // the last 0.5 mm joins the flank.)
+    for n in d.nodes.iter().filter(|n| n.y.abs() < 7.5e-3) {
+        let k = d.profile.eval(n.s_wheel).curvature();
+        worst = worst.max((k.abs() * (r + delta) - 1.0).abs());
+    }
+    assert!(
+        worst < 0.01,
+        "wheel curvature off 1/(R + Δ) by {:.3} %",
+        worst * 100.0
+    );
+    // And the constraints solved on the designed pair give the target angle.
+    assert!(d.max_angle_error_rad < 1e-3, "{}", d.max_angle_error_rad);
+    // This head's normals span ±30°: a steeper target angle has no rail point.
+    let mut steep = target.clone();
+    steep.contact_angle.push((0.0085, 40f64.to_radians()));
+    let e = design_wheel(
+        &rail,
+        Inclination::UPRIGHT,
+        gauge,
+        WheelsetGeometry::default(),
+        &steep,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("arc80")
+            && e.contains("no point with that normal")
+            && e.contains("spans -30.00° .. 30.00°"),
+        "{e}"
+    );
+}
+
+/// The shipped stand-in: designed again from its target it is the shipped profile (so the file
+/// is the design's output, not an edited one); on its rail the independent global contact solve
+/// gives the target angle to 0.15°, its table has no contact jump from flange to flange, the
+/// anchors (y = 0 and the flank) are where the target puts them, and its flange is within
+/// EN 13715's measures.
+#[test]
+fn the_shipped_stand_in_is_its_target_designed() {
+    let (t, rail, incl, gauge, ws) = ms_standin();
+    let d = design_wheel(&rail, incl, gauge, ws, &t).unwrap();
+    let shipped = EmbeddedProfile::from_name("ms-standin")
+        .unwrap()
+        .profile()
+        .unwrap();
+    let (a, b) = shipped.domain();
+    let mut dz: f64 = 0.0;
+    for k in 0..=4000 {
+        let s = a + (b - a) * k as f64 / 4000.0;
+        dz = dz.max((shipped.eval(s).z - d.profile.eval(s).z).abs());
+    }
+    assert!(
+        dz < 1e-7,
+        "the shipped profile differs from its design by {dz:e} m"
+    );
+    assert!(
+        d.max_angle_error_rad < 0.15f64.to_radians(),
+        "{}",
+        d.max_angle_error_rad.to_degrees()
+    );
+    assert!(d.flank_shift_m.abs() < 1e-6 && d.max_departure_m < 1e-3, "{d:?}");
+    assert!(d.measures.problems().is_empty(), "{:?}", d.measures.problems());
+    let pair = WheelRailPair::new(shipped, rail, incl, gauge, ws).unwrap();
+    let table = LookupTable1::build(
+        &ContactGeometry::with_defaults(pair.clone()),
+        &TableSettings::default(),
+    )
+    .unwrap();
+    assert!(table.jumps.is_empty(), "{:?}", table.jumps);
+    let (lo, hi) = table.range();
+    assert!(hi > 4.5e-3 && lo < -4.5e-3, "flange to flange {lo} .. {hi}");
+    // The centred gauge and the gauge variations the MS kilometre meets (|gv| ≤ 1.1 mm), far wider.
+    let checks = jump_check(&pair, 0.010).unwrap();
+    for c in checks.iter().filter(|c| c.gv >= -4e-3) {
+        assert!(c.jumps.is_empty(), "gv {} mm: {:?}", c.gv * 1e3, c.jumps);
+    }
+}
+
+/// A target no wheel can meet is refused, naming the value and why.
+#[test]
+fn impossible_targets_are_refused() {
+    let (t, rail, incl, gauge, ws) = ms_standin();
+    let low = DesignTarget {
+        flange_height_m: 0.005,
+        ..t.clone()
+    };
+    let e = design_wheel(&rail, incl, gauge, ws, &low)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("flange_height_mm = 5.00") && e.contains("lower than the rail's gauge corner"),
+        "{e}"
+    );
+    let mut flat = t;
+    flat.contact_angle[3].1 = flat.contact_angle[2].1;
+    let e = design_wheel(&rail, incl, gauge, ws, &flat)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("non-monotone contact"), "{e}");
+    let wheel = StandardProfile::S1002.profile();
+    let e = design_wheel(&wheel, incl, gauge, ws, &ms_standin().0)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not a rail profile"), "{e}");
+}
