@@ -155,6 +155,9 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         contact: a.contact.clone(),
         speed_m_s: a.speed,
     })?;
+    for n in &built.notes {
+        eprintln!("kecsim: warning: {n}");
+    }
     let s = &built.settings;
     let speed = built.vehicle.reference().speed;
     println!(
@@ -210,7 +213,7 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     }
     if let Some(path) = &a.json {
         let mut summary = summary.clone();
-        summary.warnings = scene.warnings.clone();
+        summary.warnings = scene.warnings.iter().chain(&built.notes).cloned().collect();
         let text = serde_json::to_string_pretty(&summary)?;
         std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {}", path.display());

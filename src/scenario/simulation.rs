@@ -162,23 +162,53 @@ impl SimulationSpec {
     }
 
     /// The contact model `name` (the command line's `--contact`): the scenario's own settings when
-    /// it names the same model, else that model's defaults (KEC: with the scenario's legacy
-    /// `kec_two_point_approach_m`, if any).
-    pub fn contact_spec_for(&self, name: &str) -> Result<ContactModelSpec, String> {
+    /// it names the same model, else that model's defaults with the scenario's treatment of the
+    /// contact jumps carried over — its two-point transitions ([`ContactModelSpec::with_two_point`];
+    /// KEC's legacy `kec_two_point_approach_m` counts as the scenario's), so that the models are
+    /// compared on the same physics. The notes say what was carried and what a model cannot honour.
+    pub fn contact_spec_for(&self, name: &str) -> Result<(ContactModelSpec, Vec<String>), String> {
         let own = self.contact_spec()?;
         if own.name() == name {
-            return Ok(own);
+            return Ok((own, Vec::new()));
         }
-        let mut spec = ContactModelSpec::default_for(name).ok_or_else(|| {
+        let spec = ContactModelSpec::default_for(name).ok_or_else(|| {
             format!(
                 "unknown contact model \"{name}\": expected one of {}",
                 ContactModelSpec::NAMES.join(", ")
             )
         })?;
-        if let (ContactModelSpec::Kec(k), Some(a)) = (&mut spec, self.kec_two_point_approach_m) {
-            k.two_point_approach_m = a;
+        let mut notes = Vec::new();
+        // KEC's legacy key names KEC's approach whatever the scenario's model.
+        let legacy = self.kec_two_point_approach_m.filter(|_| name == "kec");
+        let Some(tp) = own
+            .two_point()
+            .or(legacy.zip(spec.two_point()).map(|(a, (_, w))| (a, w)))
+        else {
+            return Ok((spec, notes));
+        };
+        let tp = (legacy.unwrap_or(tp.0), tp.1);
+        let default_tp = spec.two_point();
+        match spec.clone().with_two_point(tp) {
+            Ok(carried) => {
+                if default_tp != Some(tp) {
+                    notes.push(format!(
+                        "--contact {name}: the scenario's two-point transitions ({}: approach {} m, width {} m) carried over, so that {name} runs the same physics",
+                        own.name(),
+                        tp.0,
+                        tp.1
+                    ));
+                }
+                Ok((carried, notes))
+            }
+            Err(why) => {
+                notes.push(format!(
+                    "--contact {name}: the scenario's two-point transitions ({}: approach {} m) do not apply: {why}",
+                    own.name(),
+                    tp.0
+                ));
+                Ok((spec, notes))
+            }
         }
-        Ok(spec)
     }
 
     /// Problems with the values (empty when valid).
@@ -281,6 +311,9 @@ pub struct BuiltRun {
     pub labels: RunLabels,
     /// The contact model's settings.
     pub contact: ContactModelSpec,
+    /// What the build says about the settings it took (a scenario's two-point transitions carried
+    /// to another model, or not honoured by it): to print as warnings.
+    pub notes: Vec<String>,
 }
 
 impl BuiltRun {
@@ -457,9 +490,9 @@ impl super::Scene {
         cache: Option<&PreprocessingCache>,
     ) -> Result<BuiltRun, BuildError> {
         let (sim, vehicle) = self.simulation.as_ref().ok_or(BuildError::NoSimulation)?;
-        let contact = match &options.contact {
+        let (contact, notes) = match &options.contact {
             Some(name) => sim.contact_spec_for(name),
-            None => sim.contact_spec(),
+            None => sim.contact_spec().map(|c| (c, Vec::new())),
         }
         .map_err(BuildError::Options)?;
         let speed = options.speed_m_s.unwrap_or(sim.speed_m_s);
@@ -514,6 +547,7 @@ impl super::Scene {
                 }),
             },
             contact,
+            notes,
         })
     }
 }
@@ -548,16 +582,32 @@ mod tests {
         // Another model by name: its defaults; the legacy KEC key is then unused.
         let l = spec("contact_model = \"lookup2\"").unwrap();
         assert_eq!(l.contact_spec().unwrap().name(), "lookup2");
-        // `--contact`: the scenario's own settings for the same model, the defaults for another
-        // (KEC keeping the scenario's legacy approach).
-        assert_eq!(table.contact_spec_for("kec").unwrap(), expect);
-        assert_eq!(table.contact_spec_for("online").unwrap().name(), "online");
-        assert_eq!(l.contact_spec_for("kec").unwrap(), ContactModelSpec::default());
+        // `--contact`: the scenario's own settings for the same model; for another, its defaults
+        // with the scenario's two-point transitions carried over (the same physics), said in a
+        // note — or a note that the model cannot honour them (KEC keeping the scenario's legacy
+        // approach).
+        assert_eq!(table.contact_spec_for("kec").unwrap(), (expect.clone(), vec![]));
+        let (online, notes) = table.contact_spec_for("online").unwrap();
+        assert_eq!(online.name(), "online");
+        assert!(
+            notes[0].contains("do not apply") && notes[0].contains("rigidly"),
+            "{notes:?}"
+        );
+        let (t2, notes) = table.contact_spec_for("lookup2").unwrap();
+        assert_eq!(
+            t2.two_point(),
+            expect.two_point(),
+            "the scene's treatment, not lookup2's rigid jumps"
+        );
+        assert!(notes[0].contains("carried over"), "{notes:?}");
+        let (k, _) = l.contact_spec_for("kec").unwrap();
+        assert_eq!(k.two_point(), l.contact_spec().unwrap().two_point());
         assert_eq!(
             spec("contact_model = \"online\"\nkec_two_point_approach_m = 0.0")
                 .unwrap()
                 .contact_spec_for("kec")
-                .unwrap(),
+                .unwrap()
+                .0,
             ContactModelSpec::Kec(KecSettings {
                 two_point_approach_m: 0.0,
                 ..KecSettings::default()

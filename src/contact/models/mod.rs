@@ -117,6 +117,45 @@ impl ContactModelSpec {
         self.settings().problems()
     }
 
+    /// The two-point transition settings (elastic approach, largest width), m, of the models
+    /// that have them (KEC and the tables); None for the others.
+    pub fn two_point(&self) -> Option<(f64, f64)> {
+        match self {
+            Self::Kec(k) => Some((k.two_point_approach_m, k.two_point_max_width_m)),
+            Self::Lookup(l) => Some((l.two_point_approach_m, l.two_point_max_width_m)),
+            Self::Lookup2(l) => Some((l.two_point_approach_m, l.two_point_max_width_m)),
+            Self::Online(_) | Self::Elastic(_) => None,
+        }
+    }
+
+    /// This model with the two-point transitions `(approach, width)` — a scene's treatment of the
+    /// contact jumps carried to another model (`--contact`): the same physics for every model.
+    /// Err says why a model cannot honour them (the online constraints follow a jump rigidly, the
+    /// elastic model has no jumps to treat).
+    pub fn with_two_point(self, (approach, width): (f64, f64)) -> Result<Self, String> {
+        match self {
+            Self::Kec(mut k) => {
+                (k.two_point_approach_m, k.two_point_max_width_m) = (approach, width);
+                Ok(Self::Kec(k))
+            }
+            Self::Lookup(mut l) => {
+                (l.two_point_approach_m, l.two_point_max_width_m) = (approach, width);
+                Ok(Self::Lookup(l))
+            }
+            Self::Lookup2(mut l) => {
+                (l.two_point_approach_m, l.two_point_max_width_m) = (approach, width);
+                Ok(Self::Lookup2(l))
+            }
+            Self::Online(_) => Err(
+                "the online constraints have no two-point transition: they follow a contact jump rigidly (the branch they are on kept until it closes)"
+                    .into(),
+            ),
+            Self::Elastic(_) => Err(
+                "the elastic model has no two-point transition: it finds every contact of the real profiles, a jump included".into(),
+            ),
+        }
+    }
+
     /// Builds the model for the wheel–rail pair.
     pub fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let problems = self.problems();
