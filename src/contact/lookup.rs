@@ -175,6 +175,8 @@ pub struct TableSettings {
     pub refine_tolerance: f64,
     /// ... or a surface parameter misses by more than this, m.
     pub refine_tolerance_s_m: f64,
+    /// ... or the chord of a contact angle misses it by more than this, rad.
+    pub refine_tolerance_angle_rad: f64,
     /// At most this many halvings of a grid interval.
     pub max_refinements: u32,
 }
@@ -187,6 +189,7 @@ impl Default for TableSettings {
             jump_threshold_m: 2e-4,
             refine_tolerance: 1e-8,
             refine_tolerance_s_m: 1e-5,
+            refine_tolerance_angle_rad: 2e-4,
             max_refinements: 8,
         }
     }
@@ -586,12 +589,24 @@ impl LookupTable1 {
         if depth > 0 {
             let ym = 0.5 * (a.y + b.y);
             let mid = geom.solve(ym, off)?;
-            let miss = (0..2)
-                .map(|c| {
-                    (hermite(a.y, b.y, a.x()[c], b.x()[c], a.dx_dy[c], b.dx_dy[c], ym).0 - mid.x()[c]).abs()
-                })
+            let miss = |c: usize| {
+                (hermite(a.y, b.y, a.x()[c], b.x()[c], a.dx_dy[c], b.dx_dy[c], ym).0 - mid.x()[c]).abs()
+            };
+            let miss_zphi = (0..2).map(miss).fold(0.0, f64::max);
+            // The surface parameters too: where the contact is near-conformal they move several
+            // times faster than y (ds^w/dy = 1 + ρ_r/Δ), and the contact points, angles and
+            // curvatures that the forces read are interpolated between these rows.
+            let miss_s = (2..6).map(miss).fold(0.0, f64::max);
+            // And the contact angles (interpolated by PCHIP, without exact slopes): the chord's
+            // miss at the midpoint, h²γ''/8, bounds what PCHIP leaves by far.
+            let miss_angle = [(a.left, b.left, mid.left), (a.right, b.right, mid.right)]
+                .iter()
+                .map(|(p, q, m)| (0.5 * (p.contact_angle + q.contact_angle) - m.contact_angle).abs())
                 .fold(0.0, f64::max);
-            if miss > settings.refine_tolerance {
+            if miss_zphi > settings.refine_tolerance
+                || miss_s > settings.refine_tolerance_s_m
+                || miss_angle > settings.refine_tolerance_angle_rad
+            {
                 Self::refine(geom, off, a, &mid, settings, depth - 1, out)?;
                 return Self::refine(geom, off, &mid, b, settings, depth - 1, out);
             }
