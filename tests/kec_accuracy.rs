@@ -18,8 +18,7 @@ fn kec_agrees_with_the_online_constraints_under_irregularities() {
     let table = LookupTable1::build(&geom, &settings).unwrap();
     let model = KecModel::from_table(&table, l_w).unwrap();
     let gvs: Vec<f64> = (-5..=5).map(|k| k as f64 * 1e-3).collect();
-    let (lo, hi) = table.range();
-    let table2 = LookupTable2::build(&geom, lo.abs().min(hi), &gvs, &settings).unwrap();
+    let table2 = LookupTable2::build(&geom, &gvs, &settings).unwrap();
     let cases = [
         (-4.5e-3, 0.0),
         (4.5e-3, 0.0),

@@ -101,9 +101,9 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
         println!("wrote {}", path.display());
     }
     if let (Some(path), Some(gvs)) = (table2_csv, gv_grid) {
-        let (lo, hi) = report.table.range();
+        // Each gauge column up to its own flange climb (or ±--y-max).
         let t = std::time::Instant::now();
-        let table2 = LookupTable2::build(&geom, lo.abs().min(hi), &gvs, &settings)?;
+        let table2 = LookupTable2::build(&geom, &gvs, &settings)?;
         table2
             .write_csv(&path)
             .with_context(|| format!("cannot write {}", path.display()))?;

@@ -2,8 +2,16 @@
 //!
 //! **1-entry table**: the contact configuration tabulated against the lateral displacement y on a
 //! track without irregularities, from flange contact on one side to flange contact on the other.
-//! **2-entry table**: the same against (y, gv), gv the gauge variation. In use (Eq. 44–46) the table
-//! is entered with ȳ = y − al, and then z = z_clu + vp, φ = φ_clu + cl/(2 L_r).
+//! **2-entry table**: the same against (y, gv), gv the gauge variation. Each gauge column spans
+//! its own gauge's flange contact on either side (and a little beyond, for the interpolation
+//! between columns); a look-up is refused beyond the flange-climb limit interpolated at its gv.
+//!
+//! **Entry under irregularities.** The paper (Eq. 44–46, as printed) enters with ȳ = y − al and
+//! returns z = z_clu + vp, φ = φ_clu + cl/(2 L_r). That ignores that a cross level *turns* the
+//! rail pair: in the turned rails' frame the wheelset centre, r0 above rail level, sits r0·δ to
+//! the side (1.2 mm of z error at cl = 5 mm on S1002/54E1). By default ([`CrossLevelEntry::Rotated`])
+//! the tables are entered in the frame of the rail pair's rigid motion instead
+//! ([`RailPairMotion`], [`enter_rotated`]); the printed form remains as [`CrossLevelEntry::Paper`].
 //!
 //! **Interpolation.** Each row stores, besides z, φ and the four surface parameters, their exact
 //! derivatives with respect to y (and gv) from the implicit function theorem, so z, φ and the
@@ -18,6 +26,7 @@
 //! 2-entry table's inherent error, measured by `kecsim bench contact`.
 
 use rayon::prelude::*;
+use serde::Deserialize;
 use std::path::Path;
 
 use super::geometry::{ContactError, ContactGeometry, ContactSolution};
@@ -132,6 +141,201 @@ impl TableRow {
     }
 }
 
+/// How a lookup table is entered under cross level: `cross_level_entry` of the `lookup` and
+/// `lookup2` contact models.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CrossLevelEntry {
+    /// The rail pair's rigid motion ([`enter_rotated`]): the wheelset's pose taken into the turned
+    /// rails' frame, the table entered there and its configuration turned back (the default).
+    #[default]
+    Rotated,
+    /// Eq. (44)–(46) as printed: ȳ = y − al, z = z_clu + vp, φ = φ_clu + cl/(2 L_r), the contact
+    /// points moved with the wheelset ([`TableRow::displaced`]).
+    Paper,
+}
+
+/// The rigid motion of the rail pair that a set of rail offsets makes: what [`enter_rotated`]
+/// enters a table with.
+///
+/// The online constraints (Eq. 38, [`ContactGeometry`]) place a side's rail profile frame at
+/// O_σ = (σ L_r + y_σir, z_r + z_σir), turned by α_σ = σβ + δ with δ = cl/(2 L_r) (σ = +1 left,
+/// −1 right; z_r the frames' height on the ideal track, L_r their lateral offset). With the pair's
+/// centre m = (al, z_r + vp) and its half-span h = O_L − m = (L_r + gv/2, cl/2) = |h| (cos θ, sin θ):
+///
+/// ```text
+/// O_σ = m + R(θ) [σ (L_r + gv_t/2), 0]      θ = atan2(cl, 2 L_r + gv),  gv_t = 2|h| − 2 L_r
+/// α_σ = θ + σβ + ε                          ε = δ − θ
+/// ```
+///
+/// that is, exactly the ideal pair at the gauge variation gv_t, translated by (al, vp) and turned
+/// by θ about its centre — but for each profile frame turned a further ε about its own origin. To
+/// second order θ = δ (1 − gv/(2 L_r)), gv_t = gv + L_r δ², ε = δ gv/(2 L_r) + δ³/3: the pair
+/// turned by δ about the track centre at rail level, with the gauge variation as ±gv/2 in the
+/// turned frame (METHOD.md §5) — up to the widening L_r δ², which [`enter_rotated`] leaves out on
+/// purpose (the approximate constraints' linearised roll undoes it; see there). ε is neglected: it
+/// tilts each rail head by at most 4.4e-5 rad (gv = cl = 10 mm, L_r = 0.75 m), moving the contact
+/// by ε s^r ≲ 1.5 µm on the flange; with gv = 0 it is δ³/3 ≈ 1e-7 rad. (θ = δ instead would make
+/// ε = 0 but leave the rails' origins ∓gv δ/2 off vertically — a cross level of gv δ in the turned
+/// frame that the table does not hold, L_r/s^r ≈ 20–40 times the effect of ε.)
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RailPairMotion {
+    /// The offsets' alignment, vertical profile, gauge variation and cross level, m.
+    pub al: f64,
+    pub vp: f64,
+    pub gv: f64,
+    pub cl: f64,
+    /// The pair's rotation θ about its centre, rad.
+    pub theta: f64,
+    /// 2|h| = hypot(2 L_r + gv, cl), m (dθ/dgv = −sin θ / 2|h|).
+    span: f64,
+}
+
+impl RailPairMotion {
+    /// The motion of the rail pair with frames `l_r` either side of the track centre that `off`
+    /// makes.
+    pub fn new(off: &RailOffsets, l_r: f64) -> Self {
+        let (al, vp, gv, cl) = off.combinations();
+        let w = 2.0 * l_r + gv;
+        RailPairMotion {
+            al,
+            vp,
+            gv,
+            cl,
+            theta: cl.atan2(w),
+            span: w.hypot(cl),
+        }
+    }
+}
+
+/// Newton steps of [`enter_rotated`] at most (it converges in 2–3).
+const ENTRY_MAX_ITERATIONS: usize = 20;
+/// [`enter_rotated`] stops when its Newton step in y′ is below this, m.
+const ENTRY_TOLERANCE_M: f64 = 1e-15;
+
+/// Eq. (44)–(46) rederived as the rigid motion of the rail pair: the contact of a wheelset at
+/// lateral displacement `y` on rails moved by `m` ([`RailPairMotion`]), from a table `table`
+/// (y′ ↦ its row on the ideal track at the gauge variation gv of `m`, for a 2-entry table) whose
+/// entries span `range`; `out_of_range(y′)` is the error for an entry y′ outside it. `z_r` is the
+/// rail profile frames' height on the ideal track (the centre of the turn).
+///
+/// The contact of rigid profiles is unchanged by a rigid motion of wheelset and rails together.
+/// In the turned rails' frame (origin at the pair's centre, axes turned by θ; c = cos θ,
+/// s = sin θ) the rails are the ideal pair at gauge variation gv, so the wheelset's pose there is
+/// the table's (Eq. 43):
+///
+/// ```text
+/// y′ =  c (y − al) + s (z − z_r − vp)
+/// z′ − z_r = −s (y − al) + c (z − z_r − vp),    z′ = z_clu(y′, gv),  φ′ = φ − θ = φ_clu(y′, gv)      (44′)
+/// ```
+///
+/// y is the independent coordinate (coordinate partitioning), so y′ follows from the inverse map
+/// with z eliminated,
+///
+/// ```text
+/// G(y′) = c y′ − s (z_clu(y′) − z_r) − (y − al) = 0,        G′ = c − s ∂z_clu/∂y′               (45′)
+/// ```
+///
+/// by Newton from y′ = (y − al + s (z_clu(y − al) − z_r))/c: G′ ∈ [0.95, 1.05] (|∂z_clu/∂y′| ≤ 7
+/// on the flanges, |θ| ≤ 7 mrad), so it converges to round-off in 2–3 steps, and G is monotone, so
+/// across a kink of z_clu (a contact jump) the steps still contract, by |1 − G′₊/G′₋| ≤ 0.1. Then
+///
+/// ```text
+/// z = z_r + vp + s y′ + c (z_clu − z_r),     φ = φ_clu + θ                                         (46′)
+/// ```
+///
+/// the contact points moved the same way, P = (al, z_r + vp) + R(θ)(P′ − (0, z_r)), the contact
+/// angles turned by +θ on the left and −θ on the right (the normals turn with the rails), the
+/// surface parameters, rolling radii and curvatures unchanged. The derivatives by the chain rule,
+/// dy′/dy = 1/G′:
+///
+/// ```text
+/// dz/dy = (s + c ∂z_clu/∂y′)/G′,   dφ/dy = (∂φ_clu/∂y′)/G′,   ds/dy = (∂s_clu/∂y′)/G′
+/// ```
+///
+/// and in gv at fixed y, al, vp, cl (dθ/dgv = −s/2|h|) through dy′/dgv = −(∂G/∂gv)/G′, with the
+/// table's own gv-slopes.
+///
+/// **Where this departs from the paper.** Eq. (44)–(46) as printed are (44′)–(46′) with θ → δ and
+/// the s terms dropped: ȳ = y − al, z = z_clu + vp, φ = φ_clu + δ. But s (z − z_r − vp) ≈ r0 δ is
+/// not small on the table's scale — 1 mm at cl = 5 mm on a 295 mm wheel — and near the flange it
+/// changes z by a millimetre: the printed form is 1.2 mm / 1.6 mrad from the online constraints on
+/// S1002/54E1 at 1:20 (r0 = 295 mm) at cl = ±5 mm, this one 0.017 mm / 0.017 mrad.
+///
+/// **The turned pair's gauge, and what remains.** Exactly, the turned rails are gv_t = gv + L_r δ²
+/// apart ([`RailPairMotion`]); the table is entered at gv all the same (a 1-entry table at no gv
+/// at all). The approximate constraints (Eq. 35–42) roll the wheel by the linearised
+/// A(φ) = [[1, −φ], [φ, 1]] = (1 + φ²/2) R(φ) + O(φ³) (Eq. 37, 39) — a wheel that grows with its
+/// roll — and R(θ) A(φ′) = A(φ′ + θ) − κ I + O(θ³), κ = θ²/2 + θ φ′: the online wheelset on the
+/// turned rails is 2κ L_w wider and about κ r lower than the rigidly turned table's. Its θ² L_w
+/// part cancels the rails' L_r δ² (L_w ≈ L_r, θ ≈ δ): entering at gv_t would be exact for rigidly
+/// rolled wheels but twice as far from the approximate constraints (0.031 mm / 0.036 mrad at cl =
+/// 5 mm on S1002/54E1, with the online solution itself as the table). What remains is the θ φ′
+/// part, largest in flange contact where φ′ is: 0.017 mm / 0.017 mrad at cl = ±5 mm, 0.036 /
+/// 0.034 at ±10 mm. It is the reference's linearisation, not the table's entries: an exact table
+/// (the online solution on the ideal rails) corrected for κ — entered at gv − 2κ L_w, z raised by
+/// κ r — agrees with the online constraints to 1–2 µm (measured: `tests/lookup_entry.rs`).
+pub fn enter_rotated(
+    y: f64,
+    m: &RailPairMotion,
+    z_r: f64,
+    range: (f64, f64),
+    table: impl Fn(f64) -> Result<TableRow, TableError>,
+    out_of_range: impl FnOnce(f64) -> TableError,
+) -> Result<TableRow, TableError> {
+    let (s, c) = m.theta.sin_cos();
+    let u = y - m.al;
+    let (lo, hi) = range;
+    // Beyond the range the table is held at its end (z_clu constant, G linear): Newton then finds
+    // G's root there and the entry is refused below.
+    let at = |v: f64| table(v.clamp(lo, hi));
+    let mut yp = (u + s * (at(u)?.x[0] - z_r)) / c;
+    let mut row = at(yp)?;
+    for _ in 0..ENTRY_MAX_ITERATIONS {
+        let slope = if (lo..=hi).contains(&yp) {
+            row.dx_dy[0]
+        } else {
+            0.0
+        };
+        let step = (c * yp - s * (row.x[0] - z_r) - u) / (c - s * slope);
+        yp -= step;
+        row = at(yp)?;
+        if step.abs() <= ENTRY_TOLERANCE_M {
+            break;
+        }
+    }
+    if !(lo..=hi).contains(&yp) {
+        return Err(out_of_range(yp));
+    }
+    let r = row;
+    let inv = 1.0 / (c - s * r.dx_dy[0]);
+    let zc = r.x[0] - z_r;
+    let mut out = r;
+    out.y = y;
+    out.gv = m.gv;
+    out.x[0] = z_r + m.vp + s * yp + c * zc;
+    out.x[1] = r.x[1] + m.theta;
+    out.dx_dy[0] = (s + c * r.dx_dy[0]) * inv;
+    for k in 1..6 {
+        out.dx_dy[k] = r.dx_dy[k] * inv;
+    }
+    let theta_gv = -s / m.span;
+    let yp_gv = -((-s * yp - c * zc) * theta_gv - s * r.dx_dgv[0]) * inv;
+    out.dx_dgv[0] = (c * yp - s * zc) * theta_gv + (s + c * r.dx_dy[0]) * yp_gv + c * r.dx_dgv[0];
+    out.dx_dgv[1] = r.dx_dy[1] * yp_gv + r.dx_dgv[1] + theta_gv;
+    for k in 2..6 {
+        out.dx_dgv[k] = r.dx_dy[k] * yp_gv + r.dx_dgv[k];
+    }
+    for i in 0..2 {
+        let (py, pz) = (r.position[2 * i], r.position[2 * i + 1] - z_r);
+        out.position[2 * i] = m.al + c * py - s * pz;
+        out.position[2 * i + 1] = z_r + m.vp + s * py + c * pz;
+    }
+    out.contact_angle[0] = r.contact_angle[0] + m.theta;
+    out.contact_angle[1] = r.contact_angle[1] - m.theta;
+    Ok(out)
+}
+
 /// Lookup-table errors.
 #[derive(Debug, thiserror::Error)]
 pub enum TableError {
@@ -144,6 +348,10 @@ pub enum TableError {
         min_mm: f64,
         max_mm: f64,
     },
+    /// A 2-entry look-up beyond the flange-climb limit at its gauge variation (each gauge column
+    /// ends at its own; between columns the limit is interpolated linearly in gv).
+    #[error("y = {y_mm:.4} mm is beyond the 2-entry table's flange-climb limit at gv = {gv_mm:.4} mm ({limit_mm:.4} mm)")]
+    BeyondFlangeLimit { y_mm: f64, gv_mm: f64, limit_mm: f64 },
     #[error("{path}: cannot read table: {source}")]
     Io {
         path: String,
@@ -220,9 +428,15 @@ pub struct LookupTable1 {
     other_slopes: Vec<[f64; N_OTHER]>,
     /// Jumps found.
     pub jumps: Vec<Jump>,
-    /// Nominal rolling radius and rail lateral offset, m (for the Eq. 46 roll correction).
+    /// Nominal rolling radius r0 and the rail profile frames' lateral offset L_r and height z_r on
+    /// the ideal track, m (the entry under irregularities: [`RailPairMotion`], [`enter_rotated`]).
     pub r0: f64,
     pub l_r: f64,
+    pub z_r: f64,
+    /// The y of flange climb on the right (< 0) and on the left (> 0) at this table's gauge
+    /// variation, m: the table's range for a 1-entry table; a 2-entry table's columns extend beyond
+    /// it (see [`LookupTable2::build`]).
+    pub flange_limits: (f64, f64),
 }
 
 /// The 0.1 mm scan up the flange from y = 0 shared by [`flange_contact_limit`] and
@@ -305,6 +519,17 @@ pub fn flange_contact_limit(
         }
     }
     Ok(lo)
+}
+
+/// Both flange-climb limits of `geom` at gauge variation `gv` ([`flange_contact_limit`]): the y
+/// of the right flange's (< 0) and of the left flange's (> 0), m.
+pub fn flange_limits(geom: &ContactGeometry, gv: f64) -> Result<(f64, f64), TableError> {
+    let off = RailOffsets::gauge_variation(gv);
+    let (right, left) = rayon::join(
+        || flange_contact_limit(geom, &off, false),
+        || flange_contact_limit(geom, &off, true),
+    );
+    Ok((-right?, left?))
 }
 
 /// How far below its largest value the contact angle falls where the contact leaves the flange's
@@ -553,6 +778,7 @@ impl LookupTable1 {
             jumps,
             pair.wheelset.nominal_radius_m,
             pair.rail_placement.lateral_m,
+            pair.rail_placement.vertical_m,
         ))
     }
 
@@ -561,18 +787,13 @@ impl LookupTable1 {
     pub fn build(geom: &ContactGeometry, settings: &TableSettings) -> Result<Self, TableError> {
         let (lo, hi) = match settings.y_max_m {
             Some(m) => (-m, m),
-            None => {
-                let off = RailOffsets::default();
-                let (right, left) = rayon::join(
-                    || flange_contact_limit(geom, &off, false),
-                    || flange_contact_limit(geom, &off, true),
-                );
-                (-right?, left?)
-            }
+            None => flange_limits(geom, 0.0)?,
         };
-        // Snap the range outwards to the grid through y = 0, so that y = 0 is a node.
+        // Snap the range to the grid through y = 0, so that y = 0 is a node.
         let k = |v: f64| (v / settings.step_m).round() * settings.step_m;
-        Self::build_range(geom, 0.0, k(lo), k(hi), settings)
+        let mut t = Self::build_range(geom, 0.0, k(lo), k(hi), settings)?;
+        t.flange_limits = (lo, hi);
+        Ok(t)
     }
 
     /// Appends the solutions strictly after `a` up to and including `b`, halving the interval
@@ -710,8 +931,9 @@ impl LookupTable1 {
         None
     }
 
-    /// Assembles a table from rows (sorted by y, jumps as duplicate y), computing PCHIP slopes.
-    pub fn from_rows(gv: f64, rows: Vec<TableRow>, jumps: Vec<Jump>, r0: f64, l_r: f64) -> Self {
+    /// Assembles a table from rows (sorted by y, jumps as duplicate y), computing PCHIP slopes;
+    /// its flange limits are its range.
+    pub fn from_rows(gv: f64, rows: Vec<TableRow>, jumps: Vec<Jump>, r0: f64, l_r: f64, z_r: f64) -> Self {
         let mut other_slopes = vec![[0.0; N_OTHER]; rows.len()];
         let mut start = 0;
         for end in 1..=rows.len() {
@@ -727,6 +949,7 @@ impl LookupTable1 {
                 start = end;
             }
         }
+        let flange_limits = (rows[0].y, rows[rows.len() - 1].y);
         LookupTable1 {
             gv,
             rows,
@@ -734,6 +957,8 @@ impl LookupTable1 {
             jumps,
             r0,
             l_r,
+            z_r,
+            flange_limits,
         }
     }
 
@@ -820,7 +1045,9 @@ impl LookupTable1 {
             .filter(|j| !fillets.iter().any(|&(c, _)| c == j.y))
             .copied()
             .collect();
-        Self::from_rows(self.gv, rows, jumps, self.r0, self.l_r)
+        let mut t = Self::from_rows(self.gv, rows, jumps, self.r0, self.l_r, self.z_r);
+        t.flange_limits = self.flange_limits;
+        t
     }
 
     /// The second derivative in y of z (`comp` 0) or φ (1) of the table's interpolant at y (the
@@ -892,62 +1119,137 @@ impl LookupTable1 {
         Ok(out)
     }
 
-    /// Eq. (44)–(46): the contact of a wheelset at lateral displacement `y` on rails with offsets
-    /// `off` (the gauge variation is ignored by a 1-entry table): enter with ȳ = y − al, then
-    /// z = z_clu + vp, φ = φ_clu + cl/(2 L_r); the contact points and normals move with the
-    /// wheelset ([`TableRow::displaced`]).
+    /// The contact of a wheelset at lateral displacement `y` on rails with offsets `off`, entered
+    /// by the rail pair's rigid motion ([`CrossLevelEntry::Rotated`], [`enter_rotated`]). A 1-entry
+    /// table ignores the gauge variation.
     pub fn contact(&self, y: f64, off: &RailOffsets) -> Result<TableRow, TableError> {
-        let (al, vp, _gv, cl) = off.combinations();
-        Ok(self.lookup(y - al)?.displaced(y, vp, cl / (2.0 * self.l_r)))
+        self.contact_with(y, off, CrossLevelEntry::Rotated)
+    }
+
+    /// [`LookupTable1::contact`] with the entry chosen: [`CrossLevelEntry::Paper`] is Eq. (44)–(46)
+    /// as printed — enter with ȳ = y − al, then z = z_clu + vp, φ = φ_clu + cl/(2 L_r), the contact
+    /// points and normals moved with the wheelset ([`TableRow::displaced`]).
+    pub fn contact_with(
+        &self,
+        y: f64,
+        off: &RailOffsets,
+        entry: CrossLevelEntry,
+    ) -> Result<TableRow, TableError> {
+        match entry {
+            CrossLevelEntry::Paper => {
+                let (al, vp, _gv, cl) = off.combinations();
+                Ok(self.lookup(y - al)?.displaced(y, vp, cl / (2.0 * self.l_r)))
+            }
+            CrossLevelEntry::Rotated => {
+                let m = RailPairMotion::new(off, self.l_r);
+                let (lo, hi) = self.range();
+                enter_rotated(
+                    y,
+                    &m,
+                    self.z_r,
+                    (lo, hi),
+                    |v| self.lookup(v),
+                    |v| TableError::OutOfRange {
+                        what: "y",
+                        value_mm: v * 1e3,
+                        min_mm: lo * 1e3,
+                        max_mm: hi * 1e3,
+                    },
+                )
+            }
+        }
     }
 
     /// Writes the table as CSV (the columns of the README, one row per tabulated y).
     pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
-        write_rows_csv(path, &self.rows, self.r0, self.l_r)
+        write_rows_csv(path, &[self])
     }
 
     /// Reads a table written by [`LookupTable1::write_csv`].
     pub fn read_csv(path: &Path) -> Result<Self, TableError> {
-        let (rows, r0, l_r) = read_rows_csv(path, false)?;
-        let gv = rows[0].gv;
-        Ok(Self::from_rows(gv, rows, Vec::new(), r0, l_r))
+        Ok(table_of(&read_rows_csv(path, false)?))
     }
 }
 
-/// The 2-entry lookup table over (y, gv): one 1-entry table per gauge variation on a common y grid.
+/// The 2-entry lookup table over (y, gv): one 1-entry table per gauge variation, each over its own
+/// y range.
 #[derive(Debug, Clone)]
 pub struct LookupTable2 {
     pub columns: Vec<LookupTable1>,
 }
 
 impl LookupTable2 {
-    /// Builds the table over y ∈ [−y_max, y_max] (grid `settings.step_m`) and the gauge
-    /// variations `gvs` (sorted, m).
-    pub fn build(
-        geom: &ContactGeometry,
-        y_max: f64,
-        gvs: &[f64],
-        settings: &TableSettings,
-    ) -> Result<Self, TableError> {
+    /// Builds the table at the gauge variations `gvs` (sorted, m), grid `settings.step_m` in y.
+    ///
+    /// With `settings.y_max_m` = `None` (the default) each column spans its own gauge's flange
+    /// climb ([`flange_limits`]) on both sides and extends beyond it: by half its gv step (in y;
+    /// a flange limit moves by about gv/2), and at least as far as the limits of the next two wider
+    /// columns — so that wherever a look-up at a gv between two columns is within the limit
+    /// interpolated there, all four columns of its Catmull–Rom interpolation hold its y (the
+    /// interpolant is then one fixed combination of four columns, as continuous in y as they are).
+    /// Beyond its flange limit a column's contact runs on up the flange, past the flank's largest
+    /// angle: rigid contact still, which the interpolation needs but no look-up returns at that
+    /// column's own gv. With `Some(m)` every column spans ±m (and its limits are ±m).
+    pub fn build(geom: &ContactGeometry, gvs: &[f64], settings: &TableSettings) -> Result<Self, TableError> {
         if gvs.len() < 2 || gvs.windows(2).any(|w| w[1] <= w[0]) {
             return Err(TableError::Invalid(
                 "a 2-entry table needs at least two increasing gauge variations".into(),
             ));
         }
+        let n = gvs.len();
+        // Per column: its flange limits and the y range it is built over (right, left), m.
+        type Spans = Vec<(f64, f64)>;
+        let (limits, ranges): (Spans, Spans) = match settings.y_max_m {
+            Some(m) => (vec![(-m, m); n], vec![(-m, m); n]),
+            None => {
+                let limits = gvs
+                    .par_iter()
+                    .map(|&gv| flange_limits(geom, gv))
+                    .collect::<Vec<_>>()
+                    .into_iter()
+                    .collect::<Result<Vec<_>, _>>()?;
+                let ranges = (0..n)
+                    .map(|k| {
+                        let half = 0.5
+                            * if k + 1 < n {
+                                gvs[k + 1] - gvs[k]
+                            } else {
+                                gvs[k] - gvs[k - 1]
+                            };
+                        let wider = &limits[k + 1..(k + 3).min(n)];
+                        (
+                            wider.iter().map(|l| l.0).fold(limits[k].0 - half, f64::min),
+                            wider.iter().map(|l| l.1).fold(limits[k].1 + half, f64::max),
+                        )
+                    })
+                    .collect();
+                (limits, ranges)
+            }
+        };
+        // Snap each range outwards to the grid through y = 0.
+        let step = settings.step_m;
+        let ranges: Vec<(f64, f64)> = ranges
+            .iter()
+            .map(|&(lo, hi)| ((lo / step).floor() * step, (hi / step).ceil() * step))
+            .collect();
         crate::limits::check(
             &format!(
                 "2-entry table nodes ({} gauge variations × grid points every {:.3e} mm)",
-                gvs.len(),
-                settings.step_m * 1e3
+                n,
+                step * 1e3
             ),
-            gvs.len() as f64 * 2.0 * y_max / settings.step_m,
+            ranges.iter().map(|(lo, hi)| (hi - lo) / step).sum(),
             crate::limits::MAX_TABLE_NODES,
             "use fewer gauge variations (a coarser gauge-variation step) or a coarser y step",
         )
         .map_err(TableError::Invalid)?;
-        let columns = gvs
-            .par_iter()
-            .map(|&gv| LookupTable1::build_range(geom, gv, -y_max, y_max, settings))
+        let columns = (0..n)
+            .into_par_iter()
+            .map(|k| -> Result<LookupTable1, TableError> {
+                let mut c = LookupTable1::build_range(geom, gvs[k], ranges[k].0, ranges[k].1, settings)?;
+                c.flange_limits = limits[k];
+                Ok(c)
+            })
             .collect::<Vec<_>>()
             .into_iter()
             .collect::<Result<Vec<_>, _>>()?;
@@ -971,16 +1273,9 @@ impl LookupTable2 {
         self.columns.iter().map(|c| c.gv).collect()
     }
 
-    /// Interpolated configuration at (y, gv): 1-entry look-ups in the neighbouring columns, then
-    /// cubic Hermite across gv with slopes from the columns' values themselves (centred
-    /// differences over the neighbouring columns, one-sided at the range's ends: Catmull–Rom).
-    /// z, φ and the surface parameters are then one fixed linear combination of up to four
-    /// columns' values at y, so they are as continuous in y as the columns are (kinks at each
-    /// column's jumps, never steps), and the y-slopes are the same combination of the columns'
-    /// — the interpolant's own derivative. (The stored dx/dgv slopes are not used for it: they
-    /// step where a column's contact jumps, which made z step in y between columns — issue 13.)
-    /// The other quantities (contact positions, angles, radii, curvatures) are linear in gv.
-    pub fn lookup(&self, y: f64, gv: f64) -> Result<TableRow, TableError> {
+    /// The column j with gv_j ≤ gv ≤ gv_{j+1} (j + 1 < the number of columns) and the fraction t
+    /// of the way; out of the gv range an error.
+    fn bracket(&self, gv: f64) -> Result<(usize, f64), TableError> {
         let n = self.columns.len();
         let (g0, g1) = (self.columns[0].gv, self.columns[n - 1].gv);
         if !(g0..=g1).contains(&gv) {
@@ -992,38 +1287,54 @@ impl LookupTable2 {
             });
         }
         let j = self.columns.partition_point(|c| c.gv <= gv).clamp(1, n - 1) - 1;
-        let g = |i: usize| self.columns[i].gv;
-        let (w, dw) = catmull_rom_weights(
-            (j > 0).then(|| g(j - 1)),
-            g(j),
-            g(j + 1),
-            (j + 2 < n).then(|| g(j + 2)),
-            gv,
-        );
-        // Columns j−1 … j+2 (those that exist) at y. Every column spans the centred gauge's
-        // flange contact, which on a widened gauge comes before that gauge's own: leaving the range
-        // here is the table's limit, not necessarily a flange climb (named so).
-        let col = |i: usize| {
-            self.columns[i].lookup(y).map_err(|e| match e {
-                TableError::OutOfRange {
-                    what: "y",
-                    value_mm,
-                    min_mm,
-                    max_mm,
-                } => TableError::OutOfRange {
-                    what: "y (the 2-entry table spans the centred gauge's flange contact)",
-                    value_mm,
-                    min_mm,
-                    max_mm,
-                },
-                e => e,
-            })
+        let (a, b) = (self.columns[j].gv, self.columns[j + 1].gv);
+        Ok((j, (gv - a) / (b - a)))
+    }
+
+    /// The flange-climb limits (right < 0, left > 0) at gauge variation `gv`: the columns' own
+    /// ([`LookupTable1::flange_limits`]), linear in gv between them, m.
+    pub fn flange_limits(&self, gv: f64) -> Result<(f64, f64), TableError> {
+        let (j, t) = self.bracket(gv)?;
+        let (a, b) = (self.columns[j].flange_limits, self.columns[j + 1].flange_limits);
+        Ok((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)))
+    }
+
+    /// Interpolated configuration at (y, gv): 1-entry look-ups in the neighbouring columns, then
+    /// cubic Hermite across gv with slopes from the columns' values themselves (centred
+    /// differences over the neighbouring columns, one-sided at the range's ends: Catmull–Rom).
+    /// z, φ and the surface parameters are then one fixed linear combination of up to four
+    /// columns' values at y, so they are as continuous in y as the columns are (kinks at each
+    /// column's jumps, never steps), and the y-slopes are the same combination of the columns'
+    /// — the interpolant's own derivative. (The stored dx/dgv slopes are not used for it: they
+    /// step where a column's contact jumps, which made z step in y between columns — issue 13.)
+    /// The other quantities (contact positions, angles, radii, curvatures) are linear in gv.
+    ///
+    /// A y beyond the flange-climb limit at gv ([`LookupTable2::flange_limits`]) is refused
+    /// ([`TableError::BeyondFlangeLimit`]). Within it the two bracketing columns hold y (see
+    /// [`LookupTable2::build`]); an outer column enters the slopes only where it holds y too, else
+    /// the slope on that side is one-sided, as at the gv range's ends.
+    pub fn lookup(&self, y: f64, gv: f64) -> Result<TableRow, TableError> {
+        let n = self.columns.len();
+        let (j, t) = self.bracket(gv)?;
+        let (lo, hi) = self.flange_limits(gv)?;
+        if !(lo..=hi).contains(&y) {
+            return Err(TableError::BeyondFlangeLimit {
+                y_mm: y * 1e3,
+                gv_mm: gv * 1e3,
+                limit_mm: if y > hi { hi } else { lo } * 1e3,
+            });
+        }
+        let holds = |i: usize| {
+            let (a, b) = self.columns[i].range();
+            (a..=b).contains(&y)
         };
-        let (a, b) = (col(j)?, col(j + 1)?);
-        let before = if j > 0 { Some(col(j - 1)?) } else { None };
-        let after = if j + 2 < n { Some(col(j + 2)?) } else { None };
-        let rows = [before, Some(a), Some(b), after];
-        let t = (gv - g(j)) / (g(j + 1) - g(j));
+        let before = (j > 0 && holds(j - 1)).then(|| j - 1);
+        let after = (j + 2 < n && holds(j + 2)).then_some(j + 2);
+        let g = |i: usize| self.columns[i].gv;
+        let (w, dw) = catmull_rom_weights(before.map(g), g(j), g(j + 1), after.map(g), gv);
+        let (a, b) = (self.columns[j].lookup(y)?, self.columns[j + 1].lookup(y)?);
+        let outer = |i: Option<usize>| i.map(|i| self.columns[i].lookup(y)).transpose();
+        let rows = [outer(before)?, Some(a), Some(b), outer(after)?];
         let mut out = a;
         out.gv = gv;
         for c in 0..6 {
@@ -1045,34 +1356,67 @@ impl LookupTable2 {
         Ok(out)
     }
 
-    /// Eq. (44)–(46) with the gauge variation as second entry (see [`LookupTable1::contact`]).
+    /// The contact of a wheelset at `y` on rails with offsets `off`, the gauge variation as second
+    /// entry, entered by the rail pair's rigid motion ([`CrossLevelEntry::Rotated`],
+    /// [`enter_rotated`]).
     pub fn contact(&self, y: f64, off: &RailOffsets) -> Result<TableRow, TableError> {
-        let (al, vp, gv, cl) = off.combinations();
-        Ok(self
-            .lookup(y - al, gv)?
-            .displaced(y, vp, cl / (2.0 * self.columns[0].l_r)))
+        self.contact_with(y, off, CrossLevelEntry::Rotated)
     }
 
-    /// Writes all columns into one CSV (with the `gv_mm` column).
+    /// [`LookupTable2::contact`] with the entry chosen (see [`LookupTable1::contact_with`]).
+    pub fn contact_with(
+        &self,
+        y: f64,
+        off: &RailOffsets,
+        entry: CrossLevelEntry,
+    ) -> Result<TableRow, TableError> {
+        let c0 = &self.columns[0];
+        match entry {
+            CrossLevelEntry::Paper => {
+                let (al, vp, gv, cl) = off.combinations();
+                Ok(self.lookup(y - al, gv)?.displaced(y, vp, cl / (2.0 * c0.l_r)))
+            }
+            CrossLevelEntry::Rotated => {
+                let m = RailPairMotion::new(off, c0.l_r);
+                let gv = m.gv;
+                let (lo, hi) = self.flange_limits(gv)?;
+                enter_rotated(
+                    y,
+                    &m,
+                    c0.z_r,
+                    (lo, hi),
+                    |v| self.lookup(v, gv),
+                    |v| TableError::BeyondFlangeLimit {
+                        y_mm: v * 1e3,
+                        gv_mm: gv * 1e3,
+                        limit_mm: if v > hi { hi } else { lo } * 1e3,
+                    },
+                )
+            }
+        }
+    }
+
+    /// Writes all columns into one CSV (with the `gv_mm` column; one block of rows per column,
+    /// each as long as its own range).
     pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
-        let rows: Vec<TableRow> = self.columns.iter().flat_map(|c| c.rows.iter().copied()).collect();
-        write_rows_csv(path, &rows, self.columns[0].r0, self.columns[0].l_r)
+        write_rows_csv(path, &self.columns.iter().collect::<Vec<_>>())
     }
 
     /// Reads a table written by [`LookupTable2::write_csv`].
     pub fn read_csv(path: &Path) -> Result<Self, TableError> {
-        let (rows, r0, l_r) = read_rows_csv(path, true)?;
+        let rows = read_rows_csv(path, true)?;
         let mut columns: Vec<LookupTable1> = Vec::new();
         let mut start = 0;
         for end in 1..=rows.len() {
-            if end == rows.len() || rows[end].gv != rows[start].gv {
-                columns.push(LookupTable1::from_rows(
-                    rows[start].gv,
-                    rows[start..end].to_vec(),
-                    Vec::new(),
-                    r0,
-                    l_r,
-                ));
+            if end == rows.len() || rows[end].row.gv != rows[start].row.gv {
+                if end - start < 2 {
+                    return Err(TableError::Format {
+                        path: path.display().to_string(),
+                        line: 0,
+                        problem: format!("gauge variation {} mm has a single row", rows[start].row.gv * 1e3),
+                    });
+                }
+                columns.push(table_of(&rows[start..end]));
                 start = end;
             }
         }
@@ -1089,7 +1433,7 @@ impl LookupTable2 {
 
 /// The CSV columns, in order (after `gv_mm` for 2-entry tables). Lengths mm, angles rad unless
 /// named (roll in mrad), derivatives in SI (m/m, rad/m).
-pub const CSV_COLUMNS: [&str; 37] = [
+pub const CSV_COLUMNS: [&str; 40] = [
     "y_mm",
     "z_mm",
     "roll_mrad",
@@ -1127,13 +1471,27 @@ pub const CSV_COLUMNS: [&str; 37] = [
     "gv_mm",
     "r0_mm",
     "rail_lateral_offset_mm",
+    "rail_vertical_offset_mm",
+    "flange_limit_right_mm",
+    "flange_limit_left_mm",
 ];
 
-fn row_values(r: &TableRow, r0: f64, l_r: f64) -> [f64; 37] {
+/// The columns a table file may lack: `gv_mm` (a 1-entry table's), and those added after the
+/// first format — the rail frames' height (the centre of the cross level's turn; 0 when absent,
+/// which moves the turn's centre by z_r θ ≈ nm) and the flange limits (the table's range when
+/// absent).
+const CSV_OPTIONAL: [&str; 4] = [
+    "gv_mm",
+    "rail_vertical_offset_mm",
+    "flange_limit_right_mm",
+    "flange_limit_left_mm",
+];
+
+fn row_values(r: &TableRow, t: &LookupTable1) -> [f64; 40] {
     let mm = 1e3;
     [
         r.y * mm,
-        (r.x[0] - r0) * mm,
+        (r.x[0] - t.r0) * mm,
         r.x[1] * 1e3,
         r.delta_r() * mm,
         r.contact_angle[0],
@@ -1167,17 +1525,21 @@ fn row_values(r: &TableRow, r0: f64, l_r: f64) -> [f64; 37] {
         r.dx_dgv[4],
         r.dx_dgv[5],
         r.gv * mm,
-        r0 * mm,
-        l_r * mm,
+        t.r0 * mm,
+        t.l_r * mm,
+        t.z_r * mm,
+        t.flange_limits.0 * mm,
+        t.flange_limits.1 * mm,
     ]
 }
 
-/// Writes rows, one per line, with the [`CSV_COLUMNS`] header (a NaN gap is an empty cell).
-fn write_rows_csv(path: &Path, rows: &[TableRow], r0: f64, l_r: f64) -> std::io::Result<()> {
+/// Writes the tables' rows, one per line, with the [`CSV_COLUMNS`] header (a NaN gap is an empty
+/// cell).
+fn write_rows_csv(path: &Path, tables: &[&LookupTable1]) -> std::io::Result<()> {
     let mut w = csv::Writer::from_path(path)?;
     w.write_record(CSV_COLUMNS)?;
-    for r in rows {
-        let cells: Vec<String> = row_values(r, r0, l_r)
+    for (t, r) in tables.iter().flat_map(|t| t.rows.iter().map(move |r| (t, r))) {
+        let cells: Vec<String> = row_values(r, t)
             .iter()
             .map(|v| {
                 if v.is_nan() {
@@ -1192,7 +1554,16 @@ fn write_rows_csv(path: &Path, rows: &[TableRow], r0: f64, l_r: f64) -> std::io:
     w.flush()
 }
 
-fn read_rows_csv(path: &Path, two_entry: bool) -> Result<(Vec<TableRow>, f64, f64), TableError> {
+/// A row read from a table file, with what its table holds besides (repeated on every row).
+struct ReadRow {
+    row: TableRow,
+    /// r0, L_r, z_r, m.
+    frame: (f64, f64, f64),
+    /// Flange limits (right, left), m; NaN where the file has none.
+    flange_limits: (f64, f64),
+}
+
+fn read_rows_csv(path: &Path, two_entry: bool) -> Result<Vec<ReadRow>, TableError> {
     let p = path.display().to_string();
     let text = crate::limits::read_text(path).map_err(|source| TableError::Io {
         path: p.clone(),
@@ -1211,19 +1582,20 @@ fn read_rows_csv(path: &Path, two_entry: bool) -> Result<(Vec<TableRow>, f64, f6
         .headers()
         .map_err(|e| fmt(1, format!("malformed header: {e}")))?
         .clone();
-    let mut col = [0usize; 37];
+    // Column index per name; None for an optional column the file lacks (and for gv_mm in a
+    // 1-entry table, which ignores it).
+    let mut col = [None; CSV_COLUMNS.len()];
     for (i, name) in CSV_COLUMNS.iter().enumerate() {
         if !two_entry && *name == "gv_mm" {
-            col[i] = usize::MAX;
             continue;
         }
-        col[i] = header
-            .iter()
-            .position(|h| h == *name)
-            .ok_or_else(|| fmt(1, format!("missing column '{name}'")))?;
+        col[i] = header.iter().position(|h| h == *name);
+        // (gv_mm is optional only to a 1-entry table, skipped above.)
+        if col[i].is_none() && (*name == "gv_mm" || !CSV_OPTIONAL.contains(name)) {
+            return Err(fmt(1, format!("missing column '{name}'")));
+        }
     }
     let mut rows = Vec::new();
-    let (mut r0, mut l_r) = (f64::NAN, f64::NAN);
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
             fmt(
@@ -1232,12 +1604,17 @@ fn read_rows_csv(path: &Path, two_entry: bool) -> Result<(Vec<TableRow>, f64, f6
             )
         })?;
         let line = rec.position().map_or(0, |q| q.line() as usize);
-        let mut v = [0.0f64; 37];
+        let mut v = [0.0f64; CSV_COLUMNS.len()];
         for (i, name) in CSV_COLUMNS.iter().enumerate() {
-            if col[i] == usize::MAX {
+            let Some(c) = col[i] else {
+                v[i] = if name.starts_with("flange_limit") {
+                    f64::NAN
+                } else {
+                    0.0
+                };
                 continue;
-            }
-            let cell = rec.get(col[i]).unwrap_or("");
+            };
+            let cell = rec.get(c).unwrap_or("");
             v[i] = if cell.is_empty() && name.starts_with("two_point") {
                 f64::NAN
             } else {
@@ -1245,26 +1622,47 @@ fn read_rows_csv(path: &Path, two_entry: bool) -> Result<(Vec<TableRow>, f64, f6
                     .map_err(|_| fmt(line, format!("column '{name}': '{cell}' is not a number")))?
             };
         }
-        r0 = v[35] * 1e-3;
-        l_r = v[36] * 1e-3;
         let m = 1e-3;
-        rows.push(TableRow {
-            y: v[0] * m,
-            gv: v[34] * m,
-            x: [v[1] * m + r0, v[2] * 1e-3, v[6] * m, v[7] * m, v[8] * m, v[9] * m],
-            dx_dy: [v[22], v[23], v[24], v[25], v[26], v[27]],
-            dx_dgv: [v[28], v[29], v[30], v[31], v[32], v[33]],
-            contact_angle: [v[4], v[5]],
-            rolling_radius: [v[10] * m, v[11] * m],
-            curvature: [v[12], v[13], v[14], v[15]],
-            position: [v[16] * m, v[17] * m, v[18] * m, v[19] * m],
-            two_point_gap: [v[20] * m, v[21] * m],
+        let r0 = v[35] * m;
+        rows.push(ReadRow {
+            row: TableRow {
+                y: v[0] * m,
+                gv: v[34] * m,
+                x: [v[1] * m + r0, v[2] * 1e-3, v[6] * m, v[7] * m, v[8] * m, v[9] * m],
+                dx_dy: [v[22], v[23], v[24], v[25], v[26], v[27]],
+                dx_dgv: [v[28], v[29], v[30], v[31], v[32], v[33]],
+                contact_angle: [v[4], v[5]],
+                rolling_radius: [v[10] * m, v[11] * m],
+                curvature: [v[12], v[13], v[14], v[15]],
+                position: [v[16] * m, v[17] * m, v[18] * m, v[19] * m],
+                two_point_gap: [v[20] * m, v[21] * m],
+            },
+            frame: (r0, v[36] * m, v[37] * m),
+            flange_limits: (v[38] * m, v[39] * m),
         });
     }
     if rows.len() < 2 {
         return Err(fmt(rows.len() + 1, "a table needs at least two rows".into()));
     }
-    Ok((rows, r0, l_r))
+    Ok(rows)
+}
+
+/// A table of rows read from a file (all of one gauge variation).
+fn table_of(rows: &[ReadRow]) -> LookupTable1 {
+    let (r0, l_r, z_r) = rows[0].frame;
+    let mut t = LookupTable1::from_rows(
+        rows[0].row.gv,
+        rows.iter().map(|r| r.row).collect(),
+        Vec::new(),
+        r0,
+        l_r,
+        z_r,
+    );
+    let (lo, hi) = rows[0].flange_limits;
+    if lo.is_finite() && hi.is_finite() {
+        t.flange_limits = (lo, hi);
+    }
+    t
 }
 
 #[cfg(test)]
@@ -1357,7 +1755,11 @@ mod tests {
     fn two_entry_table_is_continuous_in_y_between_its_columns() {
         let g = geometry();
         let gvs = [-2e-3, -1e-3, 0.0, 1e-3, 2e-3];
-        let t = LookupTable2::build(&g, 6e-3, &gvs, &TableSettings::default()).unwrap();
+        let common = TableSettings {
+            y_max_m: Some(6e-3),
+            ..TableSettings::default()
+        };
+        let t = LookupTable2::build(&g, &gvs, &common).unwrap();
         let dy = 1e-6;
         for gv in [-1.5e-3, -0.3e-3, 0.5e-3, 1.7e-3] {
             let (mut worst_z, mut worst_phi, mut worst_slope): (f64, f64, f64) = (0.0, 0.0, 0.0);

@@ -67,6 +67,7 @@ impl ContactModelError {
                 min_mm,
                 max_mm,
             }) if *value_mm > *max_mm || *value_mm < *min_mm => Some(side(*value_mm > *max_mm)),
+            ContactModelError::Table(TableError::BeyondFlangeLimit { y_mm, .. }) => Some(side(*y_mm > 0.0)),
             ContactModelError::Elastic(
                 ElasticError::FlangeClimb { side, .. } | ElasticError::OffRail { side, .. },
             ) => Some(side),

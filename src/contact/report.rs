@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::conicity::{ConicityError, RollingRadiusDifference};
 use super::geometry::ContactGeometry;
 use super::kec::KecModel;
-use super::lookup::{LookupTable1, TableError, TableSettings};
+use super::lookup::{CrossLevelEntry, LookupTable1, TableError, TableSettings};
 use crate::track::RailOffsets;
 
 /// Largest deviation of table look-ups from the online solution, at points between the nodes.
@@ -210,11 +210,17 @@ pub struct KecErrorRow {
     /// |y| range compared, m.
     pub y_max: f64,
     pub points: usize,
-    /// Max |Δz| (m) and |Δφ| (rad) of KEC, of the 2-entry table, and of the 1-entry table with
-    /// Eq. (44)–(46) (blind to gv), all against the online solution.
+    /// Max |Δz| (m) and |Δφ| (rad) of KEC, of the 2-entry table, and of the 1-entry table (blind
+    /// to gv), the tables entered by the rail pair's rigid motion
+    /// ([`crate::contact::lookup::CrossLevelEntry::Rotated`]), all against the online solution.
     pub kec: (f64, f64),
     pub table2: (f64, f64),
     pub table1: (f64, f64),
+    /// The same for the tables entered by Eq. (44)–(46) as printed
+    /// ([`crate::contact::lookup::CrossLevelEntry::Paper`]; the same as the above without cross
+    /// level).
+    pub table2_paper: (f64, f64),
+    pub table1_paper: (f64, f64),
 }
 
 /// KEC against the online approximate constraints and the 1-/2-entry tables under gauge variation
@@ -244,6 +250,8 @@ pub fn kec_irregularity_errors(
             kec: (0.0, 0.0),
             table2: (0.0, 0.0),
             table1: (0.0, 0.0),
+            table2_paper: (0.0, 0.0),
+            table1_paper: (0.0, 0.0),
         };
         let upd = |acc: &mut (f64, f64), z: f64, phi: f64, o: &super::geometry::ContactSolution| {
             acc.0 = acc.0.max((z - o.z).abs());
@@ -257,11 +265,20 @@ pub fn kec_irregularity_errors(
             let kec = model
                 .solve(y, off.to_array(), None)
                 .map_err(|e| format!("KEC, gv {gv}, cl {cl}: {e}"))?;
-            let t2 = table2.contact(y, &off).map_err(|e| e.to_string())?;
-            let t1 = table1.contact(y, &off).map_err(|e| e.to_string())?;
             upd(&mut row.kec, kec.z, kec.phi, &o);
-            upd(&mut row.table2, t2.z(), t2.phi(), &o);
-            upd(&mut row.table1, t1.z(), t1.phi(), &o);
+            for (entry, acc2, acc1) in [
+                (CrossLevelEntry::Rotated, &mut row.table2, &mut row.table1),
+                (
+                    CrossLevelEntry::Paper,
+                    &mut row.table2_paper,
+                    &mut row.table1_paper,
+                ),
+            ] {
+                let t2 = table2.contact_with(y, &off, entry).map_err(|e| e.to_string())?;
+                let t1 = table1.contact_with(y, &off, entry).map_err(|e| e.to_string())?;
+                upd(acc2, t2.z(), t2.phi(), &o);
+                upd(acc1, t1.z(), t1.phi(), &o);
+            }
             row.points += 1;
         }
         rows.push(row);
@@ -269,14 +286,21 @@ pub fn kec_irregularity_errors(
     Ok(rows)
 }
 
-/// The error table as markdown.
+/// The error table as markdown: the tables entered by the rail pair's rigid motion, and by
+/// Eq. (44)–(46) as printed ("printed", where there is a cross level).
 pub fn kec_error_markdown(rows: &[KecErrorRow]) -> String {
     let mut s = String::from(
-        "| gv [mm] | cl [mm] | \\|y\\| ≤ [mm] | KEC Δz [mm] | KEC Δφ [mrad] | 2-entry Δz [mm] | 2-entry Δφ [mrad] | 1-entry Δz [mm] | 1-entry Δφ [mrad] |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| gv [mm] | cl [mm] | \\|y\\| ≤ [mm] | KEC Δz [mm] | KEC Δφ [mrad] | 2-entry Δz [mm] | 2-entry Δφ [mrad] | 1-entry Δz [mm] | 1-entry Δφ [mrad] | printed 2-entry Δz / Δφ | printed 1-entry Δz / Δφ |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
+    let e = |v: (f64, f64)| format!("{:.2e} / {:.2e}", v.0 * 1e3, v.1 * 1e3);
     for r in rows {
+        let (p2, p1) = if r.cl == 0.0 {
+            ("same".to_string(), "same".to_string())
+        } else {
+            (e(r.table2_paper), e(r.table1_paper))
+        };
         s += &format!(
-            "| {:+.1} | {:+.1} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} |\n",
+            "| {:+.1} | {:+.1} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {p2} | {p1} |\n",
             r.gv * 1e3,
             r.cl * 1e3,
             r.y_max * 1e3,

@@ -1,11 +1,15 @@
 //! `model = "lookup"`: the 1-entry contact lookup table over y (paper §4.3, Eq. 43–46), built
 //! from the online constraints on the ideal track up to flange contact; the irregularities enter
-//! by Eq. (44)–(46), the gauge variation not at all. Velocity terms by the directional
-//! differences of [`crate::contact::model`].
+//! by Eq. (44)–(46) — by default rederived as the rail pair's rigid motion — the gauge variation
+//! not at all. Velocity terms by the directional differences of [`crate::contact::model`].
 //!
 //! Settings: `two_point_approach_m` (default 0: the paper's rigid jumps) and
 //! `two_point_max_width_m` (default 5e-5 m): the table's two-point transitions
-//! ([`LookupTable1::with_two_point_transition`]), the same departure as KEC's.
+//! ([`LookupTable1::with_two_point_transition`]), the same departure as KEC's;
+//! `cross_level_entry`: `"rotated"` (default: the wheelset's pose taken into the turned rails'
+//! frame, [`crate::contact::lookup::enter_rotated`]) or `"paper"` (Eq. 44–46 as printed:
+//! ȳ = y − al, z = z_clu + vp, φ = φ_clu + cl/(2 L_r), 1.2 mm of z error at cl = 5 mm on
+//! S1002/54E1).
 
 use std::sync::Arc;
 
@@ -13,7 +17,7 @@ use serde::Deserialize;
 
 use super::{check_range, ContactBuildError, ContactModelSettings};
 use crate::contact::geometry::ContactGeometry;
-use crate::contact::lookup::{LookupTable1, TableRow, TableSettings};
+use crate::contact::lookup::{CrossLevelEntry, LookupTable1, TableRow, TableSettings};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
 use crate::contact::point::ContactPoint;
 use crate::profile::placement::WheelRailPair;
@@ -30,6 +34,9 @@ pub struct LookupSettings {
     /// The largest width of a two-point transition, m.
     #[serde(default = "default_max_width")]
     pub two_point_max_width_m: f64,
+    /// How the table is entered under cross level: `"rotated"` (default) or `"paper"`.
+    #[serde(default)]
+    pub cross_level_entry: CrossLevelEntry,
 }
 
 pub(super) fn default_max_width() -> f64 {
@@ -41,6 +48,7 @@ impl Default for LookupSettings {
         LookupSettings {
             two_point_approach_m: 0.0,
             two_point_max_width_m: default_max_width(),
+            cross_level_entry: CrossLevelEntry::default(),
         }
     }
 }
@@ -62,7 +70,10 @@ impl ContactModelSettings for LookupSettings {
         let geometry = ContactGeometry::with_defaults(pair.clone());
         let table = LookupTable1::build(&geometry, &TableSettings::default())?
             .with_two_point_transition(self.two_point_approach_m, self.two_point_max_width_m);
-        Ok(Arc::new(LookupContact { table }))
+        Ok(Arc::new(LookupContact {
+            table,
+            entry: self.cross_level_entry,
+        }))
     }
 }
 
@@ -70,6 +81,8 @@ impl ContactModelSettings for LookupSettings {
 #[derive(Debug, Clone)]
 pub struct LookupContact {
     pub table: LookupTable1,
+    /// The entry under cross level.
+    pub entry: CrossLevelEntry,
 }
 
 impl ContactModel for LookupContact {
@@ -79,7 +92,7 @@ impl ContactModel for LookupContact {
         rails: &RailOffsets,
         _warm: &mut WarmStart,
     ) -> Result<Configuration, ContactModelError> {
-        Ok(configuration(&self.table.contact(y, rails)?))
+        Ok(configuration(&self.table.contact_with(y, rails, self.entry)?))
     }
 }
 

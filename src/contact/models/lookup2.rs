@@ -1,10 +1,12 @@
 //! `model = "lookup2"`: the 2-entry contact lookup table over (y, gauge variation) (paper §4.3),
-//! one 1-entry table per gauge variation over y up to flange contact of the centred gauge;
-//! velocity terms by the directional differences of [`crate::contact::model`].
+//! one 1-entry table per gauge variation, each over y up to its own gauge's flange climb
+//! ([`LookupTable2::build`]); velocity terms by the directional differences of
+//! [`crate::contact::model`].
 //!
 //! Settings: `gv_max_m` (the gauge variations −max … +max, default 0.010 m), `gv_step_m`
-//! (default 0.001 m), and the two-point transitions of every column as for `lookup`
-//! (`two_point_approach_m`, default 0; `two_point_max_width_m`, default 5e-5 m).
+//! (default 0.001 m), the two-point transitions of every column as for `lookup`
+//! (`two_point_approach_m`, default 0; `two_point_max_width_m`, default 5e-5 m), and
+//! `cross_level_entry` as for `lookup` (`"rotated"`, default, or `"paper"`).
 
 use std::sync::Arc;
 
@@ -12,7 +14,7 @@ use serde::Deserialize;
 
 use super::{check_range, ContactBuildError, ContactModelSettings};
 use crate::contact::geometry::ContactGeometry;
-use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
+use crate::contact::lookup::{CrossLevelEntry, LookupTable2, TableSettings};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
 use crate::profile::placement::WheelRailPair;
 use crate::track::RailOffsets;
@@ -32,6 +34,9 @@ pub struct Lookup2Settings {
     pub two_point_approach_m: f64,
     #[serde(default = "super::lookup::default_max_width")]
     pub two_point_max_width_m: f64,
+    /// How the table is entered under cross level (see [`super::lookup::LookupSettings`]).
+    #[serde(default)]
+    pub cross_level_entry: CrossLevelEntry,
 }
 
 fn default_gv_max() -> f64 {
@@ -48,6 +53,7 @@ impl Default for Lookup2Settings {
             gv_step_m: default_gv_step(),
             two_point_approach_m: 0.0,
             two_point_max_width_m: super::lookup::default_max_width(),
+            cross_level_entry: CrossLevelEntry::default(),
         }
     }
 }
@@ -77,13 +83,13 @@ impl ContactModelSettings for Lookup2Settings {
 
     fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let geometry = ContactGeometry::with_defaults(pair.clone());
-        let settings = TableSettings::default();
-        // y up to flange contact of the centred gauge (as `kecsim bench kec`).
-        let t1 = LookupTable1::build(&geometry, &settings)?;
-        let (lo, hi) = t1.range();
-        let table = LookupTable2::build(&geometry, lo.abs().min(hi), &self.gauge_variations(), &settings)?
+        // Each column up to its own gauge's flange climb.
+        let table = LookupTable2::build(&geometry, &self.gauge_variations(), &TableSettings::default())?
             .with_two_point_transition(self.two_point_approach_m, self.two_point_max_width_m);
-        Ok(Arc::new(Lookup2Contact { table }))
+        Ok(Arc::new(Lookup2Contact {
+            table,
+            entry: self.cross_level_entry,
+        }))
     }
 }
 
@@ -91,6 +97,8 @@ impl ContactModelSettings for Lookup2Settings {
 #[derive(Debug, Clone)]
 pub struct Lookup2Contact {
     pub table: LookupTable2,
+    /// The entry under cross level.
+    pub entry: CrossLevelEntry,
 }
 
 impl ContactModel for Lookup2Contact {
@@ -100,6 +108,8 @@ impl ContactModel for Lookup2Contact {
         rails: &RailOffsets,
         _warm: &mut WarmStart,
     ) -> Result<Configuration, ContactModelError> {
-        Ok(super::lookup::configuration(&self.table.contact(y, rails)?))
+        Ok(super::lookup::configuration(
+            &self.table.contact_with(y, rails, self.entry)?,
+        ))
     }
 }
