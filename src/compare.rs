@@ -140,7 +140,15 @@ pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Res
         for other in runs.iter().filter(|r| r.model != reference.model) {
             let single_point_s = jump_of(&other.output).min(reference_jump).min(common_s);
             for ((name, a), (_, b)) in reference.output.wheelsets.iter().zip(&other.output.wheelsets) {
-                differences.push(difference(name, &reference.model, &other.model, a, b, common_s, single_point_s));
+                differences.push(difference(
+                    name,
+                    &reference.model,
+                    &other.model,
+                    a,
+                    b,
+                    common_s,
+                    single_point_s,
+                ));
             }
         }
     }
@@ -157,8 +165,11 @@ pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Res
 /// Whether `pair` has a contact jump on the ideal track, from flange contact to flange contact
 /// (its 1-entry table's jumps; a pair whose table cannot be built counts as having them).
 pub fn pair_has_jumps(pair: &WheelRailPair) -> bool {
-    LookupTable1::build(&ContactGeometry::with_defaults(pair.clone()), &TableSettings::default())
-        .map_or(true, |t| !t.jumps.is_empty())
+    LookupTable1::build(
+        &ContactGeometry::with_defaults(pair.clone()),
+        &TableSettings::default(),
+    )
+    .map_or(true, |t| !t.jumps.is_empty())
 }
 
 /// One wheelset's differences between `model`'s samples `b` and `reference`'s `a` over the
@@ -235,7 +246,8 @@ impl Comparison {
             // Per simulated second, so that runs that ended early compare fairly.
             let per = |w: f64, t: f64| w / t;
             let integration = per(k.wall_s, k.simulated_s) / per(o.wall_s, o.simulated_s);
-            let whole = per(k.wall_s + k.preprocessing_s, k.simulated_s) / per(o.wall_s + o.preprocessing_s, o.simulated_s);
+            let whole = per(k.wall_s + k.preprocessing_s, k.simulated_s)
+                / per(o.wall_s + o.preprocessing_s, o.simulated_s);
             let _ = writeln!(
                 s,
                 "* kec / {}: {:.2} integration alone ({:.3} / {:.3} s of computation per simulated s), {:.2} with the preprocessing (KEC {:.2} s, {} {:.2} s)",

@@ -11,6 +11,7 @@
 //! s^r increase towards +Y on **both** sides (on the right side they are the mirror of the profile's
 //! own field-side coordinate).
 
+pub mod cache;
 pub mod conicity;
 pub mod design;
 pub mod elastic;
