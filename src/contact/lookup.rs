@@ -3,8 +3,9 @@
 //! **1-entry table**: the contact configuration tabulated against the lateral displacement y on a
 //! track without irregularities, from flange contact on one side to flange contact on the other.
 //! **2-entry table**: the same against (y, gv), gv the gauge variation. Each gauge column spans
-//! its own gauge's flange contact on either side (and a little beyond, for the interpolation
-//! between columns); a look-up is refused beyond the flange-climb limit interpolated at its gv.
+//! its own gauge's flange contact on either side and is entered at the same fraction of the way
+//! to it as the y asked is of the way to the flange-climb limit interpolated at its gv; a look-up
+//! beyond that limit is refused.
 //!
 //! **Entry under irregularities.** The paper (Eq. 44–46, as printed) enters with ȳ = y − al and
 //! returns z = z_clu + vp, φ = φ_clu + cl/(2 L_r). That ignores that a cross level *turns* the
@@ -21,8 +22,9 @@
 //! either side), so that no interpolation ever runs across a jump: z and φ keep their kink, the
 //! surface parameters their step. The other stored quantities (contact angles, rolling radii,
 //! curvatures, contact positions) are interpolated by monotone piecewise-cubic Hermite (PCHIP,
-//! Fritsch–Carlson) between jumps. Across gv (2-entry) the same Hermite form is used with the
-//! stored gv-slopes; a jump whose location moves with gv is then smeared over one gv cell — the
+//! Fritsch–Carlson) between jumps. Across gv (2-entry) a cubic Hermite with Catmull–Rom slopes
+//! from the columns' own values, each column entered flange-aligned ([`LookupTable2::lookup`]);
+//! a jump whose location does not move as the flange does is still smeared over one gv cell — the
 //! 2-entry table's inherent error, measured by `kecsim bench contact`.
 
 use rayon::prelude::*;
@@ -207,6 +209,10 @@ impl RailPairMotion {
         }
     }
 }
+
+/// A 2-entry look-up this far beyond its flange-climb limit is still taken as at the limit (the
+/// round-off of a y computed from the limit), m.
+const LIMIT_ROUND_OFF_M: f64 = 1e-12;
 
 /// Newton steps of [`enter_rotated`] at most (it converges in 2–3).
 const ENTRY_MAX_ITERATIONS: usize = 20;
@@ -434,8 +440,8 @@ pub struct LookupTable1 {
     pub l_r: f64,
     pub z_r: f64,
     /// The y of flange climb on the right (< 0) and on the left (> 0) at this table's gauge
-    /// variation, m: the table's range for a 1-entry table; a 2-entry table's columns extend beyond
-    /// it (see [`LookupTable2::build`]).
+    /// variation, m, which the table spans (its range snapped to its grid; a table built or read
+    /// over a fixed range: the range).
     pub flange_limits: (f64, f64),
 }
 
@@ -1182,14 +1188,11 @@ impl LookupTable2 {
     /// Builds the table at the gauge variations `gvs` (sorted, m), grid `settings.step_m` in y.
     ///
     /// With `settings.y_max_m` = `None` (the default) each column spans its own gauge's flange
-    /// climb ([`flange_limits`]) on both sides and extends beyond it: by half its gv step (in y;
-    /// a flange limit moves by about gv/2), and at least as far as the limits of the next two wider
-    /// columns — so that wherever a look-up at a gv between two columns is within the limit
-    /// interpolated there, all four columns of its Catmull–Rom interpolation hold its y (the
-    /// interpolant is then one fixed combination of four columns, as continuous in y as they are).
-    /// Beyond its flange limit a column's contact runs on up the flange, past the flank's largest
-    /// angle: rigid contact still, which the interpolation needs but no look-up returns at that
-    /// column's own gv. With `Some(m)` every column spans ±m (and its limits are ±m).
+    /// climb ([`flange_limits`]) on both sides (its range snapped outwards to the grid):
+    /// [`LookupTable2::lookup`] enters every column at the y that lies as far towards its own
+    /// flange limit as the y asked lies towards the limit interpolated at the gv asked, so no
+    /// column is needed beyond its own flange climb. With `Some(m)` every column spans ±m (and its
+    /// limits are ±m: the look-up is then at the same y in every column).
     pub fn build(geom: &ContactGeometry, gvs: &[f64], settings: &TableSettings) -> Result<Self, TableError> {
         if gvs.len() < 2 || gvs.windows(2).any(|w| w[1] <= w[0]) {
             return Err(TableError::Invalid(
@@ -1197,38 +1200,19 @@ impl LookupTable2 {
             ));
         }
         let n = gvs.len();
-        // Per column: its flange limits and the y range it is built over (right, left), m.
-        type Spans = Vec<(f64, f64)>;
-        let (limits, ranges): (Spans, Spans) = match settings.y_max_m {
-            Some(m) => (vec![(-m, m); n], vec![(-m, m); n]),
-            None => {
-                let limits = gvs
-                    .par_iter()
-                    .map(|&gv| flange_limits(geom, gv))
-                    .collect::<Vec<_>>()
-                    .into_iter()
-                    .collect::<Result<Vec<_>, _>>()?;
-                let ranges = (0..n)
-                    .map(|k| {
-                        let half = 0.5
-                            * if k + 1 < n {
-                                gvs[k + 1] - gvs[k]
-                            } else {
-                                gvs[k] - gvs[k - 1]
-                            };
-                        let wider = &limits[k + 1..(k + 3).min(n)];
-                        (
-                            wider.iter().map(|l| l.0).fold(limits[k].0 - half, f64::min),
-                            wider.iter().map(|l| l.1).fold(limits[k].1 + half, f64::max),
-                        )
-                    })
-                    .collect();
-                (limits, ranges)
-            }
+        // Per column: its flange limits (right, left), m, which it spans.
+        let limits: Vec<(f64, f64)> = match settings.y_max_m {
+            Some(m) => vec![(-m, m); n],
+            None => gvs
+                .par_iter()
+                .map(|&gv| flange_limits(geom, gv))
+                .collect::<Vec<_>>()
+                .into_iter()
+                .collect::<Result<Vec<_>, _>>()?,
         };
         // Snap each range outwards to the grid through y = 0.
         let step = settings.step_m;
-        let ranges: Vec<(f64, f64)> = ranges
+        let ranges: Vec<(f64, f64)> = limits
             .iter()
             .map(|&(lo, hi)| ((lo / step).floor() * step, (hi / step).ceil() * step))
             .collect();
@@ -1303,54 +1287,108 @@ impl LookupTable2 {
     /// cubic Hermite across gv with slopes from the columns' values themselves (centred
     /// differences over the neighbouring columns, one-sided at the range's ends: Catmull–Rom).
     /// z, φ and the surface parameters are then one fixed linear combination of up to four
-    /// columns' values at y, so they are as continuous in y as the columns are (kinks at each
-    /// column's jumps, never steps), and the y-slopes are the same combination of the columns'
-    /// — the interpolant's own derivative. (The stored dx/dgv slopes are not used for it: they
-    /// step where a column's contact jumps, which made z step in y between columns — issue 13.)
-    /// The other quantities (contact positions, angles, radii, curvatures) are linear in gv.
+    /// columns' values, so they are as continuous in y as the columns are (kinks at each column's
+    /// jumps, never steps), and the y-slopes are the same combination of the columns' — the
+    /// interpolant's own derivative. (The stored dx/dgv slopes are not used for it: they step where
+    /// a column's contact jumps, which made z step in y between columns — issue 13.) The other
+    /// quantities (contact positions, angles, radii, curvatures) are linear in gv.
     ///
-    /// A y beyond the flange-climb limit at gv ([`LookupTable2::flange_limits`]) is refused
-    /// ([`TableError::BeyondFlangeLimit`]). Within it the two bracketing columns hold y (see
-    /// [`LookupTable2::build`]); an outer column enters the slopes only where it holds y too, else
-    /// the slope on that side is one-sided, as at the gv range's ends.
+    /// **Flange-aligned entry.** Column k is entered at y_k = y · λ_k/λ(gv), λ_k its own
+    /// flange-climb limit on the side of y (right for y < 0) and λ(gv) the limit interpolated
+    /// linearly in gv between the two bracketing columns ([`LookupTable2::flange_limits`]): each
+    /// column at the same fraction of the way to its flange as the y asked. A flange (and each
+    /// contact jump near it) lies at a fixed distance from its rail, so it moves with gv/2; at a
+    /// fixed y the interpolation across gv smeared the flange's kink over a gv cell (1.2 mm of z
+    /// between the 1 mm columns of S1002/60E1 at 1:40 near the flange, against 0.03 mm aligned;
+    /// in the tread 0.009 against 0.002 mm). The slopes follow by the chain rule:
+    /// ∂x/∂y = Σ w_k (λ_k/λ) x_k′(y_k), and ∂x/∂gv adds Σ w_k x_k′(y_k) y ∂(λ_k/λ)/∂gv. With equal
+    /// limits in every column (a table built over a common ±y_max, or read from a file without the
+    /// limits) y_k = y.
+    ///
+    /// A y beyond the flange-climb limit at gv is refused ([`TableError::BeyondFlangeLimit`]); an
+    /// outer column enters the slopes only where it holds its y_k (always, for a table built here;
+    /// else the slope on that side is one-sided, as at the gv range's ends).
     pub fn lookup(&self, y: f64, gv: f64) -> Result<TableRow, TableError> {
         let n = self.columns.len();
         let (j, t) = self.bracket(gv)?;
         let (lo, hi) = self.flange_limits(gv)?;
-        if !(lo..=hi).contains(&y) {
+        if y > hi + LIMIT_ROUND_OFF_M || y < lo - LIMIT_ROUND_OFF_M {
             return Err(TableError::BeyondFlangeLimit {
                 y_mm: y * 1e3,
                 gv_mm: gv * 1e3,
                 limit_mm: if y > hi { hi } else { lo } * 1e3,
             });
         }
-        let holds = |i: usize| {
-            let (a, b) = self.columns[i].range();
-            (a..=b).contains(&y)
+        // The side's limits: λ(gv), its slope in gv, and each column's λ_k.
+        let side = |c: &LookupTable1| {
+            if y >= 0.0 {
+                c.flange_limits.1
+            } else {
+                c.flange_limits.0
+            }
         };
-        let before = (j > 0 && holds(j - 1)).then(|| j - 1);
-        let after = (j + 2 < n && holds(j + 2)).then_some(j + 2);
+        let (la, lb) = (side(&self.columns[j]), side(&self.columns[j + 1]));
+        let lambda = la + t * (lb - la);
+        let lambda_gv = (lb - la) / (self.columns[j + 1].gv - self.columns[j].gv);
+        // Column i at its y_i (clamped by round-off only), with dy_i/dy and dy_i/dgv; None where
+        // it does not hold y_i.
+        let entry = |i: usize| -> Option<Result<(TableRow, f64, f64), TableError>> {
+            let c = &self.columns[i];
+            let ratio = side(c) / lambda;
+            let (a, b) = c.range();
+            let yi = y * ratio;
+            if yi < a - LIMIT_ROUND_OFF_M || yi > b + LIMIT_ROUND_OFF_M {
+                return None;
+            }
+            Some(
+                c.lookup(yi.clamp(a, b))
+                    .map(|r| (r, ratio, -y * ratio * lambda_gv / lambda)),
+            )
+        };
+        let bracketing = |i: usize| {
+            entry(i).unwrap_or_else(|| {
+                let (a, b) = self.columns[i].range();
+                Err(TableError::OutOfRange {
+                    what: "y (a 2-entry column)",
+                    value_mm: y * 1e3,
+                    min_mm: a * 1e3,
+                    max_mm: b * 1e3,
+                })
+            })
+        };
+        let (a, b) = (bracketing(j)?, bracketing(j + 1)?);
+        let before = if j > 0 { entry(j - 1).transpose()? } else { None };
+        let after = if j + 2 < n {
+            entry(j + 2).transpose()?
+        } else {
+            None
+        };
         let g = |i: usize| self.columns[i].gv;
-        let (w, dw) = catmull_rom_weights(before.map(g), g(j), g(j + 1), after.map(g), gv);
-        let (a, b) = (self.columns[j].lookup(y)?, self.columns[j + 1].lookup(y)?);
-        let outer = |i: Option<usize>| i.map(|i| self.columns[i].lookup(y)).transpose();
-        let rows = [outer(before)?, Some(a), Some(b), outer(after)?];
-        let mut out = a;
+        let (w, dw) = catmull_rom_weights(
+            before.is_some().then(|| g(j - 1)),
+            g(j),
+            g(j + 1),
+            after.is_some().then(|| g(j + 2)),
+            gv,
+        );
+        let rows = [before, Some(a), Some(b), after];
+        let mut out = a.0;
+        out.y = y;
         out.gv = gv;
         for c in 0..6 {
             let (mut x, mut xy, mut xg) = (0.0, 0.0, 0.0);
             for (k, r) in rows.iter().enumerate() {
-                if let Some(r) = r {
+                if let Some((r, dy, dg)) = r {
                     x += w[k] * r.x[c];
-                    xy += w[k] * r.dx_dy[c];
-                    xg += dw[k] * r.x[c];
+                    xy += w[k] * r.dx_dy[c] * dy;
+                    xg += dw[k] * r.x[c] + w[k] * r.dx_dy[c] * dg;
                 }
             }
             out.x[c] = x;
             out.dx_dy[c] = xy;
             out.dx_dgv[c] = xg;
         }
-        let (oa, ob) = (a.other(), b.other());
+        let (oa, ob) = (a.0.other(), b.0.other());
         let o: [f64; N_OTHER] = std::array::from_fn(|c| oa[c] + t * (ob[c] - oa[c]));
         out.set_other(&o);
         Ok(out)

@@ -204,6 +204,27 @@ mod tests {
         // The tables take the two-point keys too (default 0: rigid), not KEC's others.
         let l: ContactModelSpec = toml::from_str("model = \"lookup\"\ntwo_point_approach_m = 5e-4").unwrap();
         assert!(matches!(l, ContactModelSpec::Lookup(ref t) if t.two_point_approach_m == 5e-4));
+        // Both tables take the cross-level entry (default: the rail pair's rigid motion).
+        use crate::contact::lookup::CrossLevelEntry;
+        assert!(
+            matches!(l, ContactModelSpec::Lookup(ref t) if t.cross_level_entry == CrossLevelEntry::Rotated)
+        );
+        let p: ContactModelSpec =
+            toml::from_str("model = \"lookup2\"\ncross_level_entry = \"paper\"").unwrap();
+        assert!(
+            matches!(p, ContactModelSpec::Lookup2(ref t) if t.cross_level_entry == CrossLevelEntry::Paper)
+        );
+        let e = toml::from_str::<ContactModelSpec>("model = \"lookup\"\ncross_level_entry = \"tilted\"")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("tilted") && e.contains("rotated") && e.contains("paper"),
+            "{e}"
+        );
+        let e = toml::from_str::<ContactModelSpec>("model = \"kec\"\ncross_level_entry = \"paper\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("cross_level_entry"), "{e}");
         let e = toml::from_str::<ContactModelSpec>("model = \"lookup\"\ngv_step_m = 0.001")
             .unwrap_err()
             .to_string();
