@@ -463,6 +463,68 @@ fn ms_vehicle_kec_and_table_match_online_until_the_first_contact_jump() {
     );
 }
 
+/// The paper's case as shipped (the MS vehicle on the designed stand-in wheel, a jump-free pair):
+/// KEC and both tables against the online constraints — the independent reference — over the
+/// first 4 s (the straight with the irregularities growing in, into the transition; at 4.5 s the
+/// middle bogie's leading wheelset crosses from one flange wall to the other, where the models
+/// part for a second: README, *The paper's comparison*). Every wheelset in single-point contact
+/// throughout (the pair has no jump), so the whole window compares the models themselves: KEC
+/// within 0.3 mm and 0.3 mrad of online (measured 0.19 mm, 0.10 mrad), the 2-entry table (with
+/// its cross-level entry) within the paper's 1 mm and 0.5 mrad (measured 0.71 mm, 0.40 mrad:
+/// across its 1 mm gauge columns it interpolates the contact points and angles, which on this
+/// near-conformal flange root move fast with the gauge), the 1-entry table, blind to the gauge
+/// variation (±1.1 mm here), further off than the 2-entry one — why the 2-entry table is the
+/// paper's fair baseline.
+#[test]
+fn ms_standin_kec_and_tables_match_online() {
+    let sc = scene("ms_vehicle_tab6.toml");
+    assert!(
+        !kecsim::compare::pair_has_jumps(&sc.pair),
+        "the stand-in pair is jump-free"
+    );
+    let go = |kind| run_scene(&sc, kind, |s| s.duration_s = 4.0);
+    let online = go("online");
+    assert_eq!(online.summary.outcome, "completed", "{:?}", online.summary.error);
+    let max_y = online
+        .wheelsets
+        .iter()
+        .flat_map(|(_, s)| s.iter())
+        .map(|p| p.y.abs())
+        .fold(0.0, f64::max);
+    assert!(
+        max_y > 3e-3,
+        "the irregularities move the wheelsets to their walls: {max_y}"
+    );
+    let mut worst = std::collections::HashMap::new();
+    for model in ["kec", "lookup2", "lookup"] {
+        let o = go(model);
+        assert_eq!(o.summary.outcome, "completed", "{model}: {:?}", o.summary.error);
+        let (mut dy, mut dpsi) = (0.0f64, 0.0f64);
+        for ((_, a), (_, b)) in o.wheelsets.iter().zip(&online.wheelsets) {
+            assert_eq!(a.len(), b.len());
+            for (p, q) in a.iter().zip(b) {
+                dy = dy.max((p.y - q.y).abs() * 1e3);
+                dpsi = dpsi.max((p.yaw - q.yaw).abs() * 1e3);
+            }
+        }
+        println!(
+            "{model} vs online over 4 s (max |y| {:.2} mm): {dy:.4} mm, {dpsi:.4} mrad",
+            max_y * 1e3
+        );
+        let bound = match model {
+            "kec" => (0.3, 0.3),
+            "lookup2" => (1.0, 0.5),
+            _ => (f64::INFINITY, f64::INFINITY),
+        };
+        assert!(
+            dy < bound.0 && dpsi < bound.1,
+            "{model} vs online: {dy} mm, {dpsi} mrad"
+        );
+        worst.insert(model, dy);
+    }
+    assert!(worst["lookup"] > worst["lookup2"], "{worst:?}");
+}
+
 /// The wheelsets of a right-hand side are evaluated in parallel (the run's thread joins a pool of
 /// two threads): the result does not depend on it — the MS vehicle's run on a thread of its own
 /// (the pool split) and on a one-thread pool (every wheelset in turn) agree to the last bit.
