@@ -84,7 +84,7 @@ fn contact_models_against_the_online_solution_on_irregular_track() {
                 "kec" => rigid_kec.clone(),
                 _ => ContactModelSpec::default_for(n).unwrap(),
             };
-            (n, spec.build(&pair).unwrap())
+            (n, spec.build(&pair, None).unwrap())
         })
         .collect();
     // (al, vp, gv, cl), m.

@@ -191,7 +191,7 @@ pub fn dispatch() -> Result<String, String> {
     let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40")
         .map_err(|e| e.to_string())?;
     let settings = KecSettings::default();
-    let model = settings.build(&pair).map_err(|e| e.to_string())?;
+    let model = settings.build(&pair, None).map_err(|e| e.to_string())?;
     let concrete = settings.kec_contact(&pair).map_err(|e| e.to_string())?;
     let n = 20_000;
     let ys: Vec<f64> = (0..n)

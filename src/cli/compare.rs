@@ -41,8 +41,9 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
     let sink = a.sink.sink();
     check_sink(&sink)?;
     let origin = a.scenario.display().to_string();
-    let scene =
+    let mut scene =
         Scenario::read(&a.scenario)?.compile(&origin, a.scenario.parent().unwrap_or(Path::new(".")))?;
+    scene.table_cache = super::table_cache();
     anyhow::ensure!(
         scene.simulation.is_some(),
         "{origin}: this scenario has no [simulation] to compare"

@@ -39,6 +39,27 @@ pub struct Cli {
     /// guard against an input that would exhaust the machine (see the README).
     #[arg(long, global = true)]
     no_limits: bool,
+    /// Build the contact tables anew instead of reading them from the cache
+    /// ($KECSIM_CACHE_DIR, else $XDG_CACHE_HOME/kecsim, else ~/.cache/kecsim).
+    #[arg(long, global = true)]
+    no_cache: bool,
+}
+
+/// `--no-cache`, set once by [`run`] (the binary's own state; the library takes the cache as a
+/// parameter).
+static NO_CACHE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+
+/// The table cache the commands use: `$KECSIM_CACHE_DIR`, else `$XDG_CACHE_HOME/kecsim`, else
+/// `$HOME/.cache/kecsim` (None with `--no-cache` or with none of them set).
+fn table_cache() -> Option<kecsim::contact::cache::TableCache> {
+    if NO_CACHE.get().copied().unwrap_or(false) {
+        return None;
+    }
+    let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    let dir = var("KECSIM_CACHE_DIR")
+        .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("kecsim")))
+        .or_else(|| var("HOME").map(|d| d.join(".cache").join("kecsim")))?;
+    Some(kecsim::contact::cache::TableCache::new(dir.join("tables")))
 }
 
 /// Every command takes negative numbers as values (`--step -1` is then reported as a bad step,
@@ -89,6 +110,7 @@ pub fn run(cli: Cli) -> Result<()> {
     if cli.no_limits {
         kecsim::limits::lift();
     }
+    NO_CACHE.set(cli.no_cache).ok();
     match cli.command {
         Command::Run(a) => run::run(a),
         Command::Compare(a) => compare::run(a),

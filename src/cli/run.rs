@@ -62,7 +62,8 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
         ),
     };
     let t = Instant::now();
-    let scene = parsed.compile(&origin, &base)?;
+    let mut scene = parsed.compile(&origin, &base)?;
+    scene.table_cache = super::table_cache();
     println!("scenario: {} ({origin})", scene.name);
     for w in &scene.warnings {
         eprintln!("kecsim: warning: {w}");

@@ -170,6 +170,9 @@ pub struct Scene {
     /// Physically doubtful but possible values, each naming its key (the run goes on; the command
     /// prints them and the JSON summary carries them).
     pub warnings: Vec<String>,
+    /// Where the contact models' tables are cached between runs (None: built every time; the
+    /// command line sets it, see [`crate::contact::cache`]).
+    pub table_cache: Option<crate::contact::cache::TableCache>,
 }
 
 impl Scenario {
@@ -337,6 +340,7 @@ impl Scenario {
             track,
             simulation,
             warnings,
+            table_cache: None,
         })
     }
 }

@@ -514,10 +514,12 @@ impl super::Scene {
         let (model, flange_angle_rad) = match cache.and_then(|c| c.get(&key)) {
             Some(hit) => hit,
             None => {
-                let model = contact.build(&self.pair).map_err(|source| BuildError::Contact {
-                    scene: self.origin.clone(),
-                    source,
-                })?;
+                let model = contact
+                    .build(&self.pair, self.table_cache.as_ref())
+                    .map_err(|source| BuildError::Contact {
+                        scene: self.origin.clone(),
+                        source,
+                    })?;
                 // The safety figures' flange angle; a pair whose contact cannot be followed up
                 // the flange on the ideal track runs without them.
                 let angle = flange_angle(&ContactGeometry::with_defaults(self.pair.clone())).ok();

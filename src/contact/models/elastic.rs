@@ -20,6 +20,7 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 use super::{ContactBuildError, ContactModelSettings};
+use crate::contact::cache::TableCache;
 use crate::contact::elastic::ElasticContact;
 use crate::contact::geometry::ContactGeometry;
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
@@ -77,7 +78,11 @@ impl ContactModelSettings for ElasticSettings {
     /// [`MIN_FLANGE_ANGLE_DEG`]; a profile without a flange at all is refused when it is read):
     /// the search would take that slope for the flange's largest angle and call every contact
     /// there a climb.
-    fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+    fn build(
+        &self,
+        pair: &WheelRailPair,
+        _cache: Option<&TableCache>,
+    ) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let search = ElasticContact::new(
             ContactGeometry::with_defaults(pair.clone()),
             self.scan_step_m,

@@ -12,9 +12,9 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 use super::{check_range, ContactBuildError, ContactModelSettings};
+use crate::contact::cache::TableCache;
 use crate::contact::geometry::ContactGeometry;
 use crate::contact::kec::{KecModel, KecSolution};
-use crate::contact::lookup::{LookupTable1, TableSettings};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart, WheelsetKinematics};
 use crate::contact::point::ContactPoint;
 use crate::profile::placement::WheelRailPair;
@@ -74,8 +74,12 @@ impl ContactModelSettings for KecSettings {
         p
     }
 
-    fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
-        Ok(Arc::new(self.kec_contact(pair)?))
+    fn build(
+        &self,
+        pair: &WheelRailPair,
+        cache: Option<&TableCache>,
+    ) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+        Ok(Arc::new(self.kec_contact_cached(pair, cache)?))
     }
 }
 
@@ -83,8 +87,17 @@ impl KecSettings {
     /// The model as its concrete type: the ideal-track 1-entry table of the real profiles, then
     /// the equivalent profiles (paper §6) with these settings' two-point transitions.
     pub fn kec_contact(&self, pair: &WheelRailPair) -> Result<KecContact, ContactBuildError> {
+        self.kec_contact_cached(pair, None)
+    }
+
+    /// [`Self::kec_contact`] with the table from `cache` where given.
+    pub fn kec_contact_cached(
+        &self,
+        pair: &WheelRailPair,
+        cache: Option<&TableCache>,
+    ) -> Result<KecContact, ContactBuildError> {
         let geometry = ContactGeometry::with_defaults(pair.clone());
-        let table = LookupTable1::build(&geometry, &TableSettings::default())?;
+        let table = super::table1(&geometry, cache)?;
         let model = KecModel::from_table(&table, pair.wheelset.l_w())?
             .with_two_point_transition_capped(self.two_point_approach_m, self.two_point_max_width_m);
         Ok(KecContact {

@@ -16,8 +16,9 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 use super::{check_range, ContactBuildError, ContactModelSettings};
+use crate::contact::cache::TableCache;
 use crate::contact::geometry::ContactGeometry;
-use crate::contact::lookup::{CrossLevelEntry, LookupTable1, TableRow, TableSettings};
+use crate::contact::lookup::{CrossLevelEntry, LookupTable1, TableRow};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
 use crate::contact::point::ContactPoint;
 use crate::profile::placement::WheelRailPair;
@@ -66,9 +67,13 @@ impl ContactModelSettings for LookupSettings {
         p
     }
 
-    fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+    fn build(
+        &self,
+        pair: &WheelRailPair,
+        cache: Option<&TableCache>,
+    ) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let geometry = ContactGeometry::with_defaults(pair.clone());
-        let table = LookupTable1::build(&geometry, &TableSettings::default())?
+        let table = super::table1(&geometry, cache)?
             .with_two_point_transition(self.two_point_approach_m, self.two_point_max_width_m);
         Ok(Arc::new(LookupContact {
             table,

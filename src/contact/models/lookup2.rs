@@ -13,6 +13,7 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 use super::{check_range, ContactBuildError, ContactModelSettings};
+use crate::contact::cache::TableCache;
 use crate::contact::geometry::ContactGeometry;
 use crate::contact::lookup::{CrossLevelEntry, LookupTable2, TableSettings};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
@@ -81,11 +82,19 @@ impl ContactModelSettings for Lookup2Settings {
         p
     }
 
-    fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+    fn build(
+        &self,
+        pair: &WheelRailPair,
+        cache: Option<&TableCache>,
+    ) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let geometry = ContactGeometry::with_defaults(pair.clone());
         // Each column up to its own gauge's flange climb.
-        let table = LookupTable2::build(&geometry, &self.gauge_variations(), &TableSettings::default())?
-            .with_two_point_transition(self.two_point_approach_m, self.two_point_max_width_m);
+        let (gvs, settings) = (self.gauge_variations(), TableSettings::default());
+        let table = match cache {
+            Some(c) => c.table2(&geometry, &gvs, &settings)?.0,
+            None => LookupTable2::build(&geometry, &gvs, &settings)?,
+        }
+        .with_two_point_transition(self.two_point_approach_m, self.two_point_max_width_m);
         Ok(Arc::new(Lookup2Contact {
             table,
             entry: self.cross_level_entry,

@@ -26,6 +26,7 @@ use std::sync::Arc;
 use serde::Deserialize;
 use thiserror::Error;
 
+use super::cache::TableCache;
 use super::kec::KecError;
 use super::lookup::TableError;
 use super::model::ContactModel;
@@ -48,8 +49,12 @@ pub trait ContactModelSettings: Debug {
     /// `simulation.contact`.
     fn problems(&self) -> Vec<String>;
     /// Builds the model for the placed wheel–rail pair (the preprocessing: tables, equivalent
-    /// profiles).
-    fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError>;
+    /// profiles), its tables from `cache` where given ([`TableCache`]).
+    fn build(
+        &self,
+        pair: &WheelRailPair,
+        cache: Option<&TableCache>,
+    ) -> Result<Arc<dyn ContactModel>, ContactBuildError>;
 }
 
 /// Declares the list of models: the `[simulation.contact]` table (`model = NAME` and that model's
@@ -157,12 +162,29 @@ impl ContactModelSpec {
     }
 
     /// Builds the model for the wheel–rail pair.
-    pub fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+    pub fn build(
+        &self,
+        pair: &WheelRailPair,
+        cache: Option<&TableCache>,
+    ) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let problems = self.problems();
         if !problems.is_empty() {
             return Err(ContactBuildError::Invalid(problems));
         }
-        self.settings().build(pair)
+        self.settings().build(pair, cache)
+    }
+}
+
+/// The pair's 1-entry table on the ideal track ([`LookupTable1::build`] with the default
+/// settings), from `cache` where given.
+pub(crate) fn table1(
+    geometry: &crate::contact::geometry::ContactGeometry,
+    cache: Option<&TableCache>,
+) -> Result<crate::contact::lookup::LookupTable1, TableError> {
+    let settings = crate::contact::lookup::TableSettings::default();
+    match cache {
+        Some(c) => Ok(c.table1(geometry, &settings)?.0),
+        None => crate::contact::lookup::LookupTable1::build(geometry, &settings),
     }
 }
 

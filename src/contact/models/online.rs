@@ -17,8 +17,8 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 use super::{ContactBuildError, ContactModelSettings};
+use crate::contact::cache::TableCache;
 use crate::contact::geometry::{ContactGeometry, ContactSolution};
-use crate::contact::lookup::{LookupTable1, TableSettings};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
 use crate::profile::placement::WheelRailPair;
 use crate::track::RailOffsets;
@@ -33,11 +33,13 @@ impl ContactModelSettings for OnlineSettings {
         Vec::new()
     }
 
-    fn build(&self, pair: &WheelRailPair) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
+    fn build(
+        &self,
+        pair: &WheelRailPair,
+        cache: Option<&TableCache>,
+    ) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let geometry = ContactGeometry::with_defaults(pair.clone());
-        let jumps = !LookupTable1::build(&geometry, &TableSettings::default())?
-            .jumps
-            .is_empty();
+        let jumps = !super::table1(&geometry, cache)?.jumps.is_empty();
         Ok(Arc::new(OnlineContact { geometry, jumps }))
     }
 }
