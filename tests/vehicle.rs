@@ -44,7 +44,7 @@ fn multibody(sc: &Scene, kind: &str, with_track: bool) -> Multibody {
         spec,
         ContactModelSpec::default_for(kind)
             .unwrap()
-            .build(&sc.pair)
+            .build(&sc.pair, None)
             .unwrap(),
         sc.contact_forces.clone(),
         sc.pair.wheelset.nominal_radius_m,
