@@ -129,7 +129,7 @@ fn energy_is_conserved_without_creep() {
             axle_load_n: load,
             contact: ContactModelSpec::default_for(kind)
                 .unwrap()
-                .build(&sc.pair)
+                .build(&sc.pair, None)
                 .unwrap(),
             forces: forces.clone(),
             r0,
