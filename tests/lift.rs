@@ -30,7 +30,10 @@ fn pair() -> WheelRailPair {
 }
 
 fn kec(pair: &WheelRailPair) -> Arc<dyn ContactModel> {
-    ContactModelSpec::default_for("kec").unwrap().build(pair, None).unwrap()
+    ContactModelSpec::default_for("kec")
+        .unwrap()
+        .build(pair, None)
+        .unwrap()
 }
 
 const INERTIA: WheelsetInertia = WheelsetInertia {

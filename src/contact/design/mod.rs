@@ -456,10 +456,7 @@ fn realisable_angle(target: &DesignTarget, side: &RailSide) -> Result<Vec<(f64, 
     };
     // Bisection on each factor for its anchor (y = 0 at j_mid, y_hi at the end): the length of
     // each part grows with its λ; the other part's λ barely matters (the ramps are short).
-    let solve = |anchor: &dyn Fn(&[(f64, f64)]) -> f64,
-                 lam_other: f64,
-                 low: bool|
-     -> Result<f64, DesignError> {
+    let solve = |anchor: &Anchor<'_>, lam_other: f64, low: bool| -> Result<f64, DesignError> {
         let eval = |lam: f64| {
             anchor(&if low {
                 build(lam, lam_other)
@@ -512,6 +509,9 @@ fn target_departure(target: &DesignTarget, realised: &[(f64, f64)]) -> f64 {
         })
         .fold(0.0, f64::max)
 }
+
+/// Where a realisable table (y, γ) misses one of the target's anchors, m.
+type Anchor<'a> = dyn Fn(&[(f64, f64)]) -> f64 + 'a;
 
 /// y at angle `g` in a table (y, γ) rising in both.
 fn interpolate_y(table: &[(f64, f64)], g: f64) -> f64 {
@@ -648,7 +648,7 @@ fn assemble(
     let zc = -h + rt;
     let sc = s_f + (zc - z_f - rt * q) / m;
     let (s_t, z_t) = (sc + rt * m / q, zc - rt / q);
-    if !(m > 0.0) || s_t > s_f || z_f < -h + rt * (1.0 - 1.0 / q) {
+    if m <= 0.0 || m.is_nan() || s_t > s_f || z_f < -h + rt * (1.0 - 1.0 / q) {
         return Err(DesignError::Target(format!(
             "flange_height_mm = {:.2}: the flank's contact end lies {:.2} mm below the taping line (the rail's gauge corner reaches that deep at the last target angle {:.1}°), \
              and a tip of radius {:.1} mm cannot be fitted below it; a flange lower than the rail's gauge corner carries no flange contact — give a higher flange, a smaller tip radius or a smaller last angle",
