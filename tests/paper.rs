@@ -194,6 +194,7 @@ fn table7_is_the_runs_cost() {
     assert_eq!(c.kec.per_real_time(), k.wall_s / k.simulated_s);
     assert_eq!(c.tables.per_real_time(), t.wall_s / t.simulated_s);
     assert_eq!(c.ratio(), k.wall_s / t.wall_s);
+    assert_eq!(c.rhs_ratio(), k.rhs_evaluations as f64 / t.rhs_evaluations as f64);
     assert_eq!(
         (c.kec.steps, c.tables.rhs_evaluations),
         (k.steps, t.rhs_evaluations)
