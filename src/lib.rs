@@ -11,6 +11,8 @@
 //! * [`dynamics`]: equations of motion, contact reactions, integrators, runs.
 //! * [`scenario`]: scenario files (TOML) compiled into scenes.
 //! * [`compare`]: the same scene with several contact models, their differences and costs.
+//! * [`paper`]: the paper's §8 (Fig. 14–19, Tab. 7) for a scene, from the contact preprocessing,
+//!   the track and a KEC-against-tables comparison.
 //! * [`bench`](mod@bench): measured speed with its error, printed by `kecsim bench`.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
 
@@ -24,6 +26,7 @@ pub mod dynamics;
 pub mod inspect;
 pub mod interrupt;
 pub mod limits;
+pub mod paper;
 pub mod profile;
 pub mod scenario;
 pub mod spline;

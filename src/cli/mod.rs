@@ -8,6 +8,7 @@ mod creep;
 mod design;
 mod generate;
 mod kec;
+mod paper;
 mod profiles;
 mod progress;
 mod run;
@@ -73,6 +74,11 @@ enum Command {
     /// Fig. 18-19) and the cost of each, printed and recorded.
     #[command(allow_negative_numbers = true)]
     Compare(compare::CompareArgs),
+    /// The paper's case (the embedded default: the MS vehicle on the Tab. 6 track) with KEC and
+    /// the tables: its Fig. 14-19 in one recording laid out as the paper's, its Tab. 7 and Fig. 18's
+    /// maxima printed beside the paper's numbers.
+    #[command(allow_negative_numbers = true)]
+    Paper(paper::PaperArgs),
     /// Record the wheel and rail profiles of both sides placed on the track cross-section.
     #[command(allow_negative_numbers = true)]
     Profiles(profiles::ProfilesArgs),
@@ -114,6 +120,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Run(a) => run::run(a),
         Command::Compare(a) => compare::run(a),
+        Command::Paper(a) => paper::run(a),
         Command::Profiles(a) => profiles::run(a),
         Command::Contact(a) => contact::run(a),
         Command::Kec(a) => kec::run(a),

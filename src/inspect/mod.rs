@@ -20,6 +20,7 @@ pub mod contact;
 pub mod creep;
 pub mod design;
 pub mod kec;
+pub mod paper;
 pub mod precision;
 pub mod profiles;
 pub mod readback;

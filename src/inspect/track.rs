@@ -28,6 +28,15 @@ use crate::track::Track;
 /// The timeline: arc length in mm.
 pub const TIMELINE: &str = "s_mm";
 
+/// The four irregularities in the order of [`crate::track::report::Sample::irregularity`] (§2.3):
+/// entity name, title and colour.
+pub(crate) const IRREGULARITIES: [(&str, &str, [u8; 3]); 4] = [
+    ("al", "alignment al", [230, 120, 40]),
+    ("vp", "vertical profile vp", [60, 170, 90]),
+    ("gv", "gauge variation gv", [170, 80, 200]),
+    ("cl", "cross level cl", [220, 60, 60]),
+];
+
 /// Layout: plan view and summary on the left, the s-diagrams on the right.
 pub fn blueprint() -> Blueprint {
     let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
@@ -43,16 +52,21 @@ pub fn blueprint() -> Blueprint {
             ])
             .with_row_shares([3.0, 2.0])
             .into(),
-            Vertical::new([
-                plot("curvature ρ_h [1/m]", "/track/geometry/curvature_1pm"),
-                plot("cant φ [mrad]", "/track/geometry/cant_mrad"),
-                plot("twist ρ_tw [mrad/m]", "/track/geometry/twist_mrad_per_m"),
-                plot("height Z [m]", "/track/geometry/z_m"),
-                plot("alignment al [mm]", "/track/irregularities/al_mm"),
-                plot("vertical profile vp [mm]", "/track/irregularities/vp_mm"),
-                plot("gauge variation gv [mm]", "/track/irregularities/gv_mm"),
-                plot("cross level cl [mm]", "/track/irregularities/cl_mm"),
-            ])
+            Vertical::new(
+                [
+                    plot("curvature ρ_h [1/m]", "/track/geometry/curvature_1pm"),
+                    plot("cant φ [mrad]", "/track/geometry/cant_mrad"),
+                    plot("twist ρ_tw [mrad/m]", "/track/geometry/twist_mrad_per_m"),
+                    plot("height Z [m]", "/track/geometry/z_m"),
+                ]
+                .into_iter()
+                .chain(IRREGULARITIES.iter().map(|(name, title, _)| {
+                    plot(
+                        &format!("{title} [mm]"),
+                        &format!("/track/irregularities/{name}_mm"),
+                    )
+                })),
+            )
             .into(),
         ])
         .with_column_shares([1.0, 1.2]),
@@ -165,15 +179,14 @@ pub fn record(
         "Z",
         blue,
     )?;
-    let colors = [[230, 120, 40], [60, 170, 90], [170, 80, 200], [220, 60, 60]];
-    for (c, name) in ["al", "vp", "gv", "cl"].into_iter().enumerate() {
+    for (c, (name, _, color)) in IRREGULARITIES.iter().enumerate() {
         series(
             rec,
             &format!("track/irregularities/{name}_mm"),
             &s_mm,
             col(&|s| s.irregularity[c] * 1e3),
             name,
-            colors[c],
+            *color,
         )?;
     }
     log_static(

@@ -1,0 +1,443 @@
+//! `kecsim paper`: the paper's §8 in one recording, a tab per figure laid out as the paper's
+//! ([`crate::paper`] assembles the data): Fig. 14–16 (contact geometry), Fig. 17 (track
+//! irregularities), Fig. 18 (the front bogie's kinematics), Fig. 19 (its normal forces), and
+//! Tab. 7 with the summary.
+//!
+//! Timelines:
+//! * `y_um` — the wheelset lateral displacement in µm (a sequence, one step per table row, as
+//!   [`super::contact`]): Fig. 14 and 16;
+//! * `distance_mm` — the distance along the track in mm (a sequence, as [`super::run`]'s): Fig. 17
+//!   on the track's arc length, Fig. 18–19 on the front wheelset's arc length in the KEC run (a
+//!   track feature of Fig. 17 at s lines up with the front wheelset passing it). Not a duration
+//!   whose "seconds" are metres: the viewer writes durations past 60 s in minutes (600 m would
+//!   read `+10m`, ten minutes), and a sequence in whole metres would put several of the 100 Hz
+//!   samples (0.19 m apart at 19 m/s) on one tick;
+//! * `time` — simulated time, s: Fig. 18–19 too.
+//!
+//! A view plots the time panel's timeline only (Rerun 0.36 views cannot choose their own,
+//! rerun-io/rerun#6828): the recording opens on its first tab, Fig. 14–16, with `y_um`; Fig. 17–19
+//! show after picking `distance_mm` in the time panel, which their titles say. Fig. 15 is static
+//! and always shows.
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
+//! | `paper/fig14/{s_wheel_mm, s_rail_mm}` | Scalars (left, right) on `y_um` | contact on the real wheel s^w(y), rail s^r(y) |
+//! | `paper/fig15/{real, equivalent, rail}` | LineStrips2D, static | right wheel real and KEC-equivalent, right rail (mm, `[Y, −Z]`) |
+//! | `paper/fig15/knife_edge` | Points2D, static | the knife edge |
+//! | `paper/fig16/{z_mm, roll_mrad}` | Scalars (real, KEC) on `y_um` | z − r0 and roll φ |
+//! | `paper/fig17/{al,vp,gv,cl}_mm` | Scalars on `distance_mm` | irregularities |
+//! | `paper/fig18/{y_mm, yaw_mrad}/NAME` | Scalars (NAME kec, NAME TABLES) | y, ψ of the front bogie's bodies |
+//! | `paper/fig18/{dy_mm, dyaw_mrad}/NAME` | Scalars | \|KEC − tables\| |
+//! | `paper/fig19/normal_kn/NAME` | Scalars (left kec, left TABLES, right kec, right TABLES) | normal forces |
+//! | `paper/fig19/dnormal_kn/NAME` | Scalars (left, right) | \|KEC − tables\| |
+//! | `paper/summary` | TextDocument | Tab. 7, Fig. 18's summary |
+
+use rerun::blueprint::{
+    Blueprint, ContainerLike, Grid, Horizontal, Spatial2DView, Tabs, TextDocumentView, TimePanel,
+    TimeSeriesView, Vertical,
+};
+use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines, TextDocument, TimeColumn};
+
+use super::contact::TIMELINE as Y_TIMELINE;
+use super::track::IRREGULARITIES;
+use super::{
+    log_static, section_mm, send_scalar_columns, send_scalar_rows, send_scalar_values, InspectError,
+};
+use crate::paper::{Both, PaperFigures};
+
+/// The distance timeline, mm (see the module doc).
+pub const DISTANCE: &str = super::run::DISTANCE;
+
+/// A distance (m) on [`DISTANCE`].
+fn distance_mm(s: f64) -> i64 {
+    (s * 1e3).round() as i64
+}
+
+/// The simulated-time timeline.
+pub const TIME: &str = super::run::TIME;
+
+/// Left and right (the paper's Fig. 14: green left, blue right).
+const LEFT: (u8, u8, u8) = (40, 160, 70);
+const RIGHT: (u8, u8, u8) = (40, 110, 220);
+/// Fig. 18's bodies: front wheelset, rear wheelset, frame; KEC in the full colour, the tables in
+/// a light tint of it.
+const BODY: [(u8, u8, u8); 3] = [(40, 110, 220), (210, 60, 40), (40, 150, 70)];
+
+fn rgb(c: (u8, u8, u8)) -> Color {
+    Color::from_rgb(c.0, c.1, c.2)
+}
+
+/// A light tint of `c` (the tables' line beside KEC's).
+fn tint(c: (u8, u8, u8)) -> Color {
+    let t = |v: u8| (v as f64 + 0.5 * (255.0 - v as f64)).round() as u8;
+    Color::from_rgb(t(c.0), t(c.1), t(c.2))
+}
+
+/// Line widths, UI points: KEC (or the real profiles) drawn wide, the tables (or KEC) thin on
+/// top of it, so that both show where they coincide (the paper: solid and dashed).
+const WIDE: f32 = 3.0;
+const THIN: f32 = 1.25;
+
+/// Styles the series of `entity`.
+fn style(
+    rec: &RecordingStream,
+    entity: &str,
+    names: &[String],
+    colors: Vec<Color>,
+    widths: Vec<f32>,
+) -> Result<(), InspectError> {
+    log_static(
+        rec,
+        entity,
+        &SeriesLines::new()
+            .with_names(names.iter().map(String::as_str))
+            .with_colors(colors)
+            .with_widths(widths),
+    )
+}
+
+fn plot(title: impl Into<String>, origin: impl Into<String>) -> ContainerLike {
+    TimeSeriesView::new(title).with_origin(origin.into()).into()
+}
+
+/// Fig. 14 (the wheel and the rail side by side, as the paper's) above, Fig. 15 and Fig. 16
+/// below.
+pub fn contact_tab() -> ContainerLike {
+    Vertical::new([
+        Horizontal::new([
+            plot(
+                "Fig. 14: contact on the wheel s^w [mm] vs y [µm] (timeline y_um)",
+                "/paper/fig14/s_wheel_mm",
+            ),
+            plot(
+                "Fig. 14: contact on the rail s^r [mm] vs y [µm] (timeline y_um)",
+                "/paper/fig14/s_rail_mm",
+            ),
+        ])
+        .into(),
+        Horizontal::new([
+            Spatial2DView::new(
+                "Fig. 15: right wheel, real (white) and KEC-equivalent (orange) on the knife edge; rail (grey) [mm]",
+            )
+            .with_origin("/paper/fig15")
+            .into(),
+            Vertical::new([
+                plot(
+                    "Fig. 16: z − r0 [mm], real and KEC vs y [µm] (timeline y_um)",
+                    "/paper/fig16/z_mm",
+                ),
+                plot(
+                    "Fig. 16: roll φ [mrad], real and KEC vs y [µm] (timeline y_um)",
+                    "/paper/fig16/roll_mrad",
+                ),
+            ])
+            .into(),
+        ])
+        .with_column_shares([1.6, 1.0])
+        .into(),
+    ])
+    .with_row_shares([1.0, 1.4])
+    .with_name("Fig. 14–16: contact geometry")
+    .into()
+}
+
+/// Fig. 17: the four irregularities, two by two.
+pub fn irregularity_tab() -> ContainerLike {
+    Grid::new(IRREGULARITIES.iter().map(|(name, title, _)| {
+        plot(
+            format!("Fig. 17: {title} [mm] (timeline distance_mm)"),
+            format!("/paper/fig17/{name}_mm"),
+        )
+    }))
+    .with_grid_columns(2)
+    .with_name("Fig. 17: irregularities")
+    .into()
+}
+
+/// Fig. 18: y and ψ above, their differences below (the paper's layout).
+pub fn kinematics_tab(tables: &str) -> ContainerLike {
+    Grid::new([
+        plot(
+            format!("Fig. 18: lateral displacement y [mm], kec and {tables} (timeline distance_mm)"),
+            "/paper/fig18/y_mm",
+        ),
+        plot(
+            format!("Fig. 18: yaw ψ [mrad], kec and {tables} (timeline distance_mm)"),
+            "/paper/fig18/yaw_mrad",
+        ),
+        plot("Fig. 18: |Δy| [mm] (the paper: < 1 mm)", "/paper/fig18/dy_mm"),
+        plot(
+            "Fig. 18: |Δψ| [mrad] (the paper: < 0.5 mrad)",
+            "/paper/fig18/dyaw_mrad",
+        ),
+    ])
+    .with_grid_columns(2)
+    .with_name("Fig. 18: front bogie")
+    .into()
+}
+
+/// Fig. 19: a column per wheelset, the forces above, the differences below.
+pub fn forces_tab(tables: &str, wheelsets: &[String]) -> ContainerLike {
+    let top = wheelsets.iter().map(|w| {
+        plot(
+            format!("Fig. 19: {w} normal forces [kN], kec and {tables} (timeline distance_mm)"),
+            format!("/paper/fig19/normal_kn/{w}"),
+        )
+    });
+    let bottom = wheelsets.iter().map(|w| {
+        plot(
+            format!("Fig. 19: {w} |ΔN| [kN]"),
+            format!("/paper/fig19/dnormal_kn/{w}"),
+        )
+    });
+    Grid::new(top.chain(bottom).collect::<Vec<_>>())
+        .with_grid_columns(wheelsets.len().max(1) as u32)
+        .with_name("Fig. 19: normal forces")
+        .into()
+}
+
+/// Tab. 7 and the summary.
+pub fn summary_tab() -> ContainerLike {
+    TextDocumentView::new("Tab. 7 and summary")
+        .with_origin("/paper/summary")
+        .into()
+}
+
+/// The layout: a tab per figure in the paper's order, Tab. 7 last; the time panel on the first
+/// tab's timeline, `y_um` (see the module doc).
+pub fn blueprint_for(tables: &str, wheelsets: &[String]) -> Blueprint {
+    Blueprint::new(Tabs::new([
+        contact_tab(),
+        irregularity_tab(),
+        kinematics_tab(tables),
+        forces_tab(tables, wheelsets),
+        Vertical::new([summary_tab()]).with_name("Tab. 7: cost").into(),
+    ]))
+    .with_time_panel(
+        TimePanel::new()
+            .with_timeline(Y_TIMELINE)
+            .with_play_state(rerun::blueprint::components::PlayState::Paused),
+    )
+}
+
+/// The front bogie's wheelsets of the figures (Fig. 19's columns).
+fn wheelsets(f: &PaperFigures) -> Vec<String> {
+    let mut w = Vec::new();
+    for n in &f.figures.normal_forces {
+        if !w.contains(&n.wheelset) {
+            w.push(n.wheelset.clone());
+        }
+    }
+    w
+}
+
+/// The layout for `f`.
+pub fn blueprint(f: &PaperFigures) -> Blueprint {
+    blueprint_for(&f.tables_model, &wheelsets(f))
+}
+
+/// Records every figure and the summary `summary` (see the module doc).
+pub fn record(rec: &RecordingStream, f: &PaperFigures, summary: &str) -> Result<(), InspectError> {
+    record_contact(rec, f)?;
+    record_irregularities(rec, f)?;
+    record_bogie(rec, f)?;
+    log_static(
+        rec,
+        "paper/summary",
+        &TextDocument::from_markdown(summary.to_string()),
+    )
+}
+
+/// Fig. 14–16.
+fn record_contact(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectError> {
+    let ticks: Vec<i64> = f.sweep.iter().map(|r| (r.y * 1e6).round() as i64).collect();
+    let lr = vec![rgb(LEFT), rgb(RIGHT)];
+    let pairs = |g: &dyn Fn(&crate::paper::SweepRow) -> [f64; 2]| -> Vec<f64> {
+        f.sweep.iter().flat_map(g).collect()
+    };
+    send_scalar_columns(
+        rec,
+        Y_TIMELINE,
+        "paper/fig14/s_wheel_mm",
+        &ticks,
+        pairs(&|r| [r.s_wheel[0] * 1e3, r.s_wheel[1] * 1e3]),
+        &["left wheel", "right wheel"],
+        lr.clone(),
+    )?;
+    send_scalar_columns(
+        rec,
+        Y_TIMELINE,
+        "paper/fig14/s_rail_mm",
+        &ticks,
+        pairs(&|r| [r.s_rail[0] * 1e3, r.s_rail[1] * 1e3]),
+        &["left rail", "right rail"],
+        lr,
+    )?;
+    let names = ["real profiles".to_string(), "KEC-equivalent".to_string()];
+    for (entity, values) in [
+        ("paper/fig16/z_mm", pairs(&|r| [r.z_real * 1e3, r.z_kec * 1e3])),
+        (
+            "paper/fig16/roll_mrad",
+            pairs(&|r| [r.roll_real * 1e3, r.roll_kec * 1e3]),
+        ),
+    ] {
+        style(
+            rec,
+            entity,
+            &names,
+            vec![Color::from_rgb(235, 235, 235), Color::from_rgb(240, 110, 50)],
+            vec![WIDE, THIN],
+        )?;
+        send_scalar_values(
+            rec,
+            vec![TimeColumn::new_sequence(Y_TIMELINE, ticks.iter().copied())],
+            ticks.len(),
+            entity,
+            values,
+            2,
+        )?;
+    }
+    let p = &f.profiles;
+    // Light lines on the viewer's dark background; the legend is the view's title.
+    let strip = |entity: &str, pts: &[(f64, f64)], color: Color, width: f32| {
+        let pts: Vec<[f32; 2]> = pts.iter().map(|&(y, z)| section_mm(y, z)).collect();
+        log_static(
+            rec,
+            entity,
+            &LineStrips2D::new([pts])
+                .with_colors([color])
+                .with_radii([Radius::new_ui_points(width)]),
+        )
+    };
+    strip("paper/fig15/rail", &p.rail, Color::from_rgb(120, 120, 130), 1.0)?;
+    strip("paper/fig15/real", &p.real, Color::from_rgb(235, 235, 235), 1.5)?;
+    strip(
+        "paper/fig15/equivalent",
+        &p.equivalent,
+        Color::from_rgb(240, 110, 50),
+        1.5,
+    )?;
+    log_static(
+        rec,
+        "paper/fig15/knife_edge",
+        &Points2D::new([section_mm(p.knife_edge.0, p.knife_edge.1)])
+            .with_colors([Color::from_rgb(240, 110, 50)])
+            .with_radii([Radius::new_ui_points(3.0)])
+            .with_labels(["knife edge"]),
+    )
+}
+
+/// Fig. 17.
+fn record_irregularities(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectError> {
+    let n = f.irregularities.len();
+    if n == 0 {
+        return Ok(());
+    }
+    for (c, (name, _, color)) in IRREGULARITIES.iter().enumerate() {
+        send_scalar_rows(
+            rec,
+            vec![TimeColumn::new_sequence(
+                DISTANCE,
+                f.irregularities.iter().map(|r| distance_mm(r.0)),
+            )],
+            n,
+            &format!("paper/fig17/{name}_mm"),
+            f.irregularities.iter().map(|r| r.1[c] * 1e3).collect(),
+            &[name],
+            vec![Color::from_rgb(color[0], color[1], color[2])],
+        )?;
+    }
+    Ok(())
+}
+
+/// Fig. 18–19.
+fn record_bogie(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectError> {
+    let g = &f.figures;
+    let n = g.t.len();
+    if n == 0 {
+        return Ok(());
+    }
+    let timelines = || {
+        vec![
+            TimeColumn::new_sequence(DISTANCE, g.distance_m.iter().map(|&s| distance_mm(s))),
+            TimeColumn::new_duration_secs(TIME, g.t.iter().copied()),
+        ]
+    };
+    let tables = f.tables_model.as_str();
+    // KEC and the tables interleaved per sample, scaled.
+    let pair = |b: &Both, scale: f64| -> Vec<f64> {
+        b.kec
+            .iter()
+            .zip(&b.tables)
+            .flat_map(|(k, t)| [k * scale, t * scale])
+            .collect()
+    };
+    for (k, b) in g.kinematics.iter().enumerate() {
+        let c = BODY[k % BODY.len()];
+        let names = [
+            format!("{} ({}) kec", b.name, b.role.name()),
+            format!("{} {tables}", b.name),
+        ];
+        for (quantity, both, scale) in [("y_mm", &b.y, 1e3), ("yaw_mrad", &b.yaw, 1e3)] {
+            let entity = format!("paper/fig18/{quantity}/{}", b.name);
+            style(rec, &entity, &names, vec![rgb(c), tint(c)], vec![WIDE, THIN])?;
+            send_scalar_values(rec, timelines(), n, &entity, pair(both, scale), 2)?;
+            let entity = format!("paper/fig18/d{quantity}/{}", b.name);
+            let diff: Vec<f64> = both.abs_difference().into_iter().map(|d| d * scale).collect();
+            send_scalar_rows(
+                rec,
+                timelines(),
+                n,
+                &entity,
+                diff,
+                &[&format!("{} ({})", b.name, b.role.name())],
+                vec![rgb(c)],
+            )?;
+        }
+    }
+    for w in wheelsets(f) {
+        let wheels: Vec<&crate::paper::WheelNormal> =
+            g.normal_forces.iter().filter(|x| x.wheelset == w).collect();
+        let mut values = Vec::with_capacity(2 * wheels.len() * n);
+        let mut diffs = Vec::with_capacity(wheels.len() * n);
+        for i in 0..n {
+            for x in &wheels {
+                values.extend([x.normal.kec[i] * 1e-3, x.normal.tables[i] * 1e-3]);
+                diffs.push((x.normal.kec[i] - x.normal.tables[i]).abs() * 1e-3);
+            }
+        }
+        let mut names = Vec::new();
+        let mut colors = Vec::new();
+        let mut short = Vec::new();
+        for x in &wheels {
+            let c = if x.side == crate::profile::Side::Left {
+                LEFT
+            } else {
+                RIGHT
+            };
+            names.extend([
+                format!("{} kec", x.side.name()),
+                format!("{} {tables}", x.side.name()),
+            ]);
+            colors.extend([rgb(c), tint(c)]);
+            short.push((x.side.name(), rgb(c)));
+        }
+        let entity = format!("paper/fig19/normal_kn/{w}");
+        let widths = (0..names.len())
+            .map(|k| if k % 2 == 0 { WIDE } else { THIN })
+            .collect();
+        style(rec, &entity, &names, colors, widths)?;
+        send_scalar_values(rec, timelines(), n, &entity, values, names.len())?;
+        let names: Vec<&str> = short.iter().map(|s| s.0).collect();
+        send_scalar_rows(
+            rec,
+            timelines(),
+            n,
+            &format!("paper/fig19/dnormal_kn/{w}"),
+            diffs,
+            &names,
+            short.iter().map(|s| s.1).collect(),
+        )?;
+    }
+    Ok(())
+}
