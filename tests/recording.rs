@@ -241,7 +241,10 @@ fn bad_input_exits_nonzero_with_file_line_and_problem() {
             &["contact", "--gauge", "1700"],
             "does not fit the 1700.0 mm gauge",
         ),
-        (&["contact", "--y-max", "80"], "y = -80.0000 mm"),
+        (
+            &["contact", "--y-max", "80"],
+            "--y-max 80.000 mm: beyond the flange climb",
+        ),
         (&["profiles", "--rail", "missing.csv"], "missing.csv: cannot read"),
         (
             &["profiles", "--rail", "cell.csv"],

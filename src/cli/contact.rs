@@ -85,6 +85,7 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
     let title = title("contact", &pair);
     let geom = ContactGeometry::with_defaults(pair);
     let settings = table.settings()?;
+    super::check_table_range(&geom, &settings)?;
     let report = ContactReport::new(&geom, &settings)?;
     let summary = report.summary(&title);
     let delivered = {

@@ -45,6 +45,7 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
     let l_w = pair.wheelset.l_w();
     let geom = ContactGeometry::with_defaults(pair);
     let settings = table.settings()?;
+    super::check_table_range(&geom, &settings)?;
     let table = LookupTable1::build(&geom, &settings)?;
     let model = KecModel::from_table(&table, l_w)?;
     let mut summary = kec_summary(&title, &geom, &table, &model).map_err(anyhow::Error::msg)?;

@@ -214,6 +214,27 @@ impl TableArgs {
     }
 }
 
+/// `--y-max` checked against the pair's flange climb: a table asked beyond it would tabulate a
+/// wheel climbing over its flange tip (a derailment), which no contact model uses.
+fn check_table_range(
+    geom: &kecsim::contact::geometry::ContactGeometry,
+    settings: &TableSettings,
+) -> Result<()> {
+    if let Some(m) = settings.y_max_m {
+        let (lo, hi) = kecsim::contact::lookup::flange_limits(geom, 0.0)?;
+        let limit = (-lo).max(hi);
+        anyhow::ensure!(
+            m <= limit + 1e-9,
+            "--y-max {:.3} mm: beyond the flange climb at {:.3} / {:.3} mm (where the contact leaves the flange's steepest flank towards its tip); a table past it would tabulate a wheel climbing over its flange — give at most {:.3} mm, or leave --y-max out for flange contact to flange contact",
+            m * 1e3,
+            lo * 1e3,
+            hi * 1e3,
+            limit * 1e3
+        );
+    }
+    Ok(())
+}
+
 /// Where the recording goes (default: `--save kecsim.rrd`).
 #[derive(Args)]
 struct SinkArgs {

@@ -471,6 +471,12 @@ pub fn shape_problem(kind: ProfileKind, s: &[f64], z: &[f64]) -> Option<String> 
                 .filter(|(s, _)| **s > 0.0)
                 .map(|(_, z)| *z)
                 .fold(0.0, f64::min);
+            if flange > -MIN_FLANGE_HEIGHT_M && field <= -MIN_FLANGE_HEIGHT_M {
+                return Some(format!(
+                    "the flange is on the wrong side: the profile's lowest point, {:.1} mm below the taping line, lies on the field side (y > 0) and the inner side has none — the profile is mirrored (y must increase towards the field side of a left wheel, the flange at negative y); negate its y column",
+                    -field * 1e3
+                ));
+            }
             if flange > -MIN_FLANGE_HEIGHT_M {
                 return Some(format!(
                     "this does not look like a wheel profile: it has no flange (its lowest point on the inner side, y < 0, is {:.1} mm below the taping line; a flange is at least {:.0} mm) — is it a rail profile?",
@@ -643,6 +649,27 @@ mod tests {
             ProfileKind::Rail,
         );
         assert!(e.contains("no 'point.begin'"), "{e}");
+    }
+
+    #[test]
+    fn a_mirrored_wheel_is_named_so() {
+        // S1002 with y negated: the flange on the field side.
+        let p = StandardProfile::S1002.profile();
+        let (s, z) = p.knots();
+        let text: String = std::iter::once("y_mm,z_mm".to_string())
+            .chain(
+                s.iter()
+                    .zip(z)
+                    .rev()
+                    .map(|(s, z)| format!("{},{}", -s * 1e3, z * 1e3)),
+            )
+            .collect::<Vec<_>>()
+            .join("\n");
+        let e = err("mirrored.csv", &text, ProfileKind::Wheel);
+        assert!(
+            e.contains("mirrored.csv") && e.contains("flange is on the wrong side") && e.contains("28.0 mm"),
+            "{e}"
+        );
     }
 
     #[test]
