@@ -671,8 +671,17 @@ fn recording_is_streamed_while_the_run_goes() {
 /// the overlays and the differences.
 #[test]
 fn compare_reports_the_differences_of_the_runs() {
-    let sc = scene("wheelset_klingel.toml");
+    // KEC with rigid kinks: `--contact lookup` then carries the same (rigid jumps) to the table.
+    let mut sc = scene("wheelset_klingel.toml");
+    common::set_contact(
+        &mut sc.simulation.as_mut().unwrap().0,
+        kecsim::contact::ContactModelSpec::Kec(kecsim::contact::models::kec::KecSettings {
+            two_point_approach_m: 0.0,
+            ..Default::default()
+        }),
+    );
     let c = kecsim::compare::compare(&sc, &["kec".to_string(), "lookup".to_string()], Some(1.0)).unwrap();
+    assert!(c.pair_jumps, "S1002 on 60E1 jumps");
     assert_eq!(c.runs.len(), 2);
     assert!((c.common_s - 1.0).abs() < 1e-12);
     let (a, b) = (c.runs[0].output.samples(), c.runs[1].output.samples());

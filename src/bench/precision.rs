@@ -138,7 +138,15 @@ pub fn precision(scene: &Scene, settings: &PrecisionSettings) -> Result<Precisio
             "the reference run ({rc}, {rm:?} rtol {rr:.0e}) did not complete: {reference_outcome}"
         ));
     }
-    let jump = |o: &RunOutput| crate::compare::first_contact_jump(o).map_or(f64::INFINITY, |j| j.0);
+    // A jump-free pair keeps every run in single-point contact (see `Comparison::pair_jumps`).
+    let pair_jumps = crate::compare::pair_has_jumps(&scene.pair);
+    let jump = |o: &RunOutput| {
+        if pair_jumps {
+            crate::compare::first_contact_jump(o).map_or(f64::INFINITY, |j| j.0)
+        } else {
+            f64::INFINITY
+        }
+    };
     let reference_jump = jump(&reference);
     let mut rows = Vec::new();
     for contact in &settings.contacts {
