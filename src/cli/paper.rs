@@ -45,7 +45,8 @@ pub(super) fn run(a: PaperArgs) -> Result<()> {
             PathBuf::from("."),
         ),
     };
-    let scene = parsed.compile(&origin, &base)?;
+    let mut scene = parsed.compile(&origin, &base)?;
+    scene.table_cache = super::table_cache();
     for w in &scene.warnings {
         eprintln!("kecsim: warning: {w}");
     }
