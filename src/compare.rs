@@ -39,6 +39,15 @@ pub fn first_contact_jump(output: &RunOutput) -> Option<(f64, String)> {
     first
 }
 
+/// The runs that did not complete ("MODEL (outcome)"): a comparison covers only the time every
+/// run covers.
+pub fn incomplete_runs(runs: &[ModelRun]) -> Vec<String> {
+    runs.iter()
+        .filter(|r| matches!(r.output.summary.outcome, "failed" | "derailed"))
+        .map(|r| format!("{} ({})", r.model, r.output.summary.outcome))
+        .collect()
+}
+
 /// One model's run of the comparison.
 pub struct ModelRun {
     pub model: String,

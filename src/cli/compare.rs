@@ -56,12 +56,7 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
     };
     print!("{}", c.markdown());
     println!("{}", delivered.map_err(anyhow::Error::msg)?);
-    let failed: Vec<String> = c
-        .runs
-        .iter()
-        .filter(|r| matches!(r.output.summary.outcome, "failed" | "derailed"))
-        .map(|r| format!("{} ({})", r.model, r.output.summary.outcome))
-        .collect();
+    let failed = kecsim::compare::incomplete_runs(&c.runs);
     anyhow::ensure!(
         failed.is_empty(),
         "{} of {} runs did not complete: {} — the differences cover only the {:.2} s every run covers",

@@ -214,6 +214,24 @@ impl TableArgs {
     }
 }
 
+/// The scenario file `path` (its name for errors, and the directory its relative paths start
+/// from), or the embedded default scenario.
+fn read_scenario(path: Option<&Path>) -> Result<(kecsim::scenario::Scenario, String, PathBuf)> {
+    use kecsim::scenario::{Scenario, DEFAULT_SCENARIO};
+    Ok(match path {
+        Some(path) => (
+            Scenario::read(path)?,
+            path.display().to_string(),
+            path.parent().unwrap_or(Path::new(".")).to_path_buf(),
+        ),
+        None => (
+            Scenario::parse(DEFAULT_SCENARIO, "<embedded default scenario>")?,
+            "<embedded default scenario>".to_string(),
+            PathBuf::from("."),
+        ),
+    })
+}
+
 /// `--y-max` checked against the pair's flange climb: a table asked beyond it would tabulate a
 /// wheel climbing over its flange tip (a derailment), which no contact model uses.
 fn check_table_range(

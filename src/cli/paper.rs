@@ -3,13 +3,12 @@
 //! tables, its Fig. 14–19 recorded in one recording laid out as the paper's, and its Tab. 7 and
 //! Fig. 18's summary printed beside the paper's numbers.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
 
 use kecsim::inspect;
-use kecsim::scenario::{Scenario, DEFAULT_SCENARIO};
 
 use super::{check_distinct, check_sink, sink_file, SinkArgs};
 
@@ -33,18 +32,7 @@ pub(super) fn run(a: PaperArgs) -> Result<()> {
     let sink = a.sink.sink();
     check_distinct(&[("--save", sink_file(&sink))], &[a.scenario.as_deref()])?;
     check_sink(&sink)?;
-    let (parsed, origin, base) = match &a.scenario {
-        Some(path) => (
-            Scenario::read(path)?,
-            path.display().to_string(),
-            path.parent().unwrap_or(Path::new(".")).to_path_buf(),
-        ),
-        None => (
-            Scenario::parse(DEFAULT_SCENARIO, "<embedded default scenario>")?,
-            "<embedded default scenario>".to_string(),
-            PathBuf::from("."),
-        ),
-    };
+    let (parsed, origin, base) = super::read_scenario(a.scenario.as_deref())?;
     let mut scene = parsed.compile(&origin, &base)?;
     scene.table_cache = super::table_cache();
     for w in &scene.warnings {
@@ -67,12 +55,7 @@ pub(super) fn run(a: PaperArgs) -> Result<()> {
     };
     print!("{summary}");
     println!("{}", delivered.map_err(anyhow::Error::msg)?);
-    let failed: Vec<String> = f
-        .runs
-        .iter()
-        .filter(|r| matches!(r.output.summary.outcome, "failed" | "derailed"))
-        .map(|r| format!("{} ({})", r.model, r.output.summary.outcome))
-        .collect();
+    let failed = kecsim::compare::incomplete_runs(&f.runs);
     anyhow::ensure!(
         failed.is_empty(),
         "{} of {} runs did not complete: {} — the figures cover only the {:.2} s both runs cover",

@@ -3,7 +3,7 @@
 //! progress bar, the pacing — then print the summary and write the JSON. Without a
 //! `[simulation]`, the scenario's contact preprocessing is recorded (as `kecsim kec`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -16,7 +16,7 @@ use kecsim::contact::report::kec_summary;
 use kecsim::dynamics::output::CsvWriter;
 use kecsim::dynamics::{RunEnd, RunObserver, Stop};
 use kecsim::inspect::{self, run::LiveRecorder};
-use kecsim::scenario::{RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
+use kecsim::scenario::{RunOptions, Scene};
 
 use super::progress::{Pace, Progress};
 use super::{
@@ -49,18 +49,7 @@ pub(super) struct RunArgs {
 }
 
 pub(super) fn run(a: RunArgs) -> Result<()> {
-    let (parsed, origin, base) = match &a.scenario {
-        Some(path) => (
-            Scenario::read(path)?,
-            path.display().to_string(),
-            path.parent().unwrap_or(Path::new(".")).to_path_buf(),
-        ),
-        None => (
-            Scenario::parse(DEFAULT_SCENARIO, "<embedded default scenario>")?,
-            "<embedded default scenario>".to_string(),
-            PathBuf::from("."),
-        ),
-    };
+    let (parsed, origin, base) = super::read_scenario(a.scenario.as_deref())?;
     let t = Instant::now();
     let mut scene = parsed.compile(&origin, &base)?;
     scene.table_cache = super::table_cache();
