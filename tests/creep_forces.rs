@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-mod common;
+use crate::common;
 use common::{kecsim, rerun_verify, tmpdir};
 
 use kecsim::inspect::readback::recording_chunks;

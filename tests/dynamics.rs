@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::{kecsim, kecsim_ok, rerun_verify, scene, tmpdir};
 
 use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};

@@ -2,7 +2,7 @@
 //! DOPRI5 (an explicit method sharing no code with the BDF's Newton iteration, its blocks or its
 //! order selection) at rtol 1e-8. The scene's accuracy claim (README, scene file) rests on this.
 
-mod common;
+use crate::common;
 
 use common::scene;
 use kecsim::dynamics::integrator::Method;

@@ -7,7 +7,7 @@
 //! without friction against its closed form (time of flight, landing speed); and the MS vehicle's
 //! whole kilometre, which used to stop at a flange impact whose inner wheel unloaded.
 
-mod common;
+use crate::common;
 use common::scene;
 
 use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};

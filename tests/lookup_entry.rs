@@ -12,7 +12,7 @@
 //!
 //! Run with `-- --nocapture` for the measured tables.
 
-mod common;
+use crate::common;
 
 use std::sync::OnceLock;
 

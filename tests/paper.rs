@@ -6,7 +6,7 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
-mod common;
+use crate::common;
 use common::{kecsim, kecsim_ok, rerun_verify, tmpdir};
 
 use kecsim::paper::{BogieRole, PaperFigures, IRREGULARITY_STEP_M, PAPER_TAB7};

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::{kecsim, rerun_verify, tmpdir};
 
 use kecsim::inspect::readback::recording_chunks;

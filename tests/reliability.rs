@@ -3,7 +3,7 @@
 //! per class of bad input; each runs the binary with a deadline (a hang fails the test, it does
 //! not stall the suite).
 
-mod common;
+use crate::common;
 
 use std::io::Read;
 use std::path::{Path, PathBuf};

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-mod common;
+use crate::common;
 use common::{kecsim, kecsim_ok, rerun_verify, tmpdir};
 
 use kecsim::study::run::{collect, run_study, StudyOptions};

@@ -2,7 +2,7 @@
 //! force balances that do not go through the wheelset's equations (the output's Y forces come
 //! from the normal and creep forces at the contact points), and its bad values reported.
 
-mod common;
+use crate::common;
 use common::{kecsim, tmpdir};
 
 use kecsim::dynamics::reference::G;
