@@ -332,7 +332,10 @@ fn critical_speed_by_speed_ramp() {
          (Re λ there {re_vc:.3} 1/s); Re λ at 70 m/s {re_above:.3} 1/s; stopped: {:?}",
         ramp.summary.stopped
     );
-    assert!((25.0..40.0).contains(&v_nl), "{v_nl}");
+    // Measured 30.17 m/s. The decelerating ramp starts from a developed cycle (no bistable
+    // history to remember, unlike the accelerating onset); at −0.5 m/s² one cycle (~0.5 s at
+    // 2 Hz) is 0.25 m/s of speed, the resolution of where the cycle dies out: ±0.6 m/s.
+    assert!((29.6..30.8).contains(&v_nl), "{v_nl}");
     assert!(
         vc >= 0.95 * v_nl,
         "onset {vc} below the nonlinear critical speed {v_nl}"
