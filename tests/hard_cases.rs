@@ -88,7 +88,10 @@ fn hard_cases_end_in_physical_answers() {
         tk
     );
     assert!(he > 3e-4 && hk > 3e-4, "{he} {hk}");
-    assert!(hk / he > 0.4 && hk / he < 2.5, "{hk} vs {he}");
+    // Rigid impact against the Hertz spring: different physics, so no equality to expect; their
+    // ratio is a property of the scene (measured 1.78), held to ±15 % so that a change of either
+    // model shows.
+    assert!(hk / he > 1.5 && hk / he < 2.05, "{hk} vs {he}");
     assert!(find("flange_lift", "kec").output.summary.landings >= 1);
     // The cross-level dip: the right wheel flies over it and lands, with both models; the flights
     // last alike (measured 16 and 14 ms), KEC's lower (0.40 against 0.83 mm).
@@ -106,8 +109,9 @@ fn hard_cases_end_in_physical_answers() {
         dk * 1e3
     );
     assert!(de > 2e-4 && dk > 2e-4, "{de} {dk}");
-    assert!((tk / te - 1.0).abs() < 0.4, "{tk} vs {te}");
-    assert!(dk / de > 0.3 && dk / de < 3.0, "{dk} vs {de}");
+    // As above, measured bands (±15 %): flight times 14 against 16 ms (0.88), heights 0.48.
+    assert!(tk / te > 0.75 && tk / te < 1.0, "{tk} vs {te}");
+    assert!(dk / de > 0.41 && dk / de < 0.56, "{dk} vs {de}");
     for scene in ["tight_curve_low", "tight_curve_line"] {
         let (e, k) = (find(scene, "elastic"), find(scene, "kec"));
         assert_eq!(k.output.summary.outcome, "completed");
