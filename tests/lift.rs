@@ -353,27 +353,6 @@ fn a_thrown_wheelset_flies_off_both_rails_and_lands() {
     assert!(end.wheelsets[0].dynamics.normal.iter().all(|&n| n > 0.0));
 }
 
-/// The MS vehicle over the whole kilometre with KEC: a flange impact at 26.5 s unloaded the
-/// inner wheel of the leading wheelset and ended the run; it completes now, the wheel's lifts and
-/// landings reported.
-#[test]
-fn ms_vehicle_completes_the_kilometre_with_kec() {
-    let sc = scene("ms_vehicle_tab6_s1002.toml");
-    let built = sc
-        .build_run(&RunOptions {
-            contact: Some("kec".into()),
-            speed_m_s: None,
-        })
-        .unwrap();
-    let out = built.run(&mut []);
-    let s = &out.summary;
-    println!("{s}");
-    assert_eq!(s.outcome, "completed", "{:?}", s.error);
-    assert!(s.simulated_s >= 51.0 - 1e-9);
-    assert!(s.landings == out.landings.len());
-    assert!(s.max_lift_mm < 1.0, "{}", s.max_lift_mm);
-}
-
 /// Past the flange's largest contact angle the tables and the equivalent profiles end: a
 /// wheelset there climbs its flange. The run ends as a derailment (outcome `derailed`, the wheel
 /// named), not as a contact-model failure — here a wheelset put 8 mm to the left (the table and
