@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use crate::common;
-use common::{kecsim, kecsim_ok, rerun_verify, scene, tmpdir};
+use common::{kecsim, kecsim_ok, rerun_verify, run_ok, scene, tmpdir};
 
 use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};
 use kecsim::contact::geometry::ContactGeometry;
@@ -19,22 +19,7 @@ use kecsim::dynamics::single_wheelset::{SingleWheelset, Tie};
 use kecsim::dynamics::system::{Evaluator, InitialDisturbance, VehicleModel};
 use kecsim::dynamics::wheelset::WheelsetInertia;
 use kecsim::dynamics::{Reference, RunEnd, RunOutput, Sample, SpeedProfile, Stop};
-use kecsim::scenario::{RunOptions, Scene, SimulationSpec};
-
-/// Runs the scene with its `[simulation]` edited by `edit` and the contact model `contact`.
-fn simulate(scene: &Scene, edit: impl Fn(&mut SimulationSpec), contact: &str) -> RunOutput {
-    let mut scene = scene.clone();
-    edit(&mut scene.simulation.as_mut().unwrap().0);
-    let built = scene
-        .build_run(&RunOptions {
-            contact: Some(contact.to_string()),
-            speed_m_s: None,
-        })
-        .unwrap();
-    let out = built.run(&mut []);
-    assert!(out.summary.error.is_none(), "{:?}", out.summary.error);
-    out
-}
+use kecsim::scenario::{RunOptions, SimulationSpec};
 
 /// Up-crossing times of y.
 fn up_crossings(samples: &[Sample]) -> Vec<f64> {
@@ -63,7 +48,7 @@ fn klingel_wavelength_with_elastic_contact() {
 
 fn klingel_wavelength(contact: &str) {
     let sc = scene("wheelset_klingel.toml");
-    let out = simulate(&sc, |_| {}, contact);
+    let out = run_ok(&sc, contact, |_| {});
     let s = out.samples();
     let ups = up_crossings(s);
     assert!(ups.len() >= 6, "{} up-crossings", ups.len());
@@ -206,8 +191,8 @@ fn contact_models_agree() {
     };
     // The paper's KEC (rigid kinks) moves as the rigid models do; the default KEC, with its
     // two-point transitions at the contact jumps, differs from them by what the transitions change.
-    let kec_rigid = simulate(&sc, rigid, "kec");
-    let kec = simulate(&sc, short, "kec");
+    let kec_rigid = run_ok(&sc, "kec", rigid);
+    let kec = run_ok(&sc, "kec", short);
     let max_diff = |a: &RunOutput, b: &RunOutput| {
         assert_eq!(a.samples().len(), b.samples().len());
         let mut d = (0.0_f64, 0.0_f64, 0.0_f64);
@@ -219,7 +204,7 @@ fn contact_models_agree() {
         d
     };
     for kind in ["lookup", "online"] {
-        let other = simulate(&sc, short, kind);
+        let other = run_ok(&sc, kind, short);
         for (label, k, bound) in [("KEC, rigid kinks", &kec_rigid, 0.05e-3), ("KEC", &kec, 0.2e-3)] {
             let (dy, dpsi, dn) = max_diff(k, &other);
             println!(
@@ -247,16 +232,12 @@ fn integrator_convergence_on_the_scene() {
         let runs: Vec<RunOutput> = [1e-5, 1e-6, 1e-7]
             .iter()
             .map(|&tol| {
-                simulate(
-                    &sc,
-                    |s| {
-                        s.duration_s = 3.0;
-                        s.integrator.method = method;
-                        s.integrator.rtol = tol;
-                        s.integrator.atol = tol * 1e-2;
-                    },
-                    "kec",
-                )
+                run_ok(&sc, "kec", |s| {
+                    s.duration_s = 3.0;
+                    s.integrator.method = method;
+                    s.integrator.rtol = tol;
+                    s.integrator.atol = tol * 1e-2;
+                })
             })
             .collect();
         let diff = |a: &RunOutput, b: &RunOutput| {
@@ -317,11 +298,11 @@ fn critical_speed_by_speed_ramp() {
             .expect("an oscillatory mode")
             .max_real_1_s
     };
-    let v_nl = simulate(&scene("wheelset_critical_speed_down.toml"), |_| {}, "kec")
+    let v_nl = run_ok(&scene("wheelset_critical_speed_down.toml"), "kec", |_| {})
         .summary
         .critical_speed_m_s
         .expect("the decelerating ramp finds where the cycle dies out");
-    let ramp = simulate(&sc, |_| {}, "kec");
+    let ramp = run_ok(&sc, "kec", |_| {});
     let vc = ramp
         .summary
         .critical_speed_m_s
@@ -348,17 +329,13 @@ fn critical_speed_by_speed_ramp() {
     // Peak |y| early (1/12..1/4 of a 12 s run), in its third quarter and in its last quarter at
     // constant speed v from the lateral offset y0.
     let envelope = |v: f64, y0: f64| {
-        let out = simulate(
-            &sc,
-            |s| {
-                s.speed_m_s = v;
-                s.speed_ramp_m_s2 = 0.0;
-                s.duration_s = 12.0;
-                s.initial.lateral_m = y0;
-                s.stop_lateral_m = None;
-            },
-            "kec",
-        );
+        let out = run_ok(&sc, "kec", |s| {
+            s.speed_m_s = v;
+            s.speed_ramp_m_s2 = 0.0;
+            s.duration_s = 12.0;
+            s.initial.lateral_m = y0;
+            s.stop_lateral_m = None;
+        });
         let s = out.samples();
         let n = s.len();
         let peak = |r: &[Sample]| r.iter().map(|p| p.y.abs()).fold(0.0, f64::max);
@@ -405,15 +382,11 @@ fn critical_speed_by_speed_ramp() {
         "between the critical speeds a large disturbance must stay on the hunting cycle"
     );
     // Above v_lin: the hunting grows to the flanges.
-    let hunting = simulate(
-        &sc,
-        |s| {
-            s.speed_m_s = 70.0;
-            s.speed_ramp_m_s2 = 0.0;
-            s.duration_s = 10.0;
-        },
-        "kec",
-    );
+    let hunting = run_ok(&sc, "kec", |s| {
+        s.speed_m_s = 70.0;
+        s.speed_ramp_m_s2 = 0.0;
+        s.duration_s = 10.0;
+    });
     match &hunting.end {
         RunEnd::Stopped(Stop::Lateral { y_m, limit_m, t, .. }) => {
             assert!(y_m.abs() > *limit_m && (*limit_m - 0.005).abs() < 1e-12);

@@ -7,28 +7,18 @@ use crate::common;
 use common::scene;
 use kecsim::dynamics::integrator::Method;
 use kecsim::dynamics::run::RunOutput;
-use kecsim::scenario::RunOptions;
 
 /// The MS scene over its first `duration` seconds with the integrator set to (method, rtol, atol),
 /// or as shipped.
 fn ms(duration: f64, integrator: Option<(Method, f64, f64)>) -> RunOutput {
-    let mut sc = scene("ms_vehicle_tab6.toml");
-    let sim = &mut sc.simulation.as_mut().unwrap().0;
-    sim.duration_s = duration;
-    if let Some((method, rtol, atol)) = integrator {
-        sim.integrator.method = method;
-        sim.integrator.rtol = rtol;
-        sim.integrator.atol = atol;
-    }
-    let out = sc
-        .build_run(&RunOptions {
-            contact: Some("kec".into()),
-            speed_m_s: None,
-        })
-        .unwrap()
-        .run(&mut []);
-    assert_eq!(out.summary.outcome, "completed", "{:?}", out.summary.error);
-    out
+    common::run_completed(&scene("ms_vehicle_tab6.toml"), "kec", |sim| {
+        sim.duration_s = duration;
+        if let Some((method, rtol, atol)) = integrator {
+            sim.integrator.method = method;
+            sim.integrator.rtol = rtol;
+            sim.integrator.atol = atol;
+        }
+    })
 }
 
 /// Largest |Δy| (mm) and |Δψ| (mrad) over every wheelset's samples.

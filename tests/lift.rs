@@ -21,7 +21,6 @@ use kecsim::dynamics::wheelset::{evaluate, FrameMotion, Lift, Load, WheelsetIner
 use kecsim::dynamics::{Reference, SpeedProfile};
 use kecsim::profile::placement::WheelRailPair;
 use kecsim::profile::{Side, StandardProfile};
-use kecsim::scenario::RunOptions;
 use kecsim::track::{RailMotion, RailOffsets};
 use std::sync::Arc;
 
@@ -363,17 +362,10 @@ fn a_thrown_wheelset_flies_off_both_rails_and_lands() {
 #[test]
 fn leaving_the_flange_range_is_a_derailment() {
     for contact in ["kec", "lookup", "lookup2"] {
-        let mut sc = scene("wheelset_klingel.toml");
-        let sim = &mut sc.simulation.as_mut().unwrap().0;
-        sim.duration_s = 0.5;
-        sim.initial.lateral_m = 0.008;
-        let out = sc
-            .build_run(&RunOptions {
-                contact: Some(contact.into()),
-                speed_m_s: None,
-            })
-            .unwrap()
-            .run(&mut []);
+        let out = common::run_scene(&scene("wheelset_klingel.toml"), contact, |sim| {
+            sim.duration_s = 0.5;
+            sim.initial.lateral_m = 0.008;
+        });
         let s = &out.summary;
         println!("{contact}: {:?}", s.error);
         assert_eq!(s.outcome, "derailed", "{contact}: {:?}", s.error);

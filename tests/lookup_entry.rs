@@ -21,10 +21,9 @@ use kecsim::contact::lookup::{
     flange_limits, CrossLevelEntry, LookupTable1, LookupTable2, RailPairMotion, TableError, TableRow,
     TableSettings,
 };
-use kecsim::contact::{ContactModelError, ContactModelSpec};
+use kecsim::contact::ContactModelError;
 use kecsim::profile::placement::{WheelRailPair, WheelsetGeometry};
 use kecsim::profile::StandardProfile;
-use kecsim::scenario::RunOptions;
 use kecsim::track::{RailOffsets, TrackGauge};
 
 /// A pair with its tables: the 1-entry table and the 2-entry table over gv = −4 … 4 mm (1 mm).
@@ -512,18 +511,12 @@ fn two_entry_columns_reach_their_own_flange_climb() {
 /// printed Eq. 44–46, 2.3 mm).
 #[test]
 fn manchester_vehicle_on_the_two_entry_table_runs_past_7_72_s() {
-    let mut sc = common::scene("manchester_vehicle1_tab6.toml");
-    let sim = &mut sc.simulation.as_mut().unwrap().0;
-    sim.duration_s = 9.0;
-    common::set_contact(sim, ContactModelSpec::default_for("lookup2").unwrap());
     let t = std::time::Instant::now();
-    let o = sc
-        .build_run(&RunOptions {
-            contact: None,
-            speed_m_s: None,
-        })
-        .unwrap()
-        .run(&mut []);
+    let o = common::run_scene(
+        &common::scene("manchester_vehicle1_tab6.toml"),
+        "lookup2",
+        |sim| sim.duration_s = 9.0,
+    );
     let s = &o.summary;
     println!(
         "Manchester vehicle 1 on the 2-entry table: {:.2} s simulated in {:.1} s (preprocessing {:.1} s), {} steps ({} rejected), max |y| {:.2} mm, normal forces {:.1} .. {:.1} kN{}",

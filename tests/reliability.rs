@@ -498,7 +498,11 @@ fn an_absent_viewer_falls_back_to_a_file_and_says_so() {
         .env_remove("WAYLAND_SOCKET")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    let out = finish(c.spawn().unwrap(), Duration::from_secs(HANG_S), "profiles --spawn");
+    let out = finish(
+        c.spawn().unwrap(),
+        Duration::from_secs(HANG_S),
+        "profiles --spawn",
+    );
     assert!(
         out.ok && out.stdout.contains("saved kecsim.rrd"),
         "{}{}",

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use crate::common;
-use common::{kecsim, scene, tmpdir};
+use common::{kecsim, run_scene, scene, tmpdir};
 
 use kecsim::bench::dynamics::differences;
 use kecsim::contact::models::kec::KecSettings;
@@ -16,7 +16,7 @@ use kecsim::dynamics::multibody::Multibody;
 use kecsim::dynamics::system::{Evaluator, InitialDisturbance, VehicleModel, VehicleSample};
 use kecsim::dynamics::{Reference, RunOutput, Sample, SpeedProfile};
 use kecsim::scenario::simulation::reference;
-use kecsim::scenario::{RunOptions, Scenario, Scene};
+use kecsim::scenario::{Scenario, Scene};
 use kecsim::vehicle::VehicleSpec;
 
 const G: f64 = 9.81;
@@ -77,18 +77,6 @@ fn simulate(sc: &Scene, kind: &str) -> (Vec<VehicleSample>, VehicleSample) {
     .unwrap();
     let last = samples.last().unwrap().clone();
     (samples, last)
-}
-
-/// Runs a scene (its `[simulation]` edited by `edit`) with the contact model `kind`.
-fn run_scene(sc: &Scene, kind: &str, edit: impl Fn(&mut kecsim::scenario::SimulationSpec)) -> RunOutput {
-    let mut sc = sc.clone();
-    edit(&mut sc.simulation.as_mut().unwrap().0);
-    sc.build_run(&RunOptions {
-        contact: Some(kind.to_string()),
-        speed_m_s: None,
-    })
-    .unwrap()
-    .run(&mut [])
 }
 
 /// Settling: the axle loads are half the sprung weight plus the wheelset's, the sag the preloads

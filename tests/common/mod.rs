@@ -67,3 +67,46 @@ pub fn set_contact(sim: &mut kecsim::scenario::SimulationSpec, spec: kecsim::con
     sim.contact_model = None;
     sim.kec_two_point_approach_m = None;
 }
+
+/// A scene run with the contact model `contact` (a `--contact` spec), its `[simulation]` edited
+/// by `edit` first: the output as the run ended (a derailment or a failure included).
+pub fn run_scene(
+    sc: &kecsim::scenario::Scene,
+    contact: &str,
+    edit: impl Fn(&mut kecsim::scenario::SimulationSpec),
+) -> kecsim::dynamics::RunOutput {
+    let mut sc = sc.clone();
+    edit(&mut sc.simulation.as_mut().expect("a scene with a [simulation]").0);
+    sc.build_run(&kecsim::scenario::RunOptions {
+        contact: Some(contact.to_string()),
+        speed_m_s: None,
+    })
+    .unwrap_or_else(|e| panic!("{contact}: {e}"))
+    .run(&mut [])
+}
+
+/// [`run_scene`], which must end without an error (a stop condition may end it).
+pub fn run_ok(
+    sc: &kecsim::scenario::Scene,
+    contact: &str,
+    edit: impl Fn(&mut kecsim::scenario::SimulationSpec),
+) -> kecsim::dynamics::RunOutput {
+    let out = run_scene(sc, contact, edit);
+    assert!(out.summary.error.is_none(), "{contact}: {:?}", out.summary.error);
+    out
+}
+
+/// [`run_scene`], which must run to its end (outcome `completed`).
+pub fn run_completed(
+    sc: &kecsim::scenario::Scene,
+    contact: &str,
+    edit: impl Fn(&mut kecsim::scenario::SimulationSpec),
+) -> kecsim::dynamics::RunOutput {
+    let out = run_scene(sc, contact, edit);
+    assert_eq!(
+        out.summary.outcome, "completed",
+        "{contact}: {:?}",
+        out.summary.error
+    );
+    out
+}
