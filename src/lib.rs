@@ -14,6 +14,8 @@
 //! * [`paper`]: the paper's §8 (Fig. 14–19, Tab. 7) for a scene, from the contact preprocessing,
 //!   the track and a KEC-against-tables comparison.
 //! * [`bench`](mod@bench): measured speed with its error, printed by `kecsim bench`.
+//! * [`spline`], [`interpolation`]: the C² profile spline and the Hermite interpolation helpers
+//!   (values and slopes at nodes) beside it.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
 
 /// The schema version of the scenario and track files this build reads (`schema_version`).
@@ -24,7 +26,10 @@ pub mod compare;
 pub mod contact;
 pub mod dynamics;
 pub mod inspect;
+pub mod interpolation;
 pub mod interrupt;
+#[cfg(test)]
+mod layering;
 pub mod limits;
 pub mod paper;
 pub mod profile;
