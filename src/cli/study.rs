@@ -11,8 +11,8 @@ use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use kecsim::inspect::{self, Sink};
-use kecsim::study::run::{results_markdown, CaseResult};
-use kecsim::study::{merge, run_study, Study, StudyOptions};
+use kecsim::study::run::results_markdown;
+use kecsim::study::{merge, run_study, CaseResult, Study, StudyOptions};
 
 use super::{check_sink, SinkArgs};
 

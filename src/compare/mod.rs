@@ -4,6 +4,8 @@
 //! cover, against the paper's bounds (1 mm, 0.5 mrad) — and what each run cost.
 //! `kecsim compare` prints it and records it ([`crate::inspect::compare`]).
 
+pub mod precision;
+
 use std::fmt::Write as _;
 
 use crate::contact::geometry::ContactGeometry;
