@@ -4,8 +4,8 @@
 //! The analysis reads `src/` (not the binary's `main.rs` and `cli/`) at `CARGO_MANIFEST_DIR`,
 //! without comments and literals, and follows every path that names an item of this crate: `use`
 //! trees (`crate::`, `super::`, `self::` and a child module's name), paths written in the code
-//! (`crate::a::b`, `super::x`) and paths through a module imported by name (`use super::geometry;`
-//! … `geometry::f`). A path leads to the file that defines its item: through the `pub use`
+//! (`crate::a::b`, `super::x`) and the names a `use` brings in where the code uses them
+//! (`use super::geometry;` … `geometry::f`; `pub use model::Configuration;` … `Configuration`). A path leads to the file that defines its item: through the `pub use`
 //! re-exports of a module (explicit or glob) to the file behind them, so that importing a type
 //! from `contact` where `contact/mod.rs` re-exports it from `contact/model.rs` is a use of
 //! `model.rs`. A module's `pub use` of its own descendants is its table of contents, not a use.
@@ -317,7 +317,8 @@ mod tests {
                 }
                 Tok::Ident(w) if i == 0 || toks[i - 1] != Tok::Colons => {
                     // A path's start: `crate::`, `super::`, `self::`, or a name (an imported
-                    // module, resolved later) followed by `::`.
+                    // module or item, resolved later) alone or followed by `::` — not a field
+                    // or a method (`.name`, `name:`).
                     let mut path = vec![w.clone()];
                     let mut k = i + 1;
                     while toks.get(k) == Some(&Tok::Colons) {
@@ -327,7 +328,9 @@ mod tests {
                         }
                         k += 2;
                     }
-                    if path.len() > 1 {
+                    let member = (i > 0 && toks[i - 1] == Tok::Other('.'))
+                        || (path.len() == 1 && toks.get(i + 1) == Some(&Tok::Other(':')));
+                    if !member {
                         file.written.push(Written {
                             scope: scope(&braces),
                             path,
@@ -507,7 +510,7 @@ mod tests {
                 }
                 for w in &f.written {
                     let abs = match w.path[0].as_str() {
-                        "crate" | "super" | "self" => self.absolute(&w.scope, &w.path),
+                        "crate" | "super" | "self" if w.path.len() > 1 => self.absolute(&w.scope, &w.path),
                         name => aliases.get(name).map(|a| {
                             let mut a = a.clone();
                             a.extend(w.path[1..].iter().cloned());

@@ -5,6 +5,8 @@
 //! * [`single_wheelset`], [`multibody`]: the two vehicle systems;
 //! * [`wheelset`]: Newton–Euler of one wheelset with its contact constraints (Eq. 53);
 //! * [`elastic`](mod@elastic): a free wheelset on elastic contacts (the elastic contact model);
+//! * [`kinematics`]: a wheelset's contact kinematics, constrained or free, and each kind's
+//!   equations behind one interface (the vehicle systems use it, not the two above);
 //! * [`reference`](mod@reference): the reference motion along the track and the frames it gives;
 //! * [`integrator`]: DOPRI5, ROS3, ROS34PW2, BDF with dense output and diagnosed failures;
 //! * [`run`](mod@run): the run loop, stop conditions, summary; [`output`]: samples, observers, CSV.
@@ -13,6 +15,7 @@
 
 pub mod elastic;
 pub mod integrator;
+pub mod kinematics;
 pub mod linear;
 pub mod multibody;
 pub mod output;
