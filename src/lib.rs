@@ -27,7 +27,6 @@ pub mod contact;
 pub mod dynamics;
 pub mod inspect;
 pub mod interpolation;
-pub mod interrupt;
 #[cfg(test)]
 mod layering;
 pub mod limits;

@@ -88,6 +88,7 @@ fn the_free_wheelset_rests_on_its_hertz_contacts() {
             .build_run(&RunOptions {
                 contact: Some("kec".into()),
                 speed_m_s: None,
+                ..Default::default()
             })
             .unwrap();
         built
@@ -283,6 +284,7 @@ fn run_any(sc: &Scene, contact: &str, edit: impl Fn(&mut SimulationSpec)) -> Run
         .build_run(&RunOptions {
             contact: Some(contact.to_string()),
             speed_m_s: None,
+            ..Default::default()
         })
         .unwrap()
         .run(&mut []);

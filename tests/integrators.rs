@@ -24,6 +24,7 @@ fn ms(duration: f64, integrator: Option<(Method, f64, f64)>) -> RunOutput {
         .build_run(&RunOptions {
             contact: Some("kec".into()),
             speed_m_s: None,
+            ..Default::default()
         })
         .unwrap()
         .run(&mut []);

@@ -363,6 +363,7 @@ fn ms_vehicle_completes_the_kilometre_with_kec() {
         .build_run(&RunOptions {
             contact: Some("kec".into()),
             speed_m_s: None,
+            ..Default::default()
         })
         .unwrap();
     let out = built.run(&mut []);
@@ -392,6 +393,7 @@ fn leaving_the_flange_range_is_a_derailment() {
             .build_run(&RunOptions {
                 contact: Some(contact.into()),
                 speed_m_s: None,
+                ..Default::default()
             })
             .unwrap()
             .run(&mut []);

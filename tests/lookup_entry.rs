@@ -521,6 +521,7 @@ fn manchester_vehicle_on_the_two_entry_table_runs_past_7_72_s() {
         .build_run(&RunOptions {
             contact: None,
             speed_m_s: None,
+            ..Default::default()
         })
         .unwrap()
         .run(&mut []);

@@ -78,6 +78,7 @@ pub fn precision(scene: &Scene, settings: &PrecisionSettings) -> Result<Precisio
             .build_run(&RunOptions {
                 contact: Some(contact.to_string()),
                 speed_m_s: None,
+                ..Default::default()
             })
             .map_err(|e| e.to_string())?;
         built.settings.integrator.method = method;

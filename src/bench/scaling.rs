@@ -371,6 +371,7 @@ fn measure(
         .build_run(&RunOptions {
             contact: Some("kec".to_string()),
             speed_m_s: None,
+            ..Default::default()
         })
         .map_err(|e| format!("{label}: {e}"))?;
     if bdf {

@@ -108,10 +108,7 @@ pub struct Comparison {
 /// scene's), and compares.
 pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Result<Comparison, BuildError> {
     if models.len() < 2 {
-        return Err(BuildError::Options(format!(
-            "a comparison needs at least two contact models, got {}",
-            models.len()
-        )));
+        return Err(BuildError::TooFewModels { got: models.len() });
     }
     // The duration asked for goes through the same checks as the scenario's (track end, samples).
     let mut scene = scene.clone();
@@ -124,6 +121,7 @@ pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Res
         let built = scene.build_run(&RunOptions {
             contact: Some(model.clone()),
             speed_m_s: None,
+            ..Default::default()
         })?;
         notes.extend(built.notes.iter().cloned());
         runs.push(ModelRun {

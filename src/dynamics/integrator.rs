@@ -48,6 +48,8 @@
 use nalgebra::DMatrix;
 use thiserror::Error;
 
+use super::cancel::CancelToken;
+
 /// A first-order system x' = f(t, x).
 pub trait OdeSystem {
     /// What a failing evaluation reports (e.g. a wheel that lifts, a contact Newton that fails).
@@ -136,8 +138,8 @@ const NEWTON_MAX: usize = 4;
 /// BDF: the Newton iteration's remaining error, in the error norm (1 = the tolerance).
 const NEWTON_TOLERANCE: f64 = 0.1;
 
-/// Tolerances and limits.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Tolerances and limits, and the request that stops the integration early.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
     pub method: Method,
     pub rtol: f64,
@@ -155,6 +157,9 @@ pub struct Settings {
     /// BDF only: the highest order used (1–5; BDF-1, BDF-2 are A-stable, BDF-3…5 stable in
     /// narrowing sectors around the negative real axis).
     pub bdf_max_order: usize,
+    /// A stop asked for from outside (the binary's Ctrl-C): checked after every step, the
+    /// integration then ends there ([`Completion::Stopped`]). Default: a fresh token, never asked.
+    pub cancel: CancelToken,
 }
 
 impl Settings {
@@ -170,6 +175,7 @@ impl Settings {
             fixed_step: None,
             jacobian_max_age: 25,
             bdf_max_order: 5,
+            cancel: CancelToken::default(),
         }
     }
 }
@@ -587,9 +593,9 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             h = (h * fac).min(settings.h_max);
         }
         rejections = 0;
-        // A stop asked for from outside (Ctrl-C, SIGTERM: `crate::interrupt`): end at this step,
+        // A stop asked for from outside (Ctrl-C, SIGTERM: `settings.cancel`): end at this step,
         // with an output here unless the grid just gave one.
-        if crate::interrupt::requested() && t < t_end {
+        if settings.cancel.requested() && t < t_end {
             let last_out = t0 + (out_index - 1) as f64 * dt_out;
             if (t - last_out).abs() > 1e-12 * t.abs().max(1.0) {
                 output(t, &x).map_err(out_err(t))?;

@@ -27,7 +27,7 @@ use super::case::{CaseResult, Manifest};
 use super::spec::{value_text, Case, Fnv, Study};
 use super::StudyError;
 use crate::dynamics::output::CsvWriter;
-use crate::dynamics::{RunEnd, RunObserver, Stop};
+use crate::dynamics::{CancelToken, RunEnd, RunObserver, Stop, Threads};
 use crate::scenario::{PreprocessingCache, RunOptions, Scenario};
 
 /// How to run a study.
@@ -38,6 +38,9 @@ pub struct StudyOptions {
     /// `(I, N)`: run only the I-th of N slices (0-based).
     pub shard: Option<(usize, usize)>,
     pub out: PathBuf,
+    /// Stops the running cases at their next step (not marked finished) and starts no new one
+    /// (the binary's Ctrl-C).
+    pub cancel: CancelToken,
 }
 
 /// What one invocation did.
@@ -180,11 +183,11 @@ pub fn run_study(
             .par_iter()
             .with_max_len(1)
             .map(|c| {
-                if crate::interrupt::requested() {
+                if options.cancel.requested() {
                     interrupted.store(true, Ordering::Relaxed);
                     return Ok(None);
                 }
-                let r = run_case(study, c, out, Some(&cache))?;
+                let r = run_case(study, c, out, Some(&cache), &options.cancel)?;
                 if let Some(r) = &r {
                     done(r, false);
                 } else {
@@ -232,13 +235,15 @@ fn vehicle_wheelsets(
 }
 
 /// Runs one case into its folder and writes its `result.json` (None: interrupted — nothing is
-/// marked finished, so that a rerun runs it again). `cache` shares the contact preprocessing
-/// between cases.
+/// marked finished, so that a rerun runs it again: `cancel` asked). `cache` shares the contact
+/// preprocessing between cases. The case runs on the calling thread's pool (a study's: one case
+/// per thread).
 pub fn run_case(
     study: &Study,
     case: &Case,
     out: &Path,
     cache: Option<&PreprocessingCache>,
+    cancel: &CancelToken,
 ) -> Result<Option<CaseResult>, StudyError> {
     let dir = case_dir(out, case.index);
     std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
@@ -262,9 +267,12 @@ pub fn run_case(
         .and_then(|s| s.compile(&origin, study.scenario_dir()))
         .map_err(|e| e.to_string())
         .and_then(|scene| {
-            scene
-                .build_run_cached(&RunOptions::default(), cache)
-                .map_err(|e| e.to_string())
+            let options = RunOptions {
+                threads: Threads::Caller,
+                cancel: cancel.clone(),
+                ..RunOptions::default()
+            };
+            scene.build_run_cached(&options, cache).map_err(|e| e.to_string())
         });
     match built {
         Err(e) => result.diagnosis = format!("not run: {e}"),
@@ -289,7 +297,7 @@ pub fn run_case(
             };
             let mut csv = CsvWriter::create(&dir, &names).map_err(|e| io(&dir, e))?;
             let output = {
-                let mut observers: Vec<&mut dyn RunObserver> = vec![&mut csv];
+                let mut observers: Vec<&mut (dyn RunObserver + Send)> = vec![&mut csv];
                 built.run(&mut observers)
             };
             if let RunEnd::Stopped(Stop::Interrupted { .. }) = output.end {
