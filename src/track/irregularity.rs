@@ -66,18 +66,6 @@ impl IrregularityState {
         RailOffsets::from_irregularities(v[0], v[1], v[2], v[3])
     }
 
-    /// d/ds of the rail displacements (the conversion is linear).
-    pub fn rail_offsets_ds(&self) -> RailOffsets {
-        let v = self.d1;
-        RailOffsets::from_irregularities(v[0], v[1], v[2], v[3])
-    }
-
-    /// d²/ds² of the rail displacements.
-    pub fn rail_offsets_ds2(&self) -> RailOffsets {
-        let v = self.d2;
-        RailOffsets::from_irregularities(v[0], v[1], v[2], v[3])
-    }
-
     /// Time derivatives seen by a point moving at speed `v` with acceleration `v_dot`:
     /// ẋ = x' V, ẍ = x'' V² + x' V̇ (per irregularity).
     pub fn time_derivatives(&self, v: f64, v_dot: f64) -> ([f64; 4], [f64; 4]) {
