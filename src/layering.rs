@@ -5,14 +5,17 @@
 //! without comments and literals, and follows every path that names an item of this crate: `use`
 //! trees (`crate::`, `super::`, `self::` and a child module's name), paths written in the code
 //! (`crate::a::b`, `super::x`) and the names a `use` brings in where the code uses them
-//! (`use super::geometry;` … `geometry::f`; `pub use model::Configuration;` … `Configuration`). A path leads to the file that defines its item: through the `pub use`
-//! re-exports of a module (explicit or glob) to the file behind them, so that importing a type
-//! from `contact` where `contact/mod.rs` re-exports it from `contact/model.rs` is a use of
-//! `model.rs`. A module's `pub use` of its own descendants is its table of contents, not a use.
-//! Inline modules (`mod tests { … }`) belong to their file; an item defined in a file's inline
-//! module is found in that file.
+//! (`use super::geometry;` … `geometry::f`; `pub use model::Configuration;` … `Configuration`).
+//! A path leads to the file that defines its item: through the `pub use` re-exports of a module
+//! (explicit or glob) to the file behind them, so that importing a type from `contact` where
+//! `contact/mod.rs` re-exports it from `contact/model.rs` is a use of `model.rs`. A module's
+//! `pub use` of its own descendants is its table of contents, not a use. Inline modules
+//! (`mod tests { … }`, test code included) belong to their file. Not seen: what macros expand to,
+//! and a glob import (`use super::*`) counts as a use of the module's own file.
 //!
-//! `cargo test --release --lib layering` runs it and names every circle and every arrow up.
+//! `cargo test --release --lib layering` runs it and names every circle and every arrow up
+//! (`LAYERING_EDGES=1 cargo test --release --lib layering -- --nocapture` prints every use found).
+//! A circle being taken apart elsewhere may stand in `KNOWN_CIRCLES` meanwhile.
 
 /// The library's top-level modules from the highest to the lowest (a line: modules on one level,
 /// which use neither one another nor anything above them). `""` is the crate root (`lib.rs`:
@@ -381,19 +384,27 @@ mod tests {
     }
 
     impl Crate {
+        /// The library's sources under `src/`.
         fn read() -> Crate {
             let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
             let mut rels = Vec::new();
             sources(&root, &root, &mut rels);
+            Crate::of(rels.into_iter().map(|rel| {
+                let src = std::fs::read_to_string(root.join(&rel)).expect("a source file");
+                (rel.to_string_lossy().replace('\\', "/"), src)
+            }))
+        }
+
+        /// The crate of these (path under `src/`, source) files.
+        fn of(sources: impl IntoIterator<Item = (String, String)>) -> Crate {
             let mut files = Vec::new();
             let mut modules = BTreeMap::new();
-            for rel in rels {
-                let src = std::fs::read_to_string(root.join(&rel)).expect("a source file");
-                let file = read_file(&module_of(&rel), &src);
+            for (rel, src) in sources {
+                let file = read_file(&module_of(Path::new(&rel)), &src);
                 for m in file.defs.keys() {
                     modules.insert(m.clone(), files.len());
                 }
-                files.push((rel.to_string_lossy().replace('\\', "/"), file));
+                files.push((rel, file));
             }
             Crate { files, modules }
         }
@@ -591,10 +602,6 @@ mod tests {
         out
     }
 
-    fn level(module: &str) -> Option<usize> {
-        LAYERS.iter().position(|l| l.contains(&module))
-    }
-
     fn top(path: &str) -> String {
         match path.split_once('/') {
             Some((dir, _)) => dir.to_string(),
@@ -610,18 +617,16 @@ mod tests {
         assert_eq!(words, ["use", "a", "b", "let", "s", "let", "c"]);
     }
 
-    #[test]
-    fn the_library_has_no_circle_and_no_arrow_up() {
-        let krate = Crate::read();
+    /// The circles and the arrows up or across between top-level modules, in words.
+    fn problems(krate: &Crate, layers: &[&[&str]]) -> Vec<String> {
         let edges = krate.edges();
-        assert!(edges.len() > 100, "the analysis found only {} uses", edges.len());
         let name = |i: usize| krate.files[i].0.clone();
-        let mut problems = Vec::new();
-        if std::env::var_os("LAYERING_DUMP").is_some() {
+        if std::env::var_os("LAYERING_EDGES").is_some() {
             for &(a, b) in &edges {
-                eprintln!("EDGE {} {}", name(a), name(b));
+                eprintln!("{} → {}", name(a), name(b));
             }
         }
+        let mut problems = Vec::new();
         for comp in circles(krate.files.len(), &edges) {
             let files: Vec<String> = comp.iter().map(|&i| name(i)).collect();
             let inner: Vec<String> = edges
@@ -635,6 +640,7 @@ mod tests {
                 inner.join("\n    ")
             ));
         }
+        let level = |m: &str| layers.iter().position(|l| l.contains(&m));
         for &(a, b) in &edges {
             let (ma, mb) = (top(&name(a)), top(&name(b)));
             let (Some(la), Some(lb)) = (level(&ma), level(&mb)) else {
@@ -645,6 +651,69 @@ mod tests {
                 problems.push(format!("arrow up or across: {} → {}", name(a), name(b)));
             }
         }
+        problems
+    }
+
+    /// Circles being taken apart elsewhere (issue 33: `Sample` and the outputs move out of
+    /// `dynamics/output.rs`), tolerated until then; an entry that no longer is a circle fails the
+    /// test, to be removed here.
+    const KNOWN_CIRCLES: &[&str] = &["circle: dynamics/output.rs, dynamics/safety.rs"];
+
+    #[test]
+    fn the_library_has_no_circle_and_no_arrow_up() {
+        let krate = Crate::read();
+        assert!(
+            krate.edges().len() > 100,
+            "the analysis found only {} uses",
+            krate.edges().len()
+        );
+        let mut problems = problems(&krate, LAYERS);
+        for known in KNOWN_CIRCLES {
+            match problems.iter().position(|p| p.starts_with(&format!("{known}\n"))) {
+                Some(k) => {
+                    problems.remove(k);
+                }
+                None => problems.push(format!("{known} is gone: remove it from KNOWN_CIRCLES")),
+            }
+        }
         assert!(problems.is_empty(), "{}", problems.join("\n"));
+    }
+
+    /// The analysis on a made-up crate: a circle through a re-export, an arrow up, an inline
+    /// module's `use super::*`, and a module's table of contents (not a use).
+    #[test]
+    fn the_analysis_finds_circles_and_arrows_up() {
+        let files = |v: &[(&str, &str)]| Crate::of(v.iter().map(|(p, s)| (p.to_string(), s.to_string())));
+        let layers: &[&[&str]] = &[&["high"], &["low"], &[""]];
+        let sources = [
+            ("lib.rs", "pub mod high; pub mod low;"),
+            (
+                "low/mod.rs",
+                "pub mod a; pub mod b; pub use a::A; pub use b::B; // crate::high::H",
+            ),
+            ("low/a.rs", "use super::B; pub struct A(B);"),
+            (
+                "low/b.rs",
+                "pub struct B; fn f() { let _ = crate::low::A::new; } \
+                 #[cfg(test)] mod tests { use super::*; }",
+            ),
+            (
+                "high.rs",
+                "use crate::low::{self, A}; pub struct H; fn g() { low::b::B; }",
+            ),
+        ];
+        let found = problems(&files(&sources), layers);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(found[0].starts_with("circle: low/a.rs, low/b.rs"), "{found:?}");
+        let mut up = sources;
+        up[2].1 = "pub struct A(crate::high::H);";
+        // (high.rs uses a.rs: the arrow up closes a circle too.)
+        let found = problems(&files(&up), layers);
+        assert_eq!(found.len(), 2, "{found:?}");
+        assert!(
+            found[0].starts_with("circle: low/a.rs, low/b.rs, high.rs"),
+            "{found:?}"
+        );
+        assert_eq!(found[1], "arrow up or across: low/a.rs → high.rs");
     }
 }

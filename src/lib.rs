@@ -1,8 +1,11 @@
 //! # kecsim
 //!
 //! Railway vehicle dynamics with the **knife-edge-equivalent contact constraint method**
-//! (KEC-method), inspected in Rerun. Modules follow the paper's order and data flows one way:
-//! track → profiles → contact → vehicle → dynamics → inspector.
+//! (KEC-method), inspected in Rerun. Modules follow the paper's order and use one another one
+//! way, each only those below it (from the top; a test, `layering`, checks it and that no source
+//! files use one another in a circle): the binary (`cli`) → [`bench`](mod@bench) → [`inspect`] →
+//! [`paper`] → [`compare`], [`study`] → [`scenario`] → [`dynamics`] → [`contact`] → [`profile`] →
+//! [`track`] → [`vehicle`], [`spline`], [`interpolation`], [`limits`].
 //!
 //! * [`contact`]: contact geometry (approximate constraints, Eq. 35–42) and what builds on it.
 //! * [`profile`]: wheel and rail profiles as C² curves, standard profiles, files, placement (§3).

@@ -56,7 +56,7 @@ pub enum ScalingError {
     Compile { scene: String, source: ScenarioError },
     /// A series' run cannot be built.
     #[error("{label}: {source}")]
-    Build { label: String, source: BuildError },
+    Build { label: String, source: Box<BuildError> },
 }
 
 /// The MS scene's track length, m, and the simulated time of its run over it, s.
@@ -434,7 +434,7 @@ fn measure(
         })
         .map_err(|source| ScalingError::Build {
             label: label.clone(),
-            source,
+            source: Box::new(source),
         })?;
     if bdf {
         let i = &mut built.settings.integrator;

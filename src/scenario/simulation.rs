@@ -1,6 +1,7 @@
 //! The `[simulation]` table, as written, and what it compiles into: the contact model, the
 //! vehicle system (settled), the reference motion along the track and the run settings — the one
-//! place where a scenario becomes the objects of a run ([`super::Scene::build_run`]).
+//! place where a scenario becomes the objects of a run ([`Scene::build_run`], the compiled
+//! scenario's [`Scene`] defined here beside it).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -8,6 +9,7 @@ use std::time::Instant;
 use serde::Deserialize;
 use thiserror::Error;
 
+use crate::contact::cache::TableCache;
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::geometry::ContactGeometry;
 use crate::contact::lookup::flange_angle;
@@ -23,6 +25,8 @@ use crate::dynamics::{
     run, CancelToken, DynamicsError, InitialDisturbance, RunLabels, RunOutput, RunPool, RunSettings,
     StopConditions, Threads, VehicleModel,
 };
+use crate::profile::placement::WheelRailPair;
+use crate::track::Track;
 use crate::vehicle::VehicleSpec;
 
 /// `[simulation]`: what to run and how.
@@ -275,6 +279,25 @@ impl SimulationSpec {
     }
 }
 
+/// A scenario ready to run: profiles loaded and placed, the track built if it has sections.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub name: String,
+    /// Where it came from (its file, or `<embedded default>`), for errors.
+    pub origin: String,
+    pub pair: WheelRailPair,
+    pub contact_forces: ContactForceSettings,
+    pub track: Option<Arc<Track>>,
+    /// The simulation and its vehicle, when the scenario has both.
+    pub simulation: Option<(SimulationSpec, VehicleSpec)>,
+    /// Physically doubtful but possible values, each naming its key (the run goes on; the command
+    /// prints them and the JSON summary carries them).
+    pub warnings: Vec<String>,
+    /// Where the contact models' tables are cached between runs (None: built every time; the
+    /// command line sets it, see [`crate::contact::cache`]).
+    pub table_cache: Option<TableCache>,
+}
+
 /// Options of a run beyond its scenario (the command line's `--contact`, `--speed`), and what the
 /// program around it decides: its threads and the request that stops it.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -351,7 +374,7 @@ impl BuiltRun {
     }
 }
 
-/// Contact preprocessing shared between runs ([`super::Scene::build_run_cached`]): each entry a built
+/// Contact preprocessing shared between runs ([`Scene::build_run_cached`]): each entry a built
 /// contact model and its pair's flange angle, keyed by the contact settings and the placed pair.
 #[derive(Debug, Default)]
 pub struct PreprocessingCache {
@@ -500,7 +523,7 @@ pub fn run_extent_problems(
     p
 }
 
-impl super::Scene {
+impl Scene {
     /// Builds the objects of the scene's run with `options` (contact model, vehicle system with
     /// its static settling, reference, settings) — the preprocessing, timed.
     pub fn build_run(&self, options: &RunOptions) -> Result<BuiltRun, BuildError> {

@@ -23,9 +23,9 @@
 //! repetition along the track). Phases come from SplitMix64 seeded by (seed, channel): the same
 //! seed gives the same track on every machine.
 
+use super::error::TrackError;
 use super::psd::{Channel, Psd};
 use super::rails::{RailMotion, RailOffsets};
-use super::TrackError;
 
 /// Value, first and second s-derivative of the four irregularities at one s, SI (m, m/m, 1/m),
 /// in the order al, vp, gv, cl.
