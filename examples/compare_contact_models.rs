@@ -49,6 +49,7 @@ fn main() -> anyhow::Result<()> {
         let mut run = scene.build_run(&RunOptions {
             contact: Some(model.to_string()),
             speed_m_s: None,
+            ..Default::default()
         })?;
         run.settings.duration_s = duration;
         println!(

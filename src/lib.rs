@@ -1,8 +1,11 @@
 //! # kecsim
 //!
 //! Railway vehicle dynamics with the **knife-edge-equivalent contact constraint method**
-//! (KEC-method), inspected in Rerun. Modules follow the paper's order and data flows one way:
-//! track → profiles → contact → vehicle → dynamics → inspector.
+//! (KEC-method), inspected in Rerun. Modules follow the paper's order and use one another one
+//! way, each only those below it (from the top; a test, `layering`, checks it and that no source
+//! files use one another in a circle): the binary (`cli`) → [`bench`](mod@bench) → [`inspect`] →
+//! [`paper`] → [`compare`], [`study`] → [`scenario`] → [`dynamics`] → [`contact`] → [`profile`] →
+//! [`track`] → [`vehicle`], [`spline`], [`interpolation`], [`limits`].
 //!
 //! * [`contact`]: contact geometry (approximate constraints, Eq. 35–42) and what builds on it.
 //! * [`profile`]: wheel and rail profiles as C² curves, standard profiles, files, placement (§3).
@@ -14,6 +17,8 @@
 //! * [`paper`]: the paper's §8 (Fig. 14–19, Tab. 7) for a scene, from the contact preprocessing,
 //!   the track and a KEC-against-tables comparison.
 //! * [`bench`](mod@bench): measured speed with its error, printed by `kecsim bench`.
+//! * [`spline`], [`interpolation`]: the C² profile spline and the Hermite interpolation helpers
+//!   (values and slopes at nodes) beside it.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
 
 /// The schema version of the scenario and track files this build reads (`schema_version`).
@@ -24,7 +29,9 @@ pub mod compare;
 pub mod contact;
 pub mod dynamics;
 pub mod inspect;
-pub mod interrupt;
+pub mod interpolation;
+#[cfg(test)]
+mod layering;
 pub mod limits;
 pub mod paper;
 pub mod profile;

@@ -291,6 +291,7 @@ fn critical_speed_by_speed_ramp() {
             .build_run(&RunOptions {
                 contact: Some("kec".into()),
                 speed_m_s: Some(v),
+                ..Default::default()
             })
             .unwrap();
         linear_stability(run.vehicle.as_ref(), &run.settings.integrator)
@@ -640,6 +641,78 @@ fn recording_is_streamed_while_the_run_goes() {
     let y: Vec<f64> = probe.rows.iter().map(|r| r[0]).collect();
     let expect: Vec<f64> = out.samples().iter().map(|s| s.y * 1e3).collect();
     assert_eq!(y, expect, "every sample once, as the run computed it");
+}
+
+/// A stop asked for through the run's cancel token (what the binary's Ctrl-C does) ends the run
+/// normally at the next output time: `"stopped": "interrupted"`, no error, every sample up to it
+/// kept; a token asked before the run starts stops it at once. Another run's token is another
+/// request.
+#[test]
+fn a_cancelled_run_stops_normally_with_what_it_recorded() {
+    use kecsim::dynamics::output::{ObserverError, OutputSample, RunObserver};
+    use kecsim::dynamics::CancelToken;
+
+    /// Asks for the stop once the run passes `at` (as a Ctrl-C would, from outside the run).
+    struct StopAt {
+        at: f64,
+        cancel: CancelToken,
+    }
+    impl RunObserver for StopAt {
+        fn sample(&mut self, s: &OutputSample<'_>) -> Result<(), ObserverError> {
+            if s.t >= self.at {
+                self.cancel.request();
+            }
+            Ok(())
+        }
+    }
+
+    let sc = scene("wheelset_klingel.toml");
+    let cancel = CancelToken::new();
+    let options = RunOptions {
+        cancel: cancel.clone(),
+        ..Default::default()
+    };
+    let mut built = sc.build_run(&options).unwrap();
+    built.settings.duration_s = 2.0;
+    let dt = 1.0 / built.settings.record_rate_hz;
+    let mut stop = StopAt {
+        at: 0.5,
+        cancel: cancel.clone(),
+    };
+    let out = built.run(&mut [&mut stop]);
+    let t = match out.end {
+        RunEnd::Stopped(Stop::Interrupted { t }) => t,
+        ref e => panic!("expected an interrupt, got {e:?}"),
+    };
+    assert!((t - 0.5).abs() < 0.5 * dt, "stopped at t = {t}");
+    let json = serde_json::to_value(&out.summary).unwrap();
+    assert_eq!(json["stopped"], "interrupted", "{json}");
+    assert!(out.summary.error.is_none());
+    let samples = out.samples();
+    assert_eq!(
+        samples.len(),
+        (0.5 / dt).round() as usize + 1,
+        "every sample up to the stop"
+    );
+    assert_eq!(samples.last().unwrap().t, t);
+    // Asked before the start (a Ctrl-C during the preprocessing): the run stops at once.
+    let out = built.run(&mut []);
+    assert!(
+        matches!(out.end, RunEnd::Stopped(Stop::Interrupted { .. })),
+        "{:?}",
+        out.end
+    );
+    assert!(out.samples().len() <= 2, "{} samples", out.samples().len());
+    // A run built with a fresh token is not stopped by this one.
+    let other = sc.build_run(&RunOptions::default()).unwrap();
+    assert_ne!(other.settings.integrator.cancel, cancel);
+    cancel.clear();
+    let mut built = built;
+    built.settings.duration_s = 0.2;
+    assert!(
+        matches!(built.run(&mut []).end, RunEnd::Completed),
+        "cleared: runs to its end"
+    );
 }
 
 /// `kecsim compare`: the same scene with two contact models; the differences it reports are the

@@ -77,6 +77,7 @@ fn the_free_wheelset_rests_on_its_hertz_contacts() {
             .build_run(&RunOptions {
                 contact: Some("kec".into()),
                 speed_m_s: None,
+                ..Default::default()
             })
             .unwrap();
         built

@@ -106,6 +106,7 @@ fn jobs_and_shards_give_the_same_table_and_reruns_skip_finished_cases() {
             jobs: 1,
             shard: None,
             out: one.clone(),
+            cancel: Default::default(),
         },
         &|_, _| {},
     )
@@ -165,6 +166,7 @@ fn a_directory_of_another_study_is_refused_and_nothing_in_it_lost() {
         jobs: 2,
         shard: Some((0, 4)),
         out: out.clone(),
+        cancel: Default::default(),
     };
     run_study(&study, &opts, &|_, _| {}).unwrap();
     let before = std::fs::read_to_string(out.join("cases/00000/result.json")).unwrap();
@@ -628,6 +630,7 @@ fn the_cooperrider_car_linearised_with_kec_and_with_online_contact_agrees() {
                     .build_run(&RunOptions {
                         contact: Some(c.to_string()),
                         speed_m_s: Some(speed),
+                        ..Default::default()
                     })
                     .unwrap();
                 linear_stability(run.vehicle.as_ref(), &run.settings.integrator)

@@ -16,7 +16,7 @@ use kecsim::dynamics::multibody::Multibody;
 use kecsim::dynamics::system::{Evaluator, InitialDisturbance, VehicleModel, VehicleSample};
 use kecsim::dynamics::{Reference, RunOutput, Sample, SpeedProfile};
 use kecsim::scenario::simulation::reference;
-use kecsim::scenario::{Scenario, Scene};
+use kecsim::scenario::{RunOptions, Scenario, Scene};
 use kecsim::vehicle::VehicleSpec;
 
 const G: f64 = 9.81;
@@ -516,35 +516,36 @@ fn ms_standin_kec_and_tables_match_online() {
     assert!(worst["lookup"] > worst["lookup2"], "{worst:?}");
 }
 
-/// The wheelsets of a right-hand side are evaluated in parallel (the run's thread joins a pool of
-/// two threads): the result does not depend on it — the MS vehicle's run on a thread of its own
-/// (the pool split) and on a one-thread pool (every wheelset in turn) agree to the last bit.
+/// The wheelsets of a right-hand side are evaluated in parallel (the run in a pool of its own of
+/// two threads): the result does not depend on it — the MS vehicle's run on two threads (the
+/// wheelsets split) and on one (every wheelset in turn) agree to the last bit. Called from a
+/// thread of a pool, the default run takes that pool (a study's cases).
 #[test]
 fn parallel_wheelsets_change_nothing() {
-    let sc = scene("ms_vehicle_tab6.toml");
-    let go = |sc: &Scene| run_scene(sc, "kec", |s| s.duration_s = 0.5);
-    let split = std::thread::scope(|s| {
-        s.spawn(|| {
-            // Two threads where there are two cores, unless KECSIM_THREADS says otherwise.
-            let expected = std::env::var("KECSIM_THREADS")
-                .ok()
-                .and_then(|v| v.parse::<usize>().ok())
-                .filter(|&n| n >= 1)
-                .unwrap_or(2.min(std::thread::available_parallelism().map_or(1, |n| n.get())));
-            assert_eq!(kecsim::dynamics::run::join_run_pool(), expected);
-            go(&sc)
-        })
-        .join()
-        .unwrap()
-    });
+    use kecsim::dynamics::{RunPool, Threads};
+    let mut sc = scene("ms_vehicle_tab6.toml");
+    sc.simulation.as_mut().unwrap().0.duration_s = 0.5;
+    let go = |threads: usize| {
+        let built = sc
+            .build_run(&RunOptions {
+                contact: Some("kec".to_string()),
+                threads: Threads::Count(threads),
+                ..Default::default()
+            })
+            .unwrap();
+        assert_eq!(built.settings.pool.threads(), threads);
+        built.run(&mut [])
+    };
+    let split = go(2);
+    let serial = go(1);
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-    let serial = one.install(|| {
+    one.install(|| {
         assert_eq!(
-            kecsim::dynamics::run::join_run_pool(),
-            1,
-            "already in a pool: none of its own"
+            RunPool::new(Threads::Default),
+            RunPool::default(),
+            "the caller's pool"
         );
-        go(&sc)
+        assert_eq!(RunPool::new(Threads::Default).threads(), 1);
     });
     assert_eq!(split.summary.steps, serial.summary.steps);
     assert_eq!(split.summary.rhs_evaluations, serial.summary.rhs_evaluations);

@@ -79,6 +79,7 @@ fn run_with(
         .build_run(&RunOptions {
             contact: Some(contact.to_string()),
             speed_m_s: None,
+            ..Default::default()
         })
         .map_err(|e| e.to_string())?;
     edit(&mut built.settings);

@@ -166,6 +166,7 @@ fn run(scene: &Scene, contact: &str) -> Result<RunOutput, String> {
         .build_run(&RunOptions {
             contact: Some(contact.to_string()),
             speed_m_s: None,
+            ..Default::default()
         })
         .map_err(|e| e.to_string())?
         .run(&mut []))

@@ -19,8 +19,45 @@ use std::fmt::Write as _;
 
 use toml::{Table, Value};
 
+use thiserror::Error;
+
 use crate::dynamics::integrator::Method;
-use crate::scenario::{RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
+use crate::scenario::{BuildError, RunOptions, Scenario, ScenarioError, Scene, DEFAULT_SCENARIO};
+
+/// Why the scaling series cannot be measured.
+#[derive(Debug, Error)]
+pub enum ScalingError {
+    /// The track lengths asked for are not 1 ..= 16 km.
+    #[error("track lengths: expected 1 ..= 16 kilometres")]
+    TrackLengths,
+    /// The vehicle-size series' window (`--duration`) is not in (0, 40] s.
+    #[error("--duration {window_s}: expected a window of (0, 40] s for the vehicle-size series")]
+    Window { window_s: f64 },
+    /// A scene the series derives from is not embedded.
+    #[error("no embedded scene {name}")]
+    NoScene { name: String },
+    /// The embedded scene's TOML cannot be read.
+    #[error("{scene}: {source}")]
+    Read {
+        scene: &'static str,
+        source: toml::de::Error,
+    },
+    /// The embedded scene lacks a part a derived scene edits (named in `problem`).
+    #[error("{scene}: {problem}")]
+    Shape { scene: &'static str, problem: String },
+    /// A derived scene cannot be written back as TOML.
+    #[error("{scene}: {source}")]
+    Write {
+        scene: &'static str,
+        source: toml::ser::Error,
+    },
+    /// A series' scene does not compile.
+    #[error("{scene}: {source}")]
+    Compile { scene: String, source: ScenarioError },
+    /// A series' run cannot be built.
+    #[error("{label}: {source}")]
+    Build { label: String, source: Box<BuildError> },
+}
 
 /// The MS scene's track length, m, and the simulated time of its run over it, s.
 const MS_TRACK_M: f64 = 1000.0;
@@ -119,20 +156,34 @@ pub fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
     sxy / sxx
 }
 
-fn parse(text: &str, what: &str) -> Result<Table, String> {
-    text.parse::<Table>().map_err(|e| format!("{what}: {e}"))
+fn parse(text: &str, what: &'static str) -> Result<Table, ScalingError> {
+    text.parse::<Table>()
+        .map_err(|source| ScalingError::Read { scene: what, source })
 }
 
-fn table_mut<'a>(t: &'a mut Table, key: &str, what: &str) -> Result<&'a mut Table, String> {
+/// The embedded scene `what` lacks `problem`.
+fn shape(what: &'static str, problem: String) -> ScalingError {
+    ScalingError::Shape { scene: what, problem }
+}
+
+fn table_mut<'a>(t: &'a mut Table, key: &str, what: &'static str) -> Result<&'a mut Table, ScalingError> {
     t.get_mut(key)
         .and_then(Value::as_table_mut)
-        .ok_or_else(|| format!("{what}: no [{key}]"))
+        .ok_or_else(|| shape(what, format!("no [{key}]")))
 }
 
-fn array_mut<'a>(t: &'a mut Table, key: &str, what: &str) -> Result<&'a mut Vec<Value>, String> {
+fn array_mut<'a>(
+    t: &'a mut Table,
+    key: &str,
+    what: &'static str,
+) -> Result<&'a mut Vec<Value>, ScalingError> {
     t.get_mut(key)
         .and_then(Value::as_array_mut)
-        .ok_or_else(|| format!("{what}: no {key} = [...]"))
+        .ok_or_else(|| shape(what, format!("no {key} = [...]")))
+}
+
+fn write(doc: &Table, what: &'static str) -> Result<String, ScalingError> {
+    toml::to_string(doc).map_err(|source| ScalingError::Write { scene: what, source })
 }
 
 /// A TOML number as f64 (integers too).
@@ -141,12 +192,12 @@ fn number(v: &Value) -> Option<f64> {
 }
 
 /// Sets `simulation.duration_s` to `f(speed)` (the scene's speed, m/s).
-fn set_duration(doc: &mut Table, what: &str, f: impl Fn(f64) -> f64) -> Result<(), String> {
+fn set_duration(doc: &mut Table, what: &'static str, f: impl Fn(f64) -> f64) -> Result<(), ScalingError> {
     let sim = table_mut(doc, "simulation", what)?;
     let speed = sim
         .get("speed_m_s")
         .and_then(number)
-        .ok_or_else(|| format!("{what}: no simulation.speed_m_s"))?;
+        .ok_or_else(|| shape(what, "no simulation.speed_m_s".to_string()))?;
     sim.insert("duration_s".to_string(), Value::Float(f(speed)));
     Ok(())
 }
@@ -167,7 +218,7 @@ fn shift_x(entry: &mut Table, key: &str, dx: f64) {
 /// The MS scene's text with its Tab. 6 track laid `k` times end to end (every horizontal section
 /// repeated 1000 m further on, the vertical alignment and the irregularities over the whole
 /// length) and the run lengthened to match.
-pub fn ms_on_longer_track(k: usize) -> Result<String, String> {
+pub fn ms_on_longer_track(k: usize) -> Result<String, ScalingError> {
     let what = "the MS scene";
     let mut doc = parse(DEFAULT_SCENARIO, what)?;
     let track = table_mut(&mut doc, "track", what)?;
@@ -178,12 +229,12 @@ pub fn ms_on_longer_track(k: usize) -> Result<String, String> {
             let mut s = section
                 .as_table()
                 .cloned()
-                .ok_or_else(|| format!("{what}: a horizontal section is not a table"))?;
+                .ok_or_else(|| shape(what, "a horizontal section is not a table".to_string()))?;
             for key in ["from_m", "to_m"] {
                 let v = s
                     .get(key)
                     .and_then(number)
-                    .ok_or_else(|| format!("{what}: a horizontal section without {key}"))?;
+                    .ok_or_else(|| shape(what, format!("a horizontal section without {key}")))?;
                 s.insert(key.to_string(), Value::Float(v + copy as f64 * MS_TRACK_M));
             }
             laid.push(Value::Table(s));
@@ -198,12 +249,17 @@ pub fn ms_on_longer_track(k: usize) -> Result<String, String> {
                 s.insert("to_m".to_string(), Value::Float(k as f64 * MS_TRACK_M));
             }
         }
-        _ => return Err(format!("{what}: expected one vertical section to lengthen")),
+        _ => {
+            return Err(shape(
+                what,
+                "expected one vertical section to lengthen".to_string(),
+            ))
+        }
     }
     set_duration(&mut doc, what, |speed| {
         MS_DURATION_S + (k as f64 - 1.0) * MS_TRACK_M / speed
     })?;
-    toml::to_string(&doc).map_err(|e| format!("{what}: {e}"))
+    write(&doc, what)
 }
 
 /// The MS scene's text with `units` MS vehicles coupled one behind the other: the second and
@@ -214,7 +270,7 @@ pub fn ms_on_longer_track(k: usize) -> Result<String, String> {
 /// end of the next one's first, at [`COUPLER_HEIGHT_M`] above the rail — a rod pinned at both ends,
 /// free to articulate. The run starts with the rearmost body at the track's start and is shortened
 /// so that the front unit still ends where the single vehicle's run ends.
-pub fn coupled_ms(units: usize) -> Result<String, String> {
+pub fn coupled_ms(units: usize) -> Result<String, ScalingError> {
     let what = "the MS scene";
     let mut doc = parse(DEFAULT_SCENARIO, what)?;
     let vehicle = table_mut(&mut doc, "vehicle", what)?;
@@ -231,7 +287,7 @@ pub fn coupled_ms(units: usize) -> Result<String, String> {
                 .and_then(|a| a.first())
                 .and_then(number),
         ) else {
-            return Err(format!("{what}: a body without name or position_m"));
+            return Err(shape(what, "a body without name or position_m".to_string()));
         };
         if x > front {
             front = x;
@@ -271,7 +327,7 @@ pub fn coupled_ms(units: usize) -> Result<String, String> {
                 let mut e = entry
                     .as_table()
                     .cloned()
-                    .ok_or_else(|| format!("{what}: a vehicle.{key} entry is not a table"))?;
+                    .ok_or_else(|| shape(what, format!("a vehicle.{key} entry is not a table")))?;
                 if let Some(n) = e.get_mut("name") {
                     if let Some(s) = n.as_str() {
                         *n = Value::String(format!("{s}{suffix}"));
@@ -345,13 +401,16 @@ pub fn coupled_ms(units: usize) -> Result<String, String> {
             "{units} MS vehicles coupled on the Tab. 6 track with irregularities"
         ));
     }
-    toml::to_string(&doc).map_err(|e| format!("{what}: {e}"))
+    write(&doc, what)
 }
 
-fn compile(text: &str, name: &str) -> Result<Scene, String> {
+fn compile(text: &str, name: &str) -> Result<Scene, ScalingError> {
     Scenario::parse(text, name)
         .and_then(|s| s.compile(name, std::path::Path::new(".")))
-        .map_err(|e| format!("{name}: {e}"))
+        .map_err(|source| ScalingError::Compile {
+            scene: name.to_string(),
+            source,
+        })
 }
 
 /// Runs `scene` with KEC (over `window` s where given, with the integrator edited by `bdf`), no
@@ -362,7 +421,7 @@ fn measure(
     window: Option<f64>,
     bdf: bool,
     size: Option<f64>,
-) -> Result<ScalingRow, String> {
+) -> Result<ScalingRow, ScalingError> {
     let mut scene = scene.clone();
     if let (Some(w), Some((sim, _))) = (window, scene.simulation.as_mut()) {
         sim.duration_s = w;
@@ -371,8 +430,12 @@ fn measure(
         .build_run(&RunOptions {
             contact: Some("kec".to_string()),
             speed_m_s: None,
+            ..Default::default()
         })
-        .map_err(|e| format!("{label}: {e}"))?;
+        .map_err(|source| ScalingError::Build {
+            label: label.clone(),
+            source: Box::new(source),
+        })?;
     if bdf {
         let i = &mut built.settings.integrator;
         i.method = Method::Bdf;
@@ -401,15 +464,14 @@ fn measure(
 }
 
 /// Runs both series.
-pub fn scaling(settings: &ScalingSettings) -> Result<Scaling, String> {
+pub fn scaling(settings: &ScalingSettings) -> Result<Scaling, ScalingError> {
     if settings.kilometres.is_empty() || settings.kilometres.iter().any(|&k| !(1..=16).contains(&k)) {
-        return Err("track lengths: expected 1 ..= 16 kilometres".to_string());
+        return Err(ScalingError::TrackLengths);
     }
     if !(settings.window_s.is_finite() && settings.window_s > 0.0 && settings.window_s <= 40.0) {
-        return Err(format!(
-            "--duration {}: expected a window of (0, 40] s for the vehicle-size series",
-            settings.window_s
-        ));
+        return Err(ScalingError::Window {
+            window_s: settings.window_s,
+        });
     }
     let mut length = Vec::new();
     for &k in &settings.kilometres {
@@ -427,7 +489,9 @@ pub fn scaling(settings: &ScalingSettings) -> Result<Scaling, String> {
             .iter()
             .find(|s| s.0 == name)
             .map(|s| s.1)
-            .ok_or_else(|| format!("no embedded scene {name}"))
+            .ok_or_else(|| ScalingError::NoScene {
+                name: name.to_string(),
+            })
     };
     let vehicles: Vec<(String, String)> = vec![
         (

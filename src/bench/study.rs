@@ -40,6 +40,7 @@ pub fn throughput(study: &Study, cores: usize) -> Result<String, StudyError> {
                 jobs,
                 shard: None,
                 out: out.clone(),
+                cancel: Default::default(),
             },
             &|_, _| {},
         )?;

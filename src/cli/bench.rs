@@ -213,7 +213,7 @@ fn scaling(a: BenchArgs) -> Result<()> {
     if !a.km.is_empty() {
         settings.kilometres = a.km.clone();
     }
-    let s = kecsim::bench::scaling::scaling(&settings).map_err(anyhow::Error::msg)?;
+    let s = kecsim::bench::scaling::scaling(&settings)?;
     print!("{}", s.markdown());
     Ok(())
 }

@@ -22,6 +22,7 @@ use clap::{Args, Parser, Subcommand};
 
 use kecsim::contact::lookup::TableSettings;
 use kecsim::contact::ContactModelSpec;
+use kecsim::dynamics::{RunPool, Threads};
 use kecsim::inspect::{self, Sink};
 use kecsim::profile::placement::{Inclination, WheelRailPair, WheelsetGeometry};
 use kecsim::profile::{Profile, ProfileKind};
@@ -117,10 +118,17 @@ pub fn run(cli: Cli) -> Result<()> {
         kecsim::limits::lift();
     }
     NO_CACHE.set(cli.no_cache).ok();
+    // The commands whose runs are built inside the library (compare, paper, bench) take
+    // `KECSIM_THREADS` from the pool they execute in (their runs' default); `kecsim run` hands it
+    // to its run's options; a study runs one case per `--jobs` thread.
+    let in_threads = |command: Box<dyn FnOnce() -> Result<()> + Send>| match threads() {
+        Threads::Count(n) => RunPool::new(Threads::Count(n)).install(command),
+        _ => command(),
+    };
     match cli.command {
         Command::Run(a) => run::run(a),
-        Command::Compare(a) => compare::run(a),
-        Command::Paper(a) => paper::run(a),
+        Command::Compare(a) => in_threads(Box::new(|| compare::run(a))),
+        Command::Paper(a) => in_threads(Box::new(|| paper::run(a))),
         Command::Profiles(a) => profiles::run(a),
         Command::Contact(a) => contact::run(a),
         Command::Kec(a) => kec::run(a),
@@ -128,9 +136,22 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Track(a) => track::run(a),
         Command::GenerateProfiles(a) => generate::run(a),
         Command::DesignWheel(a) => design::run(a),
-        Command::Bench(a) => bench::run(a),
+        Command::Bench(a) => in_threads(Box::new(|| bench::run(a))),
         Command::Study(a) => study::run(a),
     }
+}
+
+/// The threads of every run, from the environment variable `KECSIM_THREADS` (a user contract):
+/// N ≥ 1 — N threads (1: every run on one thread alone); unset, 0 or not a number — the
+/// library's default, [`Threads::Default`] (two where the machine has two cores: the run's
+/// thread and one more, which the wheelsets of each right-hand side and the contact tables'
+/// searches are split between). Only the binary reads it.
+fn threads() -> Threads {
+    std::env::var("KECSIM_THREADS")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+        .filter(|&n| n >= 1)
+        .map_or(Threads::Default, Threads::Count)
 }
 
 /// The contact models' names, for `--contact`.

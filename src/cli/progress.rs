@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use kecsim::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
-use kecsim::dynamics::RunSummary;
+use kecsim::dynamics::{CancelToken, RunSummary};
 
 /// A progress bar over the simulated time, in ms, with the real-time factor and the ETA; when
 /// stderr is not a terminal (a batch job, a log file), a progress line every
@@ -98,13 +98,16 @@ impl RunObserver for Progress {
 pub struct Pace {
     factor: f64,
     start: Instant,
+    /// The run's stop request: a wait ends at once when it is asked.
+    cancel: CancelToken,
 }
 
 impl Pace {
-    pub fn new(factor: f64) -> Pace {
+    pub fn new(factor: f64, cancel: CancelToken) -> Pace {
         Pace {
             factor,
             start: Instant::now(),
+            cancel,
         }
     }
 }
@@ -118,7 +121,7 @@ impl RunObserver for Pace {
     fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
         let due = Duration::from_secs_f64((sample.t / self.factor).clamp(0.0, 1e9));
         // Sleep in slices so that an interrupt (Ctrl-C, SIGTERM) ends the wait at once.
-        while !kecsim::interrupt::requested() {
+        while !self.cancel.requested() {
             let elapsed = self.start.elapsed();
             if due <= elapsed {
                 break;

@@ -14,7 +14,7 @@ use kecsim::contact::kec::KecModel;
 use kecsim::contact::lookup::{LookupTable1, TableSettings};
 use kecsim::contact::report::kec_summary;
 use kecsim::dynamics::output::CsvWriter;
-use kecsim::dynamics::{RunEnd, RunObserver, Stop};
+use kecsim::dynamics::{CancelToken, RunEnd, RunObserver, Stop};
 use kecsim::inspect::{self, run::LiveRecorder};
 use kecsim::scenario::{RunOptions, Scene};
 
@@ -115,9 +115,10 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     // Ctrl-C / SIGTERM from here on: the run stops at its next step (or at once, if it comes
     // during the preprocessing) and everything up to it is written; a second Ctrl-C ends the
     // process at once.
-    kecsim::interrupt::clear();
-    ctrlc::set_handler(|| {
-        if kecsim::interrupt::request() {
+    let cancel = CancelToken::new();
+    let request = cancel.clone();
+    ctrlc::set_handler(move || {
+        if request.request() {
             eprintln!("\nkecsim: interrupted twice; exiting without finishing the outputs");
             std::process::exit(130);
         }
@@ -144,6 +145,8 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     let built = scene.build_run(&RunOptions {
         contact: a.contact.clone(),
         speed_m_s: a.speed,
+        threads: super::threads(),
+        cancel: cancel.clone(),
     })?;
     for n in &built.notes {
         eprintln!("kecsim: warning: {n}");
@@ -181,9 +184,9 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     };
     let mut recorder = LiveRecorder::open(&sink, scene, &names)?;
     let mut progress = Progress::new();
-    let mut pace = a.pace.map(Pace::new);
+    let mut pace = a.pace.map(|x| Pace::new(x, cancel.clone()));
     let out = {
-        let mut observers: Vec<&mut dyn RunObserver> = vec![&mut recorder, &mut progress];
+        let mut observers: Vec<&mut (dyn RunObserver + Send)> = vec![&mut recorder, &mut progress];
         if let Some(c) = csv.as_mut() {
             observers.push(c);
         }

@@ -10,9 +10,10 @@ use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use kecsim::dynamics::CancelToken;
 use kecsim::inspect::{self, Sink};
-use kecsim::study::run::{results_markdown, CaseResult};
-use kecsim::study::{merge, run_study, Study, StudyOptions};
+use kecsim::study::run::results_markdown;
+use kecsim::study::{merge, run_study, CaseResult, Study, StudyOptions};
 
 use super::{check_sink, SinkArgs};
 
@@ -192,9 +193,10 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
         println!("shard {i}/{n}: cases k with k mod {n} = {i}");
     }
     // Ctrl-C: the running cases stop at their next step (not marked finished), no new one starts.
-    kecsim::interrupt::clear();
-    ctrlc::set_handler(|| {
-        if kecsim::interrupt::request() {
+    let cancel = CancelToken::new();
+    let request = cancel.clone();
+    ctrlc::set_handler(move || {
+        if request.request() {
             std::process::exit(130);
         }
         eprintln!(
@@ -249,6 +251,7 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
             jobs,
             shard,
             out: out.clone(),
+            cancel,
         },
         &done,
     )?;

@@ -34,9 +34,8 @@
 
 use nalgebra::{Matrix4, Vector4};
 
-use super::lookup::{
-    cubic_hermite, hermite, pchip_slopes, quintic, transition_room, LookupTable1, TableRow, TRANSITION_PIECES,
-};
+use super::lookup::{transition_room, LookupTable1, TableRow, TRANSITION_PIECES};
+use crate::interpolation::{cubic_hermite, hermite, pchip_slopes, quintic};
 use crate::profile::Side;
 
 /// Largest width of a two-point transition (fillet) in s^k, m — see

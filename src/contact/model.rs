@@ -27,7 +27,7 @@ use std::fmt::Debug;
 
 use thiserror::Error;
 
-use super::elastic::{ElasticContact, ElasticContacts, ElasticError};
+use super::elastic::{ElasticContact, ElasticError};
 use super::geometry::ContactError;
 use super::kec::KecError;
 use super::lookup::TableError;
@@ -108,11 +108,6 @@ pub struct WheelsetKinematics {
     pub contacts: [ContactPoint; 2],
     /// KEC only: the knife-edge contact parameters s^lk, s^rk on the equivalent profiles, m.
     pub s_knife: Option<[f64; 2]>,
-    /// The elastic model only: the pose is the wheelset's own (z, φ free, Z_y = Φ_y = c = 0) and
-    /// these are its contacts; `contacts` then holds each wheel's closest point.
-    /// (Boxed: they are four times the rest, and the constraint models' kinematics are moved
-    /// several times per evaluation.)
-    pub elastic: Option<Box<ElasticContacts>>,
 }
 
 /// The contact model of a wheelset (shared by all wheelsets with the same profiles; each
@@ -195,7 +190,6 @@ pub fn directional_differences<M: ContactModel + ?Sized>(
         c_phi: (p.phi - 2.0 * c.phi + m.phi) / (eps * eps),
         contacts: c.contacts,
         s_knife: None,
-        elastic: None,
     })
 }
 

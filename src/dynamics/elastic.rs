@@ -16,7 +16,9 @@
 //! approach at 1 N), the creep forces F_ck, M_ck from the contact's ellipse at N_k and its
 //! creepages, as for the constraint models. In the state the slot's four lift entries hold the free
 //! z, φ, ż, φ̇ ([`WheelsetState::free_pose`]): a free wheelset has no lift coordinates, each wheel's
-//! gap is its own.
+//! gap is its own. The free pose is one kind of a wheelset's kinematics
+//! ([`super::kinematics::Kinematics::Free`]); this module uses the constrained wheelset's types
+//! and geometry ([`super::wheelset`]), never the other way.
 
 use nalgebra::Vector3;
 
@@ -24,54 +26,55 @@ use super::wheelset::{
     axle_direction, contact_curvature, contact_geometry, gyroscopic, FrameMotion, Load, WheelsetDynamics,
     WheelsetError, WheelsetInertia, WheelsetState,
 };
-use crate::contact::elastic::{ElasticContacts, FreePose};
+use crate::contact::elastic::{ElasticContact, ElasticContacts, FreePose};
 use crate::contact::forces::{ContactForceSettings, ContactPatch, CreepForce, Creepage, HertzContact};
 use crate::contact::{ContactModel, ContactModelError, WarmStart, WheelsetKinematics};
 use crate::profile::Side;
 use crate::track::{LateralFlexibility, RailMotion, RailOffsets};
 
-/// The contact kinematics of a wheelset at its state: a constraint model's two-point configuration
-/// at the state's y (a lifted wheel's θ is applied later, [`super::wheelset::pose_kinematics`]),
-/// or the elastic model's search at the state's free pose. `rails`: the rails under the wheelset
+/// The free wheelset's kinematics: its pose (z, φ and their rates the state's own; Z_y = Φ_y = c
+/// = 0; `contacts` each wheel's closest point) and the elastic contacts found at it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FreeKinematics {
+    pub pose: WheelsetKinematics,
+    /// (Boxed: they are four times the rest, and kinematics are moved several times per
+    /// evaluation.)
+    pub contacts: Box<ElasticContacts>,
+}
+
+/// The elastic search `search` at the state's free pose. `rails`: the rails under the wheelset
 /// ([`WheelsetState::shifted_rails`]).
-pub fn contact_kinematics(
-    model: &dyn ContactModel,
+pub fn free_kinematics(
+    search: &ElasticContact,
     st: &WheelsetState,
     rails: &RailMotion,
-    warm: &mut WarmStart,
-) -> Result<WheelsetKinematics, ContactModelError> {
-    match model.elastic() {
-        Some(search) => {
-            let pose = st.free_pose();
-            let contacts = search.search(&pose, rails)?;
-            Ok(WheelsetKinematics {
-                z: pose.z,
-                phi: pose.phi,
-                z_dot: pose.z_dot,
-                phi_dot: pose.phi_dot,
-                contacts: contacts.closest,
-                elastic: Some(Box::new(contacts)),
-                ..WheelsetKinematics::default()
-            })
-        }
-        None => model.kinematics(st.y, st.y_dot, rails, warm),
-    }
+) -> Result<FreeKinematics, ContactModelError> {
+    let pose = st.free_pose();
+    let contacts = search.search(&pose, rails)?;
+    Ok(FreeKinematics {
+        pose: WheelsetKinematics {
+            z: pose.z,
+            phi: pose.phi,
+            z_dot: pose.z_dot,
+            phi_dot: pose.phi_dot,
+            contacts: contacts.closest,
+            ..WheelsetKinematics::default()
+        },
+        contacts: Box::new(contacts),
+    })
 }
 
 /// The elastic model's initial pose at lateral displacement `y` on rails displaced by `rails` under
 /// the static wheel loads `loads` (left, right; N, vertical): the rigid touching configuration lowered by each
-/// wheel's Hertz approach (a wheel sinks δ / n_Z to approach δ along its normal). `None` for a
-/// constraint model.
+/// wheel's Hertz approach (a wheel sinks δ / n_Z to approach δ along its normal). `model` is the
+/// elastic model (its [`ContactModel::configuration`] the rigid touching one).
 pub fn initial_free_pose(
     model: &dyn ContactModel,
     y: f64,
     rails: &RailOffsets,
     loads: [f64; 2],
     forces: &ContactForceSettings,
-) -> Result<Option<(f64, f64)>, ContactModelError> {
-    if model.elastic().is_none() {
-        return Ok(None);
-    }
+) -> Result<(f64, f64), ContactModelError> {
     let c = model.configuration(y, rails, &mut WarmStart::default())?;
     let mut sink = [0.0; 2];
     let mut arm = [0.0; 2];
@@ -91,22 +94,22 @@ pub fn initial_free_pose(
     // dz + dφ u_l = −sink_l, dz + dφ u_r = −sink_r.
     let d_phi = (sink[1] - sink[0]) / (arm[0] - arm[1]);
     let d_z = -sink[0] - d_phi * arm[0];
-    Ok(Some((c.z + d_z, c.phi + d_phi)))
+    Ok((c.z + d_z, c.phi + d_phi))
 }
 
-/// The accelerations of a free wheelset on its elastic contacts `contacts` (found at the pose
-/// `kin`, the state's own z, φ and rates).
-#[allow(clippy::too_many_arguments)]
+/// The accelerations of a free wheelset on its elastic contacts (`free`: its pose, the state's
+/// own z, φ and rates, and the contacts found there). The slot's lift entries hold z, φ: their
+/// accelerations z̈, φ̈ are returned as its `lift_accel` too.
 pub fn evaluate_free(
     inertia: &WheelsetInertia,
     state: &WheelsetState,
-    kin: &WheelsetKinematics,
-    contacts: &ElasticContacts,
+    free: &FreeKinematics,
     frame: &FrameMotion,
     load: &Load,
     forces: &ContactForceSettings,
     track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
+    let (kin, contacts) = (&free.pose, free.contacts.as_ref());
     let m = inertia.mass_kg;
     let [ix, _, iz] = inertia.inertia_kg_m2;
     let (z, phi) = (kin.z, kin.phi);
@@ -124,10 +127,7 @@ pub fn evaluate_free(
     let m_load = Vector3::from(load.moment);
     let mut mo = m_load - axle * axle.dot(&m_load);
     let mut mo_wheel = [Vector3::zeros(); 2];
-    let mut out = WheelsetDynamics {
-        free_pose: true,
-        ..WheelsetDynamics::default()
-    };
+    let mut out = WheelsetDynamics::default();
     let mut contact_y = 0.0;
     for i in 0..2 {
         let side = Side::BOTH[i].name();
@@ -218,6 +218,7 @@ pub fn evaluate_free(
         return Err(WheelsetError::Singular);
     }
     out.accel = accel;
+    out.lift_accel = [accel[2], accel[3]];
     out.spin_accel_right = spin_r;
     if let Some(t) = track {
         // The wheels push the rails with the opposite of their contact forces.

@@ -48,6 +48,8 @@
 use nalgebra::DMatrix;
 use thiserror::Error;
 
+use super::cancel::CancelToken;
+
 /// A first-order system x' = f(t, x).
 pub trait OdeSystem {
     /// What a failing evaluation reports (e.g. a wheel that lifts, a contact Newton that fails).
@@ -136,8 +138,8 @@ const NEWTON_MAX: usize = 4;
 /// BDF: the Newton iteration's remaining error, in the error norm (1 = the tolerance).
 const NEWTON_TOLERANCE: f64 = 0.1;
 
-/// Tolerances and limits.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Tolerances and limits, and the request that stops the integration early.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
     pub method: Method,
     pub rtol: f64,
@@ -155,6 +157,9 @@ pub struct Settings {
     /// BDF only: the highest order used (1–5; BDF-1, BDF-2 are A-stable, BDF-3…5 stable in
     /// narrowing sectors around the negative real axis).
     pub bdf_max_order: usize,
+    /// A stop asked for from outside (the binary's Ctrl-C): checked after every step, the
+    /// integration then ends there ([`Completion::Stopped`]). Default: a fresh token, never asked.
+    pub cancel: CancelToken,
 }
 
 impl Settings {
@@ -170,6 +175,7 @@ impl Settings {
             fixed_step: None,
             jacobian_max_age: 25,
             bdf_max_order: 5,
+            cancel: CancelToken::default(),
         }
     }
 }
@@ -192,7 +198,40 @@ pub enum IntegrationError<E> {
     #[error("singular iteration matrix (1/(hγ) I − J) at t = {t:.6} s")]
     Singular { t: f64 },
     #[error("invalid integrator settings: {0}")]
-    Settings(String),
+    Settings(SettingsError),
+}
+
+/// What is wrong with an integration's settings, or with the layout its system declares.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SettingsError {
+    /// The initial state's length is not the system's number of states.
+    #[error("x0 has {given} states, the system {states}")]
+    StateCount { given: usize, states: usize },
+    /// A tolerance, the output interval or the time span is not positive.
+    #[error("need rtol > 0, atol > 0, dt_out > 0, t_end ≥ t0 (rtol {rtol}, atol {atol}, dt_out {dt_out}, t0 {t0}, t_end {t_end})")]
+    Tolerances {
+        rtol: f64,
+        atol: f64,
+        dt_out: f64,
+        t0: f64,
+        t_end: f64,
+    },
+    /// A Jacobian block ([`OdeSystem::jacobian_blocks`], [`OdeSystem::newton_groups`]) overlaps
+    /// another or reaches beyond the states.
+    #[error("Jacobian block ({offset}, {size}) overlaps another or reaches beyond the {states} states")]
+    JacobianBlock {
+        offset: usize,
+        size: usize,
+        states: usize,
+    },
+    /// A kinematic block ([`OdeSystem::kinematic_blocks`]) has an odd size or reaches beyond the
+    /// states.
+    #[error("kinematic block ({offset}, {size}) is odd or reaches beyond the {states} states")]
+    KinematicBlock {
+        offset: usize,
+        size: usize,
+        states: usize,
+    },
 }
 
 /// Work done.
@@ -392,16 +431,19 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
 ) -> Result<Completion, IntegrationError<S::Error>> {
     let n = sys.dim();
     if x0.len() != n {
-        return Err(IntegrationError::Settings(format!(
-            "x0 has {} states, the system {n}",
-            x0.len()
-        )));
+        return Err(IntegrationError::Settings(SettingsError::StateCount {
+            given: x0.len(),
+            states: n,
+        }));
     }
     if !(settings.rtol > 0.0 && settings.atol > 0.0 && dt_out > 0.0 && t_end >= t0) {
-        return Err(IntegrationError::Settings(format!(
-            "need rtol > 0, atol > 0, dt_out > 0, t_end ≥ t0 (rtol {}, atol {}, dt_out {dt_out}, t0 {t0}, t_end {t_end})",
-            settings.rtol, settings.atol
-        )));
+        return Err(IntegrationError::Settings(SettingsError::Tolerances {
+            rtol: settings.rtol,
+            atol: settings.atol,
+            dt_out,
+            t0,
+            t_end,
+        }));
     }
     *stats = Stats {
         smallest_step: f64::INFINITY,
@@ -587,9 +629,9 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             h = (h * fac).min(settings.h_max);
         }
         rejections = 0;
-        // A stop asked for from outside (Ctrl-C, SIGTERM: `crate::interrupt`): end at this step,
+        // A stop asked for from outside (Ctrl-C, SIGTERM: `settings.cancel`): end at this step,
         // with an output here unless the grid just gave one.
-        if crate::interrupt::requested() && t < t_end {
+        if settings.cancel.requested() && t < t_end {
             let last_out = t0 + (out_index - 1) as f64 * dt_out;
             if (t - last_out).abs() > 1e-12 * t.abs().max(1.0) {
                 output(t, &x).map_err(out_err(t))?;
@@ -866,7 +908,7 @@ impl Stepper {
         groups: Option<Vec<Vec<(usize, usize)>>>,
         kinematic: Vec<(usize, usize)>,
         n: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), SettingsError> {
         let Some(groups) = groups else {
             return Ok(());
         };
@@ -879,9 +921,11 @@ impl Stepper {
         };
         for (i, &(o, m)) in blocks.iter().enumerate() {
             if o + m > n || overlap(o, m, i) {
-                return Err(format!(
-                    "Jacobian block ({o}, {m}) overlaps another or reaches beyond the {n} states"
-                ));
+                return Err(SettingsError::JacobianBlock {
+                    offset: o,
+                    size: m,
+                    states: n,
+                });
             }
         }
         let mut all = blocks.clone();
@@ -890,9 +934,11 @@ impl Stepper {
                 continue;
             }
             if m % 2 != 0 || o + m > n {
-                return Err(format!(
-                    "kinematic block ({o}, {m}) is odd or reaches beyond the {n} states"
-                ));
+                return Err(SettingsError::KinematicBlock {
+                    offset: o,
+                    size: m,
+                    states: n,
+                });
             }
             for i in 0..m / 2 {
                 self.jac[(o + i, o + m / 2 + i)] = 1.0;

@@ -5,14 +5,19 @@
 //! * [`single_wheelset`], [`multibody`]: the two vehicle systems;
 //! * [`wheelset`]: Newton–Euler of one wheelset with its contact constraints (Eq. 53);
 //! * [`elastic`](mod@elastic): a free wheelset on elastic contacts (the elastic contact model);
+//! * [`kinematics`]: a wheelset's contact kinematics, constrained or free, and each kind's
+//!   equations behind one interface (the vehicle systems use it, not the two above);
 //! * [`reference`](mod@reference): the reference motion along the track and the frames it gives;
 //! * [`integrator`]: DOPRI5, ROS3, ROS34PW2, BDF with dense output and diagnosed failures;
-//! * [`run`](mod@run): the run loop, stop conditions, summary; [`output`]: samples, observers, CSV.
+//! * [`run`](mod@run): the run loop, its threads, stop conditions, summary; [`output`]: samples,
+//!   observers, CSV; [`cancel`]: the stop request a run honours (Ctrl-C in the binary).
 //!
 //! The contact models are [`crate::contact::ContactModel`]s; the dynamics never knows which one.
 
+pub mod cancel;
 pub mod elastic;
 pub mod integrator;
+pub mod kinematics;
 pub mod linear;
 pub mod multibody;
 pub mod output;
@@ -23,7 +28,8 @@ pub mod single_wheelset;
 pub mod system;
 pub mod wheelset;
 
+pub use cancel::CancelToken;
 pub use output::{RunObserver, RunSummary, Sample};
 pub use reference::{Reference, SpeedProfile};
-pub use run::{run, RunEnd, RunLabels, RunOutput, RunSettings, Stop, StopConditions};
+pub use run::{run, RunEnd, RunLabels, RunOutput, RunPool, RunSettings, Stop, StopConditions, Threads};
 pub use system::{DynamicsError, InitialDisturbance, Settling, VehicleModel, VehicleSample};

@@ -37,18 +37,17 @@ use rayon::prelude::*;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Vector3, Vector6};
 
-use super::elastic::{contact_kinematics, initial_free_pose};
+use super::kinematics::{initial_pose, Kind, Kinematics};
 use super::reference::{FrameAt, Reference, G};
 use super::system::{
     BodySample, DynamicsError, InitialDisturbance, Settling, VehicleData, VehicleModel, VehicleSample,
     WheelsetSample,
 };
 use super::wheelset::{
-    evaluate, land, pose_kinematics, FrameMotion, IrwInertia, Landing, Load, WheelsetDynamics,
-    WheelsetInertia, WheelsetState,
+    FrameMotion, IrwInertia, Landing, Load, WheelsetDynamics, WheelsetInertia, WheelsetState,
 };
 use crate::contact::forces::ContactForceSettings;
-use crate::contact::{ContactModel, WarmStart, WheelsetKinematics};
+use crate::contact::{ContactModel, WarmStart};
 use crate::track::{RailMotion, RailOffsets};
 use crate::vehicle::elements::{BodyRef, Element, ElementLoad, FrameLoads, Pose};
 use crate::vehicle::spec::MultibodySpec;
@@ -278,10 +277,10 @@ impl Multibody {
         s_ref: f64,
         v: f64,
         v_dot: f64,
-    ) -> Result<(WheelsetKinematics, FrameAt, f64), DynamicsError> {
+    ) -> Result<(Kinematics, FrameAt, f64), DynamicsError> {
         let s = s_ref + self.wheelsets[j].d + st.x;
         let f = self.frame_at(s, v, v_dot)?;
-        let kin = contact_kinematics(self.contact.as_ref(), st, &st.shifted_rails(&f.rails), warm)
+        let kin = Kinematics::of(self.contact.as_ref(), st, &st.shifted_rails(&f.rails), warm)
             .map_err(DynamicsError::contact(&self.wheelsets[j].name, st.y, s))?;
         Ok((kin, f, s))
     }
@@ -316,7 +315,7 @@ impl Multibody {
                 .frame_at(self.reference.s_ref(0.0) + self.wheelsets[j].d, v0, 0.0)
                 .map(|f| RailOffsets::from_array(f.rails.q))
                 .unwrap_or_default();
-            let free = initial_free_pose(self.contact.as_ref(), y0, &rails, [q, q], &self.forces)
+            let free = initial_pose(self.contact.as_ref(), y0, &rails, [q, q], &self.forces)
                 .ok()
                 .flatten();
             if let (Some((z, _)), Some(k)) = (free, &rigid) {
@@ -475,7 +474,8 @@ impl Multibody {
                 let st = WheelsetState::read(&x[o..], self.is_irw(j));
                 let (kin, f, s) = self.wheelset_kinematics(warm, j, &st, s_ref, v, v_dot)?;
                 // The pose: the two-point configuration moved by a lifted wheel's θ.
-                let pose = pose_kinematics(&st, &kin)
+                let pose = kin
+                    .pose(&st)
                     .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
                 Ok((st, kin, f, s, pose))
             })
@@ -552,17 +552,18 @@ impl Multibody {
                     force: f.into(),
                     moment: mo.into(),
                 };
-                evaluate(
-                    &self.wheelsets[j].inertia,
-                    &ws_states[j],
-                    &kins[j].0,
-                    &motions[nb + j],
-                    &load,
-                    &self.forces,
-                    start,
-                    self.reference.lateral_flexibility().as_ref(),
-                )
-                .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))
+                kins[j]
+                    .0
+                    .evaluate(
+                        &self.wheelsets[j].inertia,
+                        &ws_states[j],
+                        &motions[nb + j],
+                        &load,
+                        &self.forces,
+                        start,
+                        self.reference.lateral_flexibility().as_ref(),
+                    )
+                    .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))
             })
             .collect();
         let mut ws_samples = Vec::with_capacity(if sampling { nw } else { 0 });
@@ -971,7 +972,7 @@ impl VehicleModel for Multibody {
 
     /// None with the elastic model (its slots hold the free pose; no landing events).
     fn lift_offsets(&self) -> Vec<usize> {
-        if self.contact.elastic().is_some() {
+        if !Kind::of(self.contact.as_ref()).lands() {
             return Vec::new();
         }
         (0..self.wheelsets.len())
@@ -993,14 +994,14 @@ impl VehicleModel for Multibody {
         let (v, v_dot) = self.reference.speed_at(t);
         let (kin, _, _) =
             self.wheelset_kinematics(&mut data.warm[j], j, &st, self.reference.s_ref(t), v, v_dot)?;
-        let landing = land(
-            &self.wheelsets[j].inertia,
-            &mut st,
-            &kin,
-            self.reference.lateral_flexibility().as_ref(),
-            side,
-        )
-        .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
+        let landing = kin
+            .land(
+                &self.wheelsets[j].inertia,
+                &mut st,
+                self.reference.lateral_flexibility().as_ref(),
+                side,
+            )
+            .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
         st.write(&mut x[o..], irw);
         Ok(landing)
     }

@@ -8,6 +8,7 @@
 //! [`RunOutput`] and every observer has seen them and its `finish`.
 
 use std::fmt;
+use std::sync::Arc;
 use std::time::Instant;
 
 use thiserror::Error;
@@ -31,6 +32,8 @@ pub struct RunSettings {
     pub integrator: Settings,
     pub initial: InitialDisturbance,
     pub stop: StopConditions,
+    /// The threads of the run ([`RunPool::new`]; default: the caller's).
+    pub pool: RunPool,
 }
 
 /// Conditions that end a run normally, before its duration.
@@ -51,7 +54,8 @@ pub enum Stop {
         t: f64,
         speed_m_s: f64,
     },
-    /// Interrupted (Ctrl-C, SIGTERM: [`crate::interrupt`]) at the output time t.
+    /// Interrupted (Ctrl-C, SIGTERM: the settings' [`CancelToken`](super::CancelToken)) at the
+    /// output time t.
     Interrupted { t: f64 },
 }
 
@@ -232,30 +236,76 @@ pub fn hunting_onset(samples: &[Sample], growth: f64) -> Option<f64> {
     (later >= growth * min.0).then_some(min.1)
 }
 
-/// Makes this thread one of a thread pool of its own, once per thread and for the thread's life
-/// (rayon cannot take a thread back out of a pool): this thread and, on a machine with more than
-/// one core, one more (`KECSIM_THREADS` sets the total; 1: every run on this thread alone; 0 or
-/// not a number: the default). The
-/// right-hand side's parallel parts (a vehicle's wheelsets) then split between the cores without
-/// handing each evaluation to another thread. Where the pool cannot be made (this thread already
-/// in another pool), runs go on as they are. Returns the pool's number of threads (1 without one).
-pub fn join_run_pool() -> usize {
-    thread_local! {
-        static POOL: Option<rayon::ThreadPool> = {
-            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-            let threads = std::env::var("KECSIM_THREADS")
-                .ok()
-                .and_then(|v| v.parse::<usize>().ok())
-                .filter(|&n| n >= 1)
-                .unwrap_or(cores.min(2));
+/// The threads a run splits its work between: the contact preprocessing's searches and, in every
+/// right-hand side, a vehicle's wheelsets (each wheelset's kinematics and dynamics depend only on
+/// its own state; the results are the same to the last bit on any number of threads).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Threads {
+    /// Called from a thread of a rayon pool (a study's cases, a caller's own pool): that pool's;
+    /// else a pool of the run's own with two threads where the machine has two cores (one
+    /// where it has one).
+    #[default]
+    Default,
+    /// A pool of the run's own with this many threads (1: every evaluation on one thread). The
+    /// binary takes it from the environment variable `KECSIM_THREADS`.
+    Count(usize),
+    /// No pool of its own: the pool of the thread it is called from (rayon's global pool from
+    /// a thread outside any).
+    Caller,
+}
+
+/// The thread pool of one run ([`Threads`]), made when the run is built and kept with its
+/// settings: the preprocessing and the run execute inside it (on one of its threads, which
+/// then splits a right-hand side's wheelsets with the others without handing each evaluation to
+/// a thread outside). Clones share the pool; none: the caller's. A pool that cannot be made
+/// (no threads to start) leaves the run to the caller's.
+#[derive(Debug, Clone, Default)]
+pub struct RunPool(Option<Arc<rayon::ThreadPool>>);
+
+impl RunPool {
+    /// The pool `threads` asks for.
+    pub fn new(threads: Threads) -> RunPool {
+        let n = match threads {
+            Threads::Caller => return RunPool(None),
+            Threads::Default if rayon::current_thread_index().is_some() => return RunPool(None),
+            Threads::Default => std::thread::available_parallelism().map_or(1, |n| n.get()).min(2),
+            Threads::Count(n) => n.max(1),
+        };
+        RunPool(
             rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .use_current_thread()
+                .num_threads(n)
                 .build()
                 .ok()
-        };
+                .map(Arc::new),
+        )
     }
-    POOL.with(|p| p.as_ref().map_or(1, |p| p.current_num_threads()))
+
+    /// Runs `f` inside the pool (on the calling thread where there is none).
+    pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        match &self.0 {
+            Some(pool) => pool.install(f),
+            None => f(),
+        }
+    }
+
+    /// The number of threads the run's work is split between.
+    pub fn threads(&self) -> usize {
+        match &self.0 {
+            Some(pool) => pool.current_num_threads(),
+            None => rayon::current_num_threads(),
+        }
+    }
+}
+
+/// Two run pools are equal when they are the same pool (or both the caller's).
+impl PartialEq for RunPool {
+    fn eq(&self, other: &Self) -> bool {
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        }
+    }
 }
 
 /// Runs `vehicle` as `settings` says, handing every output time to `observers` as it is
@@ -264,17 +314,32 @@ pub fn join_run_pool() -> usize {
 /// model the W-method renews its Jacobian every step (the online solve's warm start makes the
 /// right-hand side depend on the evaluation history near contact jumps; with a kept Jacobian its
 /// error estimate missed 0.06 mm on the Klingel scene, measured).
+///
+/// The run executes inside its settings' pool ([`RunSettings::pool`]); a stop asked for through
+/// the integrator settings' [`CancelToken`](super::CancelToken) ends it as
+/// [`Stop::Interrupted`].
 pub fn run(
     vehicle: &dyn VehicleModel,
     settings: &RunSettings,
     labels: &RunLabels,
-    observers: &mut [&mut dyn RunObserver],
+    observers: &mut [&mut (dyn RunObserver + Send)],
 ) -> RunOutput {
-    join_run_pool();
+    settings
+        .pool
+        .install(|| run_here(vehicle, settings, labels, observers))
+}
+
+/// [`run`] on this thread.
+fn run_here(
+    vehicle: &dyn VehicleModel,
+    settings: &RunSettings,
+    labels: &RunLabels,
+    observers: &mut [&mut (dyn RunObserver + Send)],
+) -> RunOutput {
     let names = vehicle.wheelset_names();
     let body_names = vehicle.body_names();
     let r0 = vehicle.nominal_radius();
-    let mut integrator = settings.integrator;
+    let mut integrator = settings.integrator.clone();
     if vehicle.contact().history_dependent() {
         integrator.jacobian_max_age = 1;
     }
@@ -328,7 +393,7 @@ pub fn run(
                         return Ok(Flow::Stop);
                     }
                 }
-                stop = if crate::interrupt::requested() {
+                stop = if settings.integrator.cancel.requested() {
                     Some(Stop::Interrupted { t })
                 } else {
                     settings.stop.check(t, &names, &row)
@@ -348,7 +413,7 @@ pub fn run(
         (Err(e), None, _) => RunEnd::Failed(RunFailure::Integration(e)),
         (Ok(_), None, Some(s)) => RunEnd::Stopped(s),
         // Interrupted between two output times (the integrator ends at its step).
-        (Ok(Completion::Stopped { t }), None, None) if crate::interrupt::requested() => {
+        (Ok(Completion::Stopped { t }), None, None) if settings.integrator.cancel.requested() => {
             RunEnd::Stopped(Stop::Interrupted { t })
         }
         (Ok(_), None, None) => RunEnd::Completed,

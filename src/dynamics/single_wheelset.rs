@@ -11,16 +11,15 @@
 
 use std::sync::Arc;
 
-use super::elastic::{contact_kinematics, initial_free_pose};
+use super::kinematics::{initial_pose, Kind, Kinematics};
 use super::reference::FrameAt;
 use super::reference::{Reference, G};
 use super::system::{
     DynamicsError, InitialDisturbance, VehicleData, VehicleModel, VehicleSample, WheelsetSample,
 };
-use super::wheelset::{evaluate, land, pose_kinematics, Landing, Load, WheelsetInertia, WheelsetState};
+use super::wheelset::{Landing, Load, WheelsetInertia, WheelsetState};
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::ContactModel;
-use crate::contact::WheelsetKinematics;
 use crate::track::RailOffsets;
 
 /// The tie between the wheelset and the moving frame, per axle box.
@@ -52,20 +51,20 @@ impl SingleWheelset {
         WheelsetState::read(x, false)
     }
 
-    /// The contact model's two-point kinematics of the state at (t, x), its frame and arc length.
+    /// The contact kinematics of the state at (t, x), its frame and arc length.
     fn kinematics(
         &self,
         data: &mut VehicleData,
         t: f64,
         st: &WheelsetState,
-    ) -> Result<(WheelsetKinematics, FrameAt, f64), DynamicsError> {
+    ) -> Result<(Kinematics, FrameAt, f64), DynamicsError> {
         let (v, v_dot) = self.reference.speed_at(t);
         let s = self.reference.s_ref(t) + st.x;
         let frame = self
             .reference
             .frame(s, v, v_dot)
             .map_err(|source| DynamicsError::Track { s, source })?;
-        let kin = contact_kinematics(
+        let kin = Kinematics::of(
             self.contact.as_ref(),
             st,
             &st.shifted_rails(&frame.rails),
@@ -103,18 +102,18 @@ impl SingleWheelset {
             // Arm (0, b, 0): M = (b F_z, 0, −b F_x).
             load.moment[2] += -b * fx;
         }
-        let dynamics = evaluate(
-            &self.inertia,
-            &st,
-            &kin,
-            &frame.motion,
-            &load,
-            &self.forces,
-            &mut data.normal_start[0],
-            self.reference.lateral_flexibility().as_ref(),
-        )
-        .map_err(DynamicsError::wheelset(&self.name, st.y))?;
-        let kin = pose_kinematics(&st, &kin).map_err(DynamicsError::wheelset(&self.name, st.y))?;
+        let dynamics = kin
+            .evaluate(
+                &self.inertia,
+                &st,
+                &frame.motion,
+                &load,
+                &self.forces,
+                &mut data.normal_start[0],
+                self.reference.lateral_flexibility().as_ref(),
+            )
+            .map_err(DynamicsError::wheelset(&self.name, st.y))?;
+        let kin = kin.pose(&st).map_err(DynamicsError::wheelset(&self.name, st.y))?;
         Ok(WheelsetSample {
             state: st,
             kin,
@@ -149,7 +148,7 @@ impl VehicleModel for SingleWheelset {
             .frame(self.reference.s_ref(0.0), self.reference.speed.at(0.0), 0.0)
             .map(|f| RailOffsets::from_array(f.rails.q))
             .unwrap_or_default();
-        let free = initial_free_pose(
+        let free = initial_pose(
             self.contact.as_ref(),
             initial.lateral_m,
             &rails,
@@ -195,7 +194,7 @@ impl VehicleModel for SingleWheelset {
 
     /// None with the elastic model (its slots hold the free pose; no landing events).
     fn lift_offsets(&self) -> Vec<usize> {
-        if self.contact.elastic().is_some() {
+        if !Kind::of(self.contact.as_ref()).lands() {
             return Vec::new();
         }
         vec![WheelsetState::lift_index(false)]
@@ -212,14 +211,14 @@ impl VehicleModel for SingleWheelset {
         debug_assert_eq!(wheelset, 0);
         let mut st = Self::unpack(x);
         let (kin, ..) = self.kinematics(data, t, &st)?;
-        let landing = land(
-            &self.inertia,
-            &mut st,
-            &kin,
-            self.reference.lateral_flexibility().as_ref(),
-            side,
-        )
-        .map_err(DynamicsError::wheelset(&self.name, st.y))?;
+        let landing = kin
+            .land(
+                &self.inertia,
+                &mut st,
+                self.reference.lateral_flexibility().as_ref(),
+                side,
+            )
+            .map_err(DynamicsError::wheelset(&self.name, st.y))?;
         st.write(x, false);
         Ok(landing)
     }

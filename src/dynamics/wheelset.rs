@@ -209,16 +209,11 @@ impl WheelsetState {
         if irw {
             d[7] = dynamics.spin_accel_right;
         }
-        let pose_accel = if dynamics.free_pose {
-            [a[2], a[3]]
-        } else {
-            dynamics.lift_accel
-        };
         d[l..l + 6].copy_from_slice(&[
             x[l + 2],
             x[l + 3],
-            pose_accel[0],
-            pose_accel[1],
+            dynamics.lift_accel[0],
+            dynamics.lift_accel[1],
             x[l + 5],
             dynamics.track_accel,
         ]);
@@ -248,7 +243,9 @@ pub struct WheelsetDynamics {
     /// |Φ(λ) − λ| of the normal forces returned: the residual of the creep/normal-force
     /// iteration (≤ 1e-12 relative), N.
     pub lambda_change: f64,
-    /// θ̈ of each wheel's lift (0 for a wheel on its rail), rad/s².
+    /// The accelerations of the slot's lift entries: θ̈ of each wheel's lift (0 for a wheel on its
+    /// rail), rad/s² — the free pose of the elastic model: z̈, φ̈ (its slot's lift entries hold z, φ;
+    /// [`super::elastic`](mod@super::elastic)).
     pub lift_accel: [f64; 2],
     /// Each wheel's gap to its rail along the rail normal (0 on the rail), m.
     pub lift_gap: [f64; 2],
@@ -257,8 +254,6 @@ pub struct WheelsetDynamics {
     /// Lateral (Y) and vertical (Q) force of each rail on its wheel, track frame, N (normal and
     /// creep forces of all the wheel's contacts).
     pub wheel_force: [(f64, f64); 2],
-    /// The elastic model: the slot's lift entries are the free z, φ, ż, φ̇ (z̈, φ̈ in `accel`).
-    pub free_pose: bool,
 }
 
 /// Dynamics failures.
@@ -437,9 +432,6 @@ pub fn pose_kinematics(
     state: &WheelsetState,
     kin: &WheelsetKinematics,
 ) -> Result<WheelsetKinematics, WheelsetError> {
-    if kin.elastic.is_some() {
-        return Ok(kin.clone());
-    }
     Ok(apply_lifts(&Lift::of(state, kin)?, kin))
 }
 
@@ -629,11 +621,6 @@ pub fn evaluate(
     start: &mut NormalForceStart,
     track: Option<&LateralFlexibility>,
 ) -> Result<WheelsetDynamics, WheelsetError> {
-    if let Some(contacts) = &kin.elastic {
-        let r = super::elastic::evaluate_free(inertia, state, kin, contacts, frame, load, forces, track)?;
-        start.lambda = r.normal;
-        return Ok(r);
-    }
     let lambda_guess = start.lambda;
     let solve_at = |guess: [f64; 2], secant: &mut Matrix2<f64>, lifts: &Lifts| {
         solve(
@@ -853,7 +840,6 @@ fn solve(
             lift_gap,
             track_accel: if track.is_some() { sol[8] } else { 0.0 },
             wheel_force: [(0.0, 0.0); 2],
-            free_pose: false,
         })
     };
     // Solve G(λ) = Φ(λ) − λ = 0 by Broyden's method. Its matrix B ≈ ∂G/∂λ starts from `secant`,
@@ -950,9 +936,6 @@ pub fn land(
     track: Option<&LateralFlexibility>,
     side: usize,
 ) -> Result<Option<Landing>, WheelsetError> {
-    if kin.elastic.is_some() {
-        return Ok(None);
-    }
     let lifts = Lift::of(state, kin)?;
     let Some(l) = lifts[side] else {
         return Ok(None);

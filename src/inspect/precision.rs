@@ -14,7 +14,7 @@ use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, TextDocumentView};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, InspectError};
-use crate::bench::precision::{Precision, PrecisionRow};
+use crate::compare::precision::{Precision, PrecisionRow};
 
 /// Plot coordinates of (wall s, error) on the log–log axes.
 fn at(wall: f64, error: f64) -> [f32; 2] {

@@ -24,7 +24,8 @@ use rerun::blueprint::{
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument, TimeColumn};
 
 use super::{log_static, send_scalar_rows, InspectError};
-use crate::study::run::{first_appearances, front_wheelset_y, CaseResult, Manifest};
+use crate::study::run::front_wheelset_y;
+use crate::study::{first_appearances, CaseResult, Manifest};
 
 /// The simulated-time timeline.
 pub const TIME: &str = "time";

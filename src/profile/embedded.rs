@@ -6,7 +6,9 @@
 //!   `assets/designs/ms-standin.toml`, jump-free by construction, flange S_h 28 mm, S_d 32.5 mm at
 //!   a 1366 mm back-to-back, 70° flank. The file's header holds the target and the result.
 
-use super::{io, Profile, ProfileError, ProfileKind};
+use super::curve::{Profile, ProfileKind};
+use super::error::ProfileError;
+use super::io;
 
 /// One shipped profile.
 #[derive(Debug, Clone, Copy)]

@@ -21,7 +21,8 @@ use std::fs;
 use std::io::Write;
 use std::path::Path;
 
-use super::{Profile, ProfileError, ProfileKind};
+use super::curve::{Profile, ProfileKind};
+use super::error::ProfileError;
 use crate::spline::SplineError;
 
 /// End segments steeper than this |dz/dy| (88.9°) are trimmed.

@@ -14,7 +14,7 @@
 //! "10 mm above the taping line" is z = −10 mm on the flank (s between the tip and the tread).
 //! S1002 (h28 e32.5) gives S_h = 28 mm, S_d = 32.5 mm, qR ≈ 10.8 mm, 70°.
 
-use super::Profile;
+use super::curve::Profile;
 
 /// Height above the taping line at which the flange thickness is measured, m.
 pub const SD_HEIGHT_M: f64 = 0.010;

@@ -12,7 +12,7 @@
 //! converts to SI once when it builds the runtime [`Profile`] (a C² spline through points sampled
 //! every 0.1 mm of arc length and at every section joint).
 
-use super::{Profile, ProfileKind};
+use super::curve::{Profile, ProfileKind};
 
 /// One analytic section `g(x)` on `[x0, x1]` (mm), value positive *down* (F for the wheel, depth
 /// for a rail).

@@ -25,7 +25,7 @@ use crate::track::TrackGauge;
 use crate::vehicle::VehicleSpec;
 
 pub use crate::SCHEMA_VERSION;
-pub use simulation::{BuildError, BuiltRun, PreprocessingCache, RunOptions, SimulationSpec};
+pub use simulation::{BuildError, BuiltRun, PreprocessingCache, RunOptions, Scene, SimulationSpec};
 
 /// The default scenario, embedded in the binary: the paper's case (§8), the MS vehicle on the
 /// Tab. 6 track with irregularities at 19 m/s (`assets/scenes/ms_vehicle_tab6.toml`).
@@ -154,25 +154,6 @@ pub enum ScenarioError {
     /// Every validation problem found, one per line.
     #[error("{path}: invalid scenario:\n  - {}", problems.join("\n  - "))]
     Invalid { path: String, problems: Vec<String> },
-}
-
-/// A scenario ready to run: profiles loaded and placed, the track built if it has sections.
-#[derive(Debug, Clone)]
-pub struct Scene {
-    pub name: String,
-    /// Where it came from (its file, or `<embedded default>`), for errors.
-    pub origin: String,
-    pub pair: WheelRailPair,
-    pub contact_forces: ContactForceSettings,
-    pub track: Option<Arc<crate::track::Track>>,
-    /// The simulation and its vehicle, when the scenario has both.
-    pub simulation: Option<(SimulationSpec, VehicleSpec)>,
-    /// Physically doubtful but possible values, each naming its key (the run goes on; the command
-    /// prints them and the JSON summary carries them).
-    pub warnings: Vec<String>,
-    /// Where the contact models' tables are cached between runs (None: built every time; the
-    /// command line sets it, see [`crate::contact::cache`]).
-    pub table_cache: Option<crate::contact::cache::TableCache>,
 }
 
 impl Scenario {

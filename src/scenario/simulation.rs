@@ -1,6 +1,7 @@
 //! The `[simulation]` table, as written, and what it compiles into: the contact model, the
 //! vehicle system (settled), the reference motion along the track and the run settings — the one
-//! place where a scenario becomes the objects of a run ([`super::Scene::build_run`]).
+//! place where a scenario becomes the objects of a run ([`Scene::build_run`], the compiled
+//! scenario's [`Scene`] defined here beside it).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -8,6 +9,7 @@ use std::time::Instant;
 use serde::Deserialize;
 use thiserror::Error;
 
+use crate::contact::cache::TableCache;
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::geometry::ContactGeometry;
 use crate::contact::lookup::flange_angle;
@@ -20,8 +22,11 @@ use crate::dynamics::safety::SafetyBasis;
 use crate::dynamics::single_wheelset::{SingleWheelset, Tie};
 use crate::dynamics::wheelset::WheelsetInertia;
 use crate::dynamics::{
-    run, DynamicsError, InitialDisturbance, RunLabels, RunOutput, RunSettings, StopConditions, VehicleModel,
+    run, CancelToken, DynamicsError, InitialDisturbance, RunLabels, RunOutput, RunPool, RunSettings,
+    StopConditions, Threads, VehicleModel,
 };
+use crate::profile::placement::WheelRailPair;
+use crate::track::Track;
 use crate::vehicle::VehicleSpec;
 
 /// `[simulation]`: what to run and how.
@@ -138,20 +143,16 @@ pub struct InitialSpec {
 impl SimulationSpec {
     /// The contact model: `[simulation.contact]`, else `contact_model` (with
     /// `kec_two_point_approach_m`), else KEC with its defaults.
-    pub fn contact_spec(&self) -> Result<ContactModelSpec, String> {
+    pub fn contact_spec(&self) -> Result<ContactModelSpec, ContactChoiceError> {
         match (&self.contact, &self.contact_model, self.kec_two_point_approach_m) {
             (Some(c), None, None) => Ok(c.clone()),
-            (Some(_), _, _) => Err(
-                "simulation: give the contact model either in [simulation.contact] or as contact_model (and kec_two_point_approach_m), not both"
-                    .to_string(),
-            ),
+            (Some(_), _, _) => Err(ContactChoiceError::Both),
             (None, name, approach) => {
                 let name = name.as_deref().unwrap_or("kec");
                 let mut spec = ContactModelSpec::default_for(name).ok_or_else(|| {
-                    format!(
-                        "simulation.contact_model = \"{name}\": expected one of {}",
-                        ContactModelSpec::NAMES.join(", ")
-                    )
+                    ContactChoiceError::UnknownInScenario {
+                        name: name.to_string(),
+                    }
                 })?;
                 if let (ContactModelSpec::Kec(k), Some(a)) = (&mut spec, approach) {
                     k.two_point_approach_m = a;
@@ -166,16 +167,16 @@ impl SimulationSpec {
     /// contact jumps carried over — its two-point transitions ([`ContactModelSpec::with_two_point`];
     /// KEC's legacy `kec_two_point_approach_m` counts as the scenario's), so that the models are
     /// compared on the same physics. The notes say what was carried and what a model cannot honour.
-    pub fn contact_spec_for(&self, name: &str) -> Result<(ContactModelSpec, Vec<String>), String> {
+    pub fn contact_spec_for(
+        &self,
+        name: &str,
+    ) -> Result<(ContactModelSpec, Vec<String>), ContactChoiceError> {
         let own = self.contact_spec()?;
         if own.name() == name {
             return Ok((own, Vec::new()));
         }
-        let spec = ContactModelSpec::default_for(name).ok_or_else(|| {
-            format!(
-                "unknown contact model \"{name}\": expected one of {}",
-                ContactModelSpec::NAMES.join(", ")
-            )
+        let spec = ContactModelSpec::default_for(name).ok_or_else(|| ContactChoiceError::Unknown {
+            name: name.to_string(),
         })?;
         let mut notes = Vec::new();
         // KEC's legacy key names KEC's approach whatever the scenario's model.
@@ -253,7 +254,7 @@ impl SimulationSpec {
         }
         match self.contact_spec() {
             Ok(c) => p.extend(c.problems()),
-            Err(e) => p.push(e),
+            Err(e) => p.push(e.to_string()),
         }
         p
     }
@@ -273,17 +274,58 @@ impl SimulationSpec {
             stop: StopConditions {
                 lateral_m: self.stop_lateral_m,
             },
+            pool: RunPool::default(),
         }
     }
 }
 
-/// Options of a run beyond its scenario (the command line's `--contact`, `--speed`).
+/// A scenario ready to run: profiles loaded and placed, the track built if it has sections.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub name: String,
+    /// Where it came from (its file, or `<embedded default>`), for errors.
+    pub origin: String,
+    pub pair: WheelRailPair,
+    pub contact_forces: ContactForceSettings,
+    pub track: Option<Arc<Track>>,
+    /// The simulation and its vehicle, when the scenario has both.
+    pub simulation: Option<(SimulationSpec, VehicleSpec)>,
+    /// Physically doubtful but possible values, each naming its key (the run goes on; the command
+    /// prints them and the JSON summary carries them).
+    pub warnings: Vec<String>,
+    /// Where the contact models' tables are cached between runs (None: built every time; the
+    /// command line sets it, see [`crate::contact::cache`]).
+    pub table_cache: Option<TableCache>,
+}
+
+/// Options of a run beyond its scenario (the command line's `--contact`, `--speed`), and what the
+/// program around it decides: its threads and the request that stops it.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RunOptions {
     /// A contact model by name, overriding the scenario's.
     pub contact: Option<String>,
     /// The initial speed, m/s, overriding the scenario's.
     pub speed_m_s: Option<f64>,
+    /// The threads of the preprocessing and the run (the pool is made by the build and kept in
+    /// the run's settings, [`RunSettings::pool`]).
+    pub threads: Threads,
+    /// Stops the run at its next step when asked (the binary's Ctrl-C; kept in the integrator
+    /// settings, [`Settings::cancel`]).
+    pub cancel: CancelToken,
+}
+
+/// Why the scenario's contact model, or the one asked for instead, cannot be taken.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ContactChoiceError {
+    /// `[simulation.contact]` and the older `contact_model` keys together.
+    #[error("simulation: give the contact model either in [simulation.contact] or as contact_model (and kec_two_point_approach_m), not both")]
+    Both,
+    /// `contact_model = "…"` names no model.
+    #[error("simulation.contact_model = \"{name}\": expected one of {}", ContactModelSpec::NAMES.join(", "))]
+    UnknownInScenario { name: String },
+    /// The model asked for (`--contact`) names no model.
+    #[error("unknown contact model \"{name}\": expected one of {}", ContactModelSpec::NAMES.join(", "))]
+    Unknown { name: String },
 }
 
 /// Why the objects of a run could not be built.
@@ -291,8 +333,17 @@ pub struct RunOptions {
 pub enum BuildError {
     #[error("this scenario has no [simulation] (and [vehicle]) to run")]
     NoSimulation,
-    #[error("{0}")]
-    Options(String),
+    #[error(transparent)]
+    ContactChoice(#[from] ContactChoiceError),
+    /// The initial speed asked for (`--speed`) is out of range.
+    #[error("--speed {speed}: expected 0 ..= 200 m/s")]
+    Speed { speed: f64 },
+    /// The run does not fit its track or the resource limits (each problem names its key).
+    #[error("{}", problems.join("; "))]
+    Extent { problems: Vec<String> },
+    /// A comparison of fewer than two contact models.
+    #[error("a comparison needs at least two contact models, got {got}")]
+    TooFewModels { got: usize },
     /// The contact model could not be built for the scene from the file named first.
     #[error("{scene}: {source}")]
     Contact {
@@ -317,13 +368,13 @@ pub struct BuiltRun {
 }
 
 impl BuiltRun {
-    /// Runs it (see [`crate::dynamics::run::run`]).
-    pub fn run(&self, observers: &mut [&mut dyn RunObserver]) -> RunOutput {
+    /// Runs it (see [`crate::dynamics::run::run`]), in its settings' pool.
+    pub fn run(&self, observers: &mut [&mut (dyn RunObserver + Send)]) -> RunOutput {
         run(self.vehicle.as_ref(), &self.settings, &self.labels, observers)
     }
 }
 
-/// Contact preprocessing shared between runs ([`super::Scene::build_run_cached`]): each entry a built
+/// Contact preprocessing shared between runs ([`Scene::build_run_cached`]): each entry a built
 /// contact model and its pair's flange angle, keyed by the contact settings and the placed pair.
 #[derive(Debug, Default)]
 pub struct PreprocessingCache {
@@ -472,7 +523,7 @@ pub fn run_extent_problems(
     p
 }
 
-impl super::Scene {
+impl Scene {
     /// Builds the objects of the scene's run with `options` (contact model, vehicle system with
     /// its static settling, reference, settings) — the preprocessing, timed.
     pub fn build_run(&self, options: &RunOptions) -> Result<BuiltRun, BuildError> {
@@ -493,22 +544,38 @@ impl super::Scene {
         let (contact, notes) = match &options.contact {
             Some(name) => sim.contact_spec_for(name),
             None => sim.contact_spec().map(|c| (c, Vec::new())),
-        }
-        .map_err(BuildError::Options)?;
+        }?;
         let speed = options.speed_m_s.unwrap_or(sim.speed_m_s);
         if !(speed.is_finite() && (0.0..=200.0).contains(&speed)) {
-            return Err(BuildError::Options(format!(
-                "--speed {speed}: expected 0 ..= 200 m/s"
-            )));
+            return Err(BuildError::Speed { speed });
         }
         let reference = reference(sim, vehicle, self.track.clone(), speed);
         let problems = run_extent_problems(sim, vehicle, &reference);
         if !problems.is_empty() {
-            return Err(BuildError::Options(problems.join("; ")));
+            return Err(BuildError::Extent { problems });
         }
-        // The preprocessing and the run share this thread's pool (the tables' searches and the
-        // right-hand sides' wheelsets split between its threads).
-        crate::dynamics::run::join_run_pool();
+        // The preprocessing and the run share one pool (the tables' searches and the right-hand
+        // sides' wheelsets split between its threads).
+        let pool = RunPool::new(options.threads);
+        pool.install(|| self.build_in_pool(sim, vehicle, options, cache, contact, notes, reference))
+            .map(|mut built| {
+                built.settings.pool = pool.clone();
+                built
+            })
+    }
+
+    /// [`Self::build_run_cached`] from the contact model on, inside the run's pool.
+    #[allow(clippy::too_many_arguments)]
+    fn build_in_pool(
+        &self,
+        sim: &SimulationSpec,
+        vehicle: &VehicleSpec,
+        options: &RunOptions,
+        cache: Option<&PreprocessingCache>,
+        contact: ContactModelSpec,
+        notes: Vec<String>,
+        reference: Reference,
+    ) -> Result<BuiltRun, BuildError> {
         let t = Instant::now();
         let key = format!("{contact:?}|{:?}", self.pair);
         let (model, flange_angle_rad) = match cache.and_then(|c| c.get(&key)) {
@@ -536,9 +603,11 @@ impl super::Scene {
             self.pair.wheelset.nominal_radius_m,
             reference,
         )?;
+        let mut settings = sim.run_settings(&self.name);
+        settings.integrator.cancel = options.cancel.clone();
         Ok(BuiltRun {
             vehicle,
-            settings: sim.run_settings(&self.name),
+            settings,
             labels: RunLabels {
                 contact_model: contact.name().to_string(),
                 creep_model: self.contact_forces.model.name().to_string(),
@@ -615,7 +684,11 @@ mod tests {
                 ..KecSettings::default()
             })
         );
-        assert!(table.contact_spec_for("magic").unwrap_err().contains("magic"));
+        assert!(table
+            .contact_spec_for("magic")
+            .unwrap_err()
+            .to_string()
+            .contains("magic"));
         let both = spec("contact_model = \"kec\"\n[contact]\nmodel = \"kec\"").unwrap();
         assert!(
             both.problems().iter().any(|p| p.contains("not both")),

@@ -8,7 +8,7 @@
 
 use std::fmt::Write;
 
-use super::run::{first_appearances, CaseResult, Manifest};
+use super::case::{first_appearances, CaseResult, Manifest};
 
 /// The axes a critical-speed study sets itself (its first four).
 pub const OWN_AXES: usize = 4;

@@ -4,8 +4,10 @@
 //!
 //! [`spec`] reads the study file and expands its cases, [`run`] runs them (each case seeded from
 //! the study seed and its index: the same results whatever the number of jobs or shards) and
-//! joins their results, [`extract`] computes what each case keeps.
+//! joins their results, [`extract`] computes what each case keeps; [`case`] holds the records they
+//! share (the manifest and a case's row), which [`critical`] and [`statistics`] tabulate.
 
+pub mod case;
 pub mod critical;
 pub mod extract;
 pub mod run;
@@ -14,8 +16,9 @@ pub mod statistics;
 
 use thiserror::Error;
 
+pub use case::{first_appearances, CaseResult, Manifest};
 pub use extract::Extract;
-pub use run::{merge, run_study, CaseResult, Manifest, StudyOptions, StudyRunReport};
+pub use run::{merge, run_study, StudyOptions, StudyRunReport};
 pub use spec::{Axis, AxisValues, Case, Sampling, Study};
 
 /// Why a study cannot be read, run or merged.

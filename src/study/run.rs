@@ -22,94 +22,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
+use super::case::{CaseResult, Manifest};
 use super::spec::{value_text, Case, Fnv, Study};
 use super::StudyError;
 use crate::dynamics::output::CsvWriter;
-use crate::dynamics::{RunEnd, RunObserver, Stop};
+use crate::dynamics::{CancelToken, RunEnd, RunObserver, Stop, Threads};
 use crate::scenario::{PreprocessingCache, RunOptions, Scenario};
-
-/// `study.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Manifest {
-    pub id: String,
-    pub name: String,
-    pub cases: usize,
-    pub axes: Vec<String>,
-    pub extracts: Vec<String>,
-    /// A critical-speed study: the hunting amplitude threshold, mm.
-    #[serde(default)]
-    pub critical_speed_threshold_mm: Option<f64>,
-    /// The axes whose values are derived seeds (realisations), by index.
-    #[serde(default)]
-    pub seed_axes: Vec<usize>,
-}
-
-impl Manifest {
-    pub fn of(study: &Study) -> Manifest {
-        Manifest {
-            id: study.id.clone(),
-            name: study.name.clone(),
-            cases: study.cases.len(),
-            axes: study.axes.iter().map(|a| a.key.clone()).collect(),
-            extracts: study.extracts.iter().map(|x| x.name()).collect(),
-            critical_speed_threshold_mm: study.critical_speed.map(|c| c.threshold_mm),
-            seed_axes: (0..study.axes.len()).filter(|&k| study.axes[k].seeds).collect(),
-        }
-    }
-}
-
-/// `result.json`: one case's row.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct CaseResult {
-    pub study_id: String,
-    pub case: usize,
-    /// FNV-1a of the case's scenario text.
-    pub scenario_hash: String,
-    /// The axes' values, as table cells.
-    pub values: Vec<String>,
-    /// `completed`, `stopped`, `derailed` or `failed` (the run's outcome; `failed` also where the
-    /// scenario could not be built).
-    pub status: String,
-    /// The extracts, in the study's order (None: the run gives none).
-    pub extracts: Vec<Option<f64>>,
-    /// Why the run ended early (empty where it completed).
-    pub diagnosis: String,
-    /// The vehicle's wheelsets (their CSVs are in the case's folder).
-    pub wheelsets: Vec<String>,
-    /// Not part of the results table (they are not reproducible): the case's wall time, and the
-    /// part of it spent integrating (the rest: preprocessing — profiles, tables, track — and
-    /// writing), s.
-    pub wall_s: f64,
-    #[serde(default)]
-    pub run_wall_s: f64,
-    pub simulated_s: f64,
-}
-
-impl CaseResult {
-    /// `key = value, …` of the axes `keep` selects (by index; `axes` the study's keys).
-    pub fn axes_text(&self, axes: &[String], keep: impl Fn(usize) -> bool) -> String {
-        axes.iter()
-            .zip(&self.values)
-            .enumerate()
-            .filter(|(k, _)| keep(*k))
-            .map(|(_, (a, v))| format!("{a} = {v}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
-}
-
-/// The distinct items, in order of first appearance (the groups of a table's rows).
-pub fn first_appearances<T: PartialEq>(items: impl IntoIterator<Item = T>) -> Vec<T> {
-    let mut out: Vec<T> = Vec::new();
-    for x in items {
-        if !out.contains(&x) {
-            out.push(x);
-        }
-    }
-    out
-}
 
 /// How to run a study.
 #[derive(Debug, Clone)]
@@ -119,6 +38,9 @@ pub struct StudyOptions {
     /// `(I, N)`: run only the I-th of N slices (0-based).
     pub shard: Option<(usize, usize)>,
     pub out: PathBuf,
+    /// Stops the running cases at their next step (not marked finished) and starts no new one
+    /// (the binary's Ctrl-C).
+    pub cancel: CancelToken,
 }
 
 /// What one invocation did.
@@ -261,11 +183,11 @@ pub fn run_study(
             .par_iter()
             .with_max_len(1)
             .map(|c| {
-                if crate::interrupt::requested() {
+                if options.cancel.requested() {
                     interrupted.store(true, Ordering::Relaxed);
                     return Ok(None);
                 }
-                let r = run_case(study, c, out, Some(&cache))?;
+                let r = run_case(study, c, out, Some(&cache), &options.cancel)?;
                 if let Some(r) = &r {
                     done(r, false);
                 } else {
@@ -313,13 +235,15 @@ fn vehicle_wheelsets(
 }
 
 /// Runs one case into its folder and writes its `result.json` (None: interrupted — nothing is
-/// marked finished, so that a rerun runs it again). `cache` shares the contact preprocessing
-/// between cases.
+/// marked finished, so that a rerun runs it again: `cancel` asked). `cache` shares the contact
+/// preprocessing between cases. The case runs on the calling thread's pool (a study's: one case
+/// per thread).
 pub fn run_case(
     study: &Study,
     case: &Case,
     out: &Path,
     cache: Option<&PreprocessingCache>,
+    cancel: &CancelToken,
 ) -> Result<Option<CaseResult>, StudyError> {
     let dir = case_dir(out, case.index);
     std::fs::create_dir_all(&dir).map_err(|e| io(&dir, e))?;
@@ -343,9 +267,12 @@ pub fn run_case(
         .and_then(|s| s.compile(&origin, study.scenario_dir()))
         .map_err(|e| e.to_string())
         .and_then(|scene| {
-            scene
-                .build_run_cached(&RunOptions::default(), cache)
-                .map_err(|e| e.to_string())
+            let options = RunOptions {
+                threads: Threads::Caller,
+                cancel: cancel.clone(),
+                ..RunOptions::default()
+            };
+            scene.build_run_cached(&options, cache).map_err(|e| e.to_string())
         });
     match built {
         Err(e) => result.diagnosis = format!("not run: {e}"),
@@ -370,7 +297,7 @@ pub fn run_case(
             };
             let mut csv = CsvWriter::create(&dir, &names).map_err(|e| io(&dir, e))?;
             let output = {
-                let mut observers: Vec<&mut dyn RunObserver> = vec![&mut csv];
+                let mut observers: Vec<&mut (dyn RunObserver + Send)> = vec![&mut csv];
                 built.run(&mut observers)
             };
             if let RunEnd::Stopped(Stop::Interrupted { .. }) = output.end {

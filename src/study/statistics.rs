@@ -7,7 +7,7 @@
 
 use std::fmt::Write;
 
-use super::run::{first_appearances, CaseResult, Manifest};
+use super::case::{first_appearances, CaseResult, Manifest};
 use super::StudyError;
 
 /// One extract's figures over one group's realisations.

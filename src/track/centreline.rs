@@ -16,8 +16,8 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::clothoid::{local_step, MAX_PHASE_STEP};
+use super::error::TrackError;
 use super::sections::{check_horizontal, check_vertical, HorizontalSection, VerticalSection};
-use super::TrackError;
 
 /// Largest node spacing, m.
 const MAX_NODE_SPACING: f64 = 10.0;

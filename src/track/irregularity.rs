@@ -23,9 +23,9 @@
 //! repetition along the track). Phases come from SplitMix64 seeded by (seed, channel): the same
 //! seed gives the same track on every machine.
 
+use super::error::TrackError;
 use super::psd::{Channel, Psd};
 use super::rails::{RailMotion, RailOffsets};
-use super::TrackError;
 
 /// Value, first and second s-derivative of the four irregularities at one s, SI (m, m/m, 1/m),
 /// in the order al, vp, gv, cl.
@@ -63,18 +63,6 @@ impl IrregularityState {
     /// by its own conversion so both agree by construction).
     pub fn rail_offsets(&self) -> RailOffsets {
         let v = self.value;
-        RailOffsets::from_irregularities(v[0], v[1], v[2], v[3])
-    }
-
-    /// d/ds of the rail displacements (the conversion is linear).
-    pub fn rail_offsets_ds(&self) -> RailOffsets {
-        let v = self.d1;
-        RailOffsets::from_irregularities(v[0], v[1], v[2], v[3])
-    }
-
-    /// d²/ds² of the rail displacements.
-    pub fn rail_offsets_ds2(&self) -> RailOffsets {
-        let v = self.d2;
         RailOffsets::from_irregularities(v[0], v[1], v[2], v[3])
     }
 

@@ -12,9 +12,9 @@
 
 use std::path::Path;
 
+use super::error::TrackError;
 use super::irregularity::{Irregularities, Origin};
 use super::rails::RailOffsets;
-use super::TrackError;
 use crate::spline::CubicSpline;
 
 /// The columns of the combinations, in channel order.

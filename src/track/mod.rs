@@ -9,9 +9,11 @@
 //!   C² interpolation with derivatives, rail displacements and rail-frame placement (METHOD.md §2);
 //!   [`measured`]: irregularity CSV files; [`spectrum`]: PSD estimates to check them.
 //! * [`file`](mod@file): the `[track]` table of track and scenario files; the paper's Tab. 6 track embedded.
+//! * [`error`]: [`TrackError`], what every part reports in.
 
 pub mod centreline;
 pub mod clothoid;
+pub mod error;
 pub mod file;
 pub mod irregularity;
 pub mod measured;
@@ -22,50 +24,10 @@ pub mod sections;
 pub mod spectrum;
 
 pub use centreline::{Centreline, FrameMotion, Start, TrackFrame};
+pub use error::TrackError;
 pub use irregularity::{Generation, Irregularities, IrregularityState};
 pub use psd::{Channel, Psd};
 pub use rails::{RailMotion, RailOffsets, Side, TrackGauge};
-
-/// Track errors. File problems name the file and, where there is one, the line.
-#[derive(Debug, thiserror::Error)]
-pub enum TrackError {
-    #[error("{path}: cannot read: {source}")]
-    Io {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
-    /// A size the input implies is above a resource limit ([`crate::limits`]).
-    #[error("{0}")]
-    Limit(String),
-    #[error("{path}: cannot write: {source}")]
-    Write {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
-    /// Syntax, unknown key, wrong type: the TOML message carries line and column.
-    #[error("{path}: {message}")]
-    Parse { path: String, message: String },
-    /// Every validation problem found, one per line, each naming file and line.
-    #[error("{path}: invalid track:\n  - {}", problems.join("\n  - "))]
-    Invalid { path: String, problems: Vec<String> },
-    #[error("{path}:{line}: {problem}")]
-    AtLine {
-        path: String,
-        line: usize,
-        problem: String,
-    },
-    #[error("{path}: {problem}")]
-    InFile { path: String, problem: String },
-    /// Sections built in code (no file): problems name the section by index.
-    #[error("invalid sections:\n  - {}", .0.join("\n  - "))]
-    Sections(Vec<String>),
-    #[error("irregularities: {0}")]
-    Irregularity(String),
-    #[error("s = {s} m is outside the track (s = {from}..{to} m)")]
-    OutOfRange { s: f64, from: f64, to: f64 },
-}
 
 /// A track: centreline, optional irregularities, cross-section gauge, optional lateral
 /// flexibility.

@@ -80,6 +80,7 @@ pub fn run_scene(
     sc.build_run(&kecsim::scenario::RunOptions {
         contact: Some(contact.to_string()),
         speed_m_s: None,
+        ..Default::default()
     })
     .unwrap_or_else(|e| panic!("{contact}: {e}"))
     .run(&mut [])

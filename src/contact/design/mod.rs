@@ -46,7 +46,7 @@ use crate::profile::{Profile, ProfileKind, Side};
 use crate::track::{RailOffsets, TrackGauge};
 
 use super::geometry::ContactGeometry;
-use super::lookup::pchip_slopes;
+use crate::interpolation::{cubic_hermite, pchip_slopes};
 
 /// What the wheel must do: its contact angle against the wheelset's lateral displacement and its
 /// flange (SI).
@@ -185,8 +185,7 @@ impl DesignTarget {
         };
         move |y: f64| {
             let k = ys.partition_point(|&v| v <= y).clamp(1, ys.len() - 1) - 1;
-            let (g, dg, _) =
-                super::lookup::cubic_hermite(ys[k], ys[k + 1], gs[k], gs[k + 1], d[k], d[k + 1], y);
+            let (g, dg, _) = cubic_hermite(ys[k], ys[k + 1], gs[k], gs[k + 1], d[k], d[k + 1], y);
             (g, dg)
         }
     }
@@ -693,8 +692,7 @@ fn assemble(
             k += 1;
         }
         let (a, b) = (rev[k], rev[k + 1]);
-        let (z, dz, _) =
-            super::lookup::cubic_hermite(a.s_wheel, b.s_wheel, z_of(a), z_of(b), -a.slope, -b.slope, s);
+        let (z, dz, _) = cubic_hermite(a.s_wheel, b.s_wheel, z_of(a), z_of(b), -a.slope, -b.slope, s);
         push((s, z));
         s += OUTPUT_STEP_M / (1.0 + dz * dz).sqrt();
     }

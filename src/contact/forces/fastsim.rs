@@ -33,7 +33,8 @@
 use serde::Deserialize;
 use std::f64::consts::PI;
 
-use super::{ContactPatch, CreepForce, Creepage};
+use super::creepage::Creepage;
+use super::patch::{ContactPatch, CreepForce};
 
 /// The pressure distribution that bounds the traction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]

@@ -21,7 +21,7 @@
 
 use std::f64::consts::PI;
 
-use crate::contact::lookup::{hermite, pchip_slopes};
+use crate::interpolation::{hermite, pchip_slopes};
 
 /// g values of the table rows.
 const G: [f64; 10] = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];

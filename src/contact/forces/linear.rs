@@ -13,7 +13,8 @@
 
 use serde::Deserialize;
 
-use super::{ContactPatch, CreepForce, Creepage};
+use super::creepage::Creepage;
+use super::patch::{ContactPatch, CreepForce};
 
 /// Saturation law applied to Kalker's linear forces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]

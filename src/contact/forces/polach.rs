@@ -25,7 +25,8 @@
 use serde::Deserialize;
 use std::f64::consts::PI;
 
-use super::{ContactPatch, CreepForce, Creepage};
+use super::creepage::Creepage;
+use super::patch::{ContactPatch, CreepForce};
 
 /// Parameters of Polach's method. The defaults (k_A = k_S = 1, A = 1) are the 1999 method with
 /// constant friction μ = the patch's μ.

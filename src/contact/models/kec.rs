@@ -211,7 +211,6 @@ impl ContactModel for KecContact {
             c_phi,
             contacts: self.contacts(&s, &rails.q),
             s_knife: Some(s.s_k),
-            elastic: None,
         })
     }
 }

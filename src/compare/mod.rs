@@ -4,6 +4,8 @@
 //! cover, against the paper's bounds (1 mm, 0.5 mrad) — and what each run cost.
 //! `kecsim compare` prints it and records it ([`crate::inspect::compare`]).
 
+pub mod precision;
+
 use std::fmt::Write as _;
 
 use crate::contact::geometry::ContactGeometry;
@@ -106,10 +108,7 @@ pub struct Comparison {
 /// scene's), and compares.
 pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Result<Comparison, BuildError> {
     if models.len() < 2 {
-        return Err(BuildError::Options(format!(
-            "a comparison needs at least two contact models, got {}",
-            models.len()
-        )));
+        return Err(BuildError::TooFewModels { got: models.len() });
     }
     // The duration asked for goes through the same checks as the scenario's (track end, samples).
     let mut scene = scene.clone();
@@ -122,6 +121,7 @@ pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Res
         let built = scene.build_run(&RunOptions {
             contact: Some(model.clone()),
             speed_m_s: None,
+            ..Default::default()
         })?;
         notes.extend(built.notes.iter().cloned());
         runs.push(ModelRun {
