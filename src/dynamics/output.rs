@@ -412,4 +412,90 @@ impl Sample {
             track_shift: 0.0,
         }
     }
+
+    /// A sample whose every field has a value of its own.
+    pub(crate) fn distinct() -> Sample {
+        Sample {
+            t: 1.5,
+            s: 23.25,
+            speed: 19.0,
+            y: 0.002,
+            yaw: -0.0015,
+            z: 0.0007,
+            roll: 0.0003,
+            normal: [48e3, 52e3],
+            creep_x: [-1.5e3, 2.5e3],
+            creep_y: [3.5e3, -4.5e3],
+            y_force: [6e3, -8e3],
+            q_force: [40e3, 50e3],
+            s_wheel: [0.004, -0.005],
+            s_rail: [0.006, -0.007],
+            position: [(0.75, 0.01), (-0.74, 0.02)],
+            s_knife: Some([0.0085, -0.0095]),
+            rails: [0.75, 0.001, -0.75, 0.002],
+            lift: [0.0, 0.0125],
+            track_shift: 0.0005,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The CSV header of `kecsim run --csv` is a documented interface (scripts read the columns by
+    /// name and position): pinned here, name by name and in order.
+    #[test]
+    fn csv_header_is_pinned() {
+        const PINNED: [&str; 28] = [
+            "t_s",
+            "s_m",
+            "speed_m_s",
+            "y_mm",
+            "yaw_mrad",
+            "z_mm",
+            "roll_mrad",
+            "n_left_n",
+            "n_right_n",
+            "fx_left_n",
+            "fy_left_n",
+            "fx_right_n",
+            "fy_right_n",
+            "y_left_n",
+            "q_left_n",
+            "y_right_n",
+            "q_right_n",
+            "s_wheel_left_mm",
+            "s_rail_left_mm",
+            "s_wheel_right_mm",
+            "s_rail_right_mm",
+            "rail_y_left_mm",
+            "rail_z_left_mm",
+            "rail_y_right_mm",
+            "rail_z_right_mm",
+            "lift_left_mm",
+            "lift_right_mm",
+            "track_shift_mm",
+        ];
+        let header: Vec<&str> = CSV_COLUMNS.iter().copied().collect();
+        assert_eq!(header, PINNED);
+    }
+
+    /// Each CSV column's value of a sample, in the column's unit (pinned with the header).
+    #[test]
+    fn csv_row_is_pinned() {
+        let row = csv_row(&Sample::distinct());
+        let pinned = [
+            1.5, 23.25, 19.0, 2.0, -1.5, 0.7, 0.3, 48e3, 52e3, -1.5e3, 3.5e3, 2.5e3, -4.5e3, 6e3, 40e3, -8e3,
+            50e3, 4.0, 6.0, -5.0, -7.0, 750.0, 1.0, -750.0, 2.0, 0.0, 12.5, 0.5,
+        ];
+        assert_eq!(row.len(), pinned.len());
+        for (k, (a, b)) in row.iter().zip(pinned).enumerate() {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                "{}: {a} vs {b}",
+                CSV_COLUMNS[k]
+            );
+        }
+    }
 }

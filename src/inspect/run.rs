@@ -583,3 +583,82 @@ impl RunObserver for LiveRecorder {
         Ok(self.log_summary(summary)?)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The per-wheelset series a recording has: entity under `run/NAME/`, line names, values of
+    /// [`Sample::distinct`].
+    fn wheelset_series() -> Vec<(String, Vec<String>, Vec<f64>)> {
+        let s = Sample::distinct();
+        WHEELSET_SERIES
+            .iter()
+            .chain([&KNIFE_SERIES])
+            .map(|(e, lines, f)| {
+                (
+                    e.to_string(),
+                    lines.iter().map(|l| l.to_string()).collect(),
+                    f(&s),
+                )
+            })
+            .collect()
+    }
+
+    /// The every-wheelset series under `run/vehicle/`: entity, value of [`Sample::distinct`].
+    fn vehicle_series() -> Vec<(String, f64)> {
+        let s = Sample::distinct();
+        VEHICLE_SERIES
+            .iter()
+            .map(|(e, f)| (e.to_string(), f(&s)))
+            .collect()
+    }
+
+    fn near(a: &[f64], b: &[f64]) -> bool {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(x, y)| (x - y).abs() <= 1e-12 * y.abs().max(1.0))
+    }
+
+    /// The recording's series are an interface (entity paths users and scripts look up): pinned
+    /// here with their line names and what they record of a sample.
+    #[test]
+    fn recorded_series_are_pinned() {
+        let lr = || vec!["left".to_string(), "right".to_string()];
+        let one = |l: &str| vec![l.to_string()];
+        let mut pinned: Vec<(String, Vec<String>, Vec<f64>)> = vec![
+            ("y_mm".into(), one("y"), vec![2.0]),
+            ("yaw_mrad".into(), one("yaw"), vec![-1.5]),
+            ("z_mm".into(), one("z − r0"), vec![0.7]),
+            ("roll_mrad".into(), one("roll"), vec![0.3]),
+            ("normal_kn".into(), lr(), vec![48.0, 52.0]),
+            ("creep_fx_kn".into(), lr(), vec![-1.5, 2.5]),
+            ("creep_fy_kn".into(), lr(), vec![3.5, -4.5]),
+            ("y_over_q".into(), lr(), vec![0.15, -0.16]),
+            ("s_wheel_mm".into(), lr(), vec![4.0, -5.0]),
+            ("s_rail_mm".into(), lr(), vec![6.0, -7.0]),
+            ("s_knife_mm".into(), lr(), vec![8.5, -9.5]),
+            ("lift_mm".into(), lr(), vec![0.0, 12.5]),
+        ];
+        let mut got = wheelset_series();
+        pinned.sort_by(|a, b| a.0.cmp(&b.0));
+        got.sort_by(|a, b| a.0.cmp(&b.0));
+        assert_eq!(got.len(), pinned.len(), "{got:?}");
+        for (g, p) in got.iter().zip(&pinned) {
+            assert!(g.0 == p.0 && g.1 == p.1 && near(&g.2, &p.2), "{g:?} vs {p:?}");
+        }
+        let mut vehicle = vehicle_series();
+        vehicle.sort_by(|a, b| a.0.cmp(&b.0));
+        let pinned = [
+            ("max_abs_y_over_q", 0.16),
+            ("min_normal_kn", 48.0),
+            ("y_mm", 2.0),
+            ("yaw_mrad", -1.5),
+        ];
+        assert_eq!(vehicle.len(), pinned.len(), "{vehicle:?}");
+        for (g, p) in vehicle.iter().zip(pinned) {
+            assert!(g.0 == p.0 && near(&[g.1], &[p.1]), "{g:?} vs {p:?}");
+        }
+    }
+}
