@@ -15,7 +15,6 @@
 //!
 //! `cargo test --release --lib layering` runs it and names every circle and every arrow up
 //! (`LAYERING_EDGES=1 cargo test --release --lib layering -- --nocapture` prints every use found).
-//! A circle being taken apart elsewhere may stand in `KNOWN_CIRCLES` meanwhile.
 
 /// The library's top-level modules from the highest to the lowest (a line: modules on one level,
 /// which use neither one another nor anything above them). `""` is the crate root (`lib.rs`:
@@ -654,11 +653,6 @@ mod tests {
         problems
     }
 
-    /// Circles being taken apart elsewhere (issue 33: `Sample` and the outputs move out of
-    /// `dynamics/output.rs`), tolerated until then; an entry that no longer is a circle fails the
-    /// test, to be removed here.
-    const KNOWN_CIRCLES: &[&str] = &["circle: dynamics/output.rs, dynamics/safety.rs"];
-
     #[test]
     fn the_library_has_no_circle_and_no_arrow_up() {
         let krate = Crate::read();
@@ -667,15 +661,7 @@ mod tests {
             "the analysis found only {} uses",
             krate.edges().len()
         );
-        let mut problems = problems(&krate, LAYERS);
-        for known in KNOWN_CIRCLES {
-            match problems.iter().position(|p| p.starts_with(&format!("{known}\n"))) {
-                Some(k) => {
-                    problems.remove(k);
-                }
-                None => problems.push(format!("{known} is gone: remove it from KNOWN_CIRCLES")),
-            }
-        }
+        let problems = problems(&krate, LAYERS);
         assert!(problems.is_empty(), "{}", problems.join("\n"));
     }
 

@@ -9,8 +9,11 @@
 //!   equations behind one interface (the vehicle systems use it, not the two above);
 //! * [`reference`](mod@reference): the reference motion along the track and the frames it gives;
 //! * [`integrator`]: DOPRI5, ROS3, ROS34PW2, BDF with dense output and diagnosed failures;
-//! * [`run`](mod@run): the run loop, its threads, stop conditions, summary; [`output`]: samples,
-//!   observers, CSV; [`cancel`]: the stop request a run honours (Ctrl-C in the binary).
+//! * [`sample`]: a wheelset's output sample and the one table of what a run records of it (the
+//!   CSV's columns, the recording's series and layout are made from it);
+//! * [`run`](mod@run): the run loop, its threads, stop conditions; [`output`]: summary,
+//!   observers, CSV; [`safety`]: running safety (EN 14363) from the samples; [`cancel`]: the stop
+//!   request a run honours (Ctrl-C in the binary).
 //!
 //! The contact models are [`crate::contact::ContactModel`]s; the dynamics never knows which one.
 
@@ -24,12 +27,14 @@ pub mod output;
 pub mod reference;
 pub mod run;
 pub mod safety;
+pub mod sample;
 pub mod single_wheelset;
 pub mod system;
 pub mod wheelset;
 
 pub use cancel::CancelToken;
-pub use output::{RunObserver, RunSummary, Sample};
+pub use output::{RunObserver, RunSummary};
 pub use reference::{Reference, SpeedProfile};
 pub use run::{run, RunEnd, RunLabels, RunOutput, RunPool, RunSettings, Stop, StopConditions, Threads};
+pub use sample::Sample;
 pub use system::{DynamicsError, InitialDisturbance, Settling, VehicleModel, VehicleSample};

@@ -1,91 +1,19 @@
-//! What a run gives out, and to whom: the output row of one wheelset ([`Sample`]), the run summary
-//! ([`RunSummary`], `--json`), and the observers that receive the samples as they are produced
-//! ([`RunObserver`]: the CSV writer here, the Rerun recorder in [`crate::inspect::run`], the
-//! progress bar and the pacing of the command line). Observers only read: the physics never
+//! What a run gives out, and to whom: the run summary ([`RunSummary`], `--json`), the observers
+//! that receive the samples ([`Sample`], [`super::sample`]) as they are produced ([`RunObserver`]:
+//! the CSV writer here, the Rerun recorder in [`crate::inspect::run`], the progress bar and the
+//! pacing of the command line), and the CSV of a wheelset, whose columns and rows are made from
+//! the table of recorded quantities ([`QUANTITIES`]). Observers only read: the physics never
 //! depends on them (argmin's `Observe`).
 
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::LazyLock;
 
 use serde::Serialize;
 
-use super::system::{BodySample, WheelsetSample};
-
-/// One output sample of one wheelset.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    pub t: f64,
-    /// Arc length of the wheelset, m.
-    pub s: f64,
-    pub speed: f64,
-    pub y: f64,
-    pub yaw: f64,
-    /// Centre height minus r0, m.
-    pub z: f64,
-    pub roll: f64,
-    /// Normal forces left, right, N.
-    pub normal: [f64; 2],
-    /// Creep forces (contact frame) left, right: Fx, Fy, N.
-    pub creep_x: [f64; 2],
-    pub creep_y: [f64; 2],
-    /// Lateral (Y) and vertical (Q) wheel–rail force on each wheel, track frame, N.
-    pub y_force: [f64; 2],
-    pub q_force: [f64; 2],
-    /// Contact on the real wheel and rail (paper convention), m.
-    pub s_wheel: [f64; 2],
-    pub s_rail: [f64; 2],
-    /// Contact positions (Y, Z) in the wheelset-track frame, m.
-    pub position: [(f64, f64); 2],
-    /// KEC: knife-edge contact parameters, m.
-    pub s_knife: Option<[f64; 2]>,
-    pub rails: [f64; 4],
-    /// Each wheel's gap to its rail (0 on the rail; a lifted wheel's lift), m.
-    pub lift: [f64; 2],
-    /// Lateral shift of the track under the wheelset (0 on a rigid track), m.
-    pub track_shift: f64,
-}
-
-impl Sample {
-    /// The output sample of one wheelset evaluation (Y and Q per wheel in the track frame).
-    pub fn new(t: f64, s: &WheelsetSample, r0: f64) -> Sample {
-        let d = &s.dynamics;
-        let y_force = [d.wheel_force[0].0, d.wheel_force[1].0];
-        let q_force = [d.wheel_force[0].1, d.wheel_force[1].1];
-        Sample {
-            t,
-            s: s.s,
-            speed: s.speed,
-            y: s.state.y,
-            yaw: s.state.psi,
-            z: s.kin.z - r0,
-            roll: s.kin.phi,
-            normal: d.normal,
-            creep_x: [d.creep[0].fx, d.creep[1].fx],
-            creep_y: [d.creep[0].fy, d.creep[1].fy],
-            y_force,
-            q_force,
-            s_wheel: [s.kin.contacts[0].s_wheel, s.kin.contacts[1].s_wheel],
-            s_rail: [s.kin.contacts[0].s_rail, s.kin.contacts[1].s_rail],
-            position: [s.kin.contacts[0].position, s.kin.contacts[1].position],
-            s_knife: s.kin.s_knife,
-            rails: s.rails,
-            lift: d.lift_gap,
-            track_shift: s.state.track_shift,
-        }
-    }
-
-    /// The larger |Y/Q| of the two wheels (a lifted wheel, Q = 0, has none).
-    pub fn max_abs_y_over_q(&self) -> f64 {
-        let ratio = |i: usize| {
-            if self.q_force[i] > 0.0 {
-                (self.y_force[i] / self.q_force[i]).abs()
-            } else {
-                0.0
-            }
-        };
-        ratio(0).max(ratio(1))
-    }
-}
+use super::safety::Safety;
+use super::sample::{Csv, Quantity, Sample, Unit, QUANTITIES, WHEELS};
+use super::system::BodySample;
 
 /// The run summary (`--json`; the keys are a documented interface).
 #[derive(Debug, Clone, Serialize)]
@@ -148,7 +76,7 @@ pub struct RunSummary {
     pub derailment_max_y_over_q_2m: Option<f64>,
     /// Running safety per wheelset (Y/Q against Nadal, ΣY against Prud'homme, ΔQ/Q₀), EN 14363
     /// style ([`super::safety`]); None where the run was not given the basis of the limits.
-    pub safety: Option<super::safety::Safety>,
+    pub safety: Option<Safety>,
     /// Physically doubtful input the run went on with (the scenario's warnings).
     pub warnings: Vec<String>,
 }
@@ -269,70 +197,83 @@ pub trait RunObserver {
     }
 }
 
-/// The CSV columns of a wheelset (`--csv DIR` writes `DIR/NAME.csv`; a documented interface).
-pub const CSV_COLUMNS: [&str; 28] = [
-    "t_s",
-    "s_m",
-    "speed_m_s",
-    "y_mm",
-    "yaw_mrad",
-    "z_mm",
-    "roll_mrad",
-    "n_left_n",
-    "n_right_n",
-    "fx_left_n",
-    "fy_left_n",
-    "fx_right_n",
-    "fy_right_n",
-    "y_left_n",
-    "q_left_n",
-    "y_right_n",
-    "q_right_n",
-    "s_wheel_left_mm",
-    "s_rail_left_mm",
-    "s_wheel_right_mm",
-    "s_rail_right_mm",
-    "rail_y_left_mm",
-    "rail_z_left_mm",
-    "rail_y_right_mm",
-    "rail_z_right_mm",
-    "lift_left_mm",
-    "lift_right_mm",
-    "track_shift_mm",
-];
+/// One CSV column: its name and where its value is (a quantity of [`QUANTITIES`], a wheel).
+#[derive(Debug, Clone)]
+struct CsvColumn {
+    name: String,
+    quantity: &'static Quantity,
+    unit: Unit,
+    /// Which of the quantity's values (0 for a one-value quantity, else the wheel).
+    index: usize,
+}
+
+/// The CSV columns of `table`'s quantities (see [`Csv`]): each quantity's after the previous one's,
+/// a [`Csv::WheelByWheelWithPrevious`] one wheel by wheel with the previous quantity's.
+fn csv_layout(table: &'static [Quantity]) -> Vec<CsvColumn> {
+    // Blocks of quantities written wheel by wheel together.
+    let mut blocks: Vec<Vec<(&'static Quantity, &'static str, Unit)>> = Vec::new();
+    for q in table {
+        match q.csv {
+            Csv::No => {}
+            Csv::Columns(stem, unit) => blocks.push(vec![(q, stem, unit)]),
+            Csv::WheelByWheelWithPrevious(stem, unit) => match blocks.last_mut() {
+                Some(block) => block.push((q, stem, unit)),
+                None => blocks.push(vec![(q, stem, unit)]),
+            },
+        }
+    }
+    let mut columns = Vec::new();
+    for block in blocks {
+        match block[..] {
+            [(quantity, stem, unit)] if quantity.value.width() == 1 => columns.push(CsvColumn {
+                name: unit.name(stem),
+                quantity,
+                unit,
+                index: 0,
+            }),
+            // Per wheel (a quantity written with the previous one is per wheel, as that one).
+            _ => {
+                for (index, wheel) in WHEELS.iter().enumerate() {
+                    for &(quantity, stem, unit) in &block {
+                        columns.push(CsvColumn {
+                            name: unit.name(&format!("{stem}_{wheel}")),
+                            quantity,
+                            unit,
+                            index,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    columns
+}
+
+/// The CSV header of `table`'s quantities (the tests' check of a table with more quantities).
+#[cfg(test)]
+pub(crate) fn csv_header(table: &'static [Quantity]) -> Vec<String> {
+    csv_layout(table).into_iter().map(|c| c.name).collect()
+}
+
+/// The columns of [`QUANTITIES`].
+static CSV_LAYOUT: LazyLock<Vec<CsvColumn>> = LazyLock::new(|| csv_layout(QUANTITIES));
+
+/// The CSV columns of a wheelset (`--csv DIR` writes `DIR/NAME.csv`; a documented interface),
+/// made from [`QUANTITIES`].
+pub static CSV_COLUMNS: LazyLock<Vec<&'static str>> =
+    LazyLock::new(|| CSV_LAYOUT.iter().map(|c| c.name.as_str()).collect());
+
+/// The values of `columns` in a sample (NaN where the sample has none).
+fn row(columns: &[CsvColumn], s: &Sample) -> Vec<f64> {
+    columns
+        .iter()
+        .map(|c| c.quantity.value.of(s, c.unit).map_or(f64::NAN, |v| v[c.index]))
+        .collect()
+}
 
 /// One CSV row of a sample (the [`CSV_COLUMNS`], SI converted to the columns' units).
-pub fn csv_row(s: &Sample) -> [f64; 28] {
-    [
-        s.t,
-        s.s,
-        s.speed,
-        s.y * 1e3,
-        s.yaw * 1e3,
-        s.z * 1e3,
-        s.roll * 1e3,
-        s.normal[0],
-        s.normal[1],
-        s.creep_x[0],
-        s.creep_y[0],
-        s.creep_x[1],
-        s.creep_y[1],
-        s.y_force[0],
-        s.q_force[0],
-        s.y_force[1],
-        s.q_force[1],
-        s.s_wheel[0] * 1e3,
-        s.s_rail[0] * 1e3,
-        s.s_wheel[1] * 1e3,
-        s.s_rail[1] * 1e3,
-        s.rails[0] * 1e3,
-        s.rails[1] * 1e3,
-        s.rails[2] * 1e3,
-        s.rails[3] * 1e3,
-        s.lift[0] * 1e3,
-        s.lift[1] * 1e3,
-        s.track_shift * 1e3,
-    ]
+pub fn csv_row(s: &Sample) -> Vec<f64> {
+    row(&CSV_LAYOUT, s)
 }
 
 fn write_row(w: &mut csv::Writer<std::fs::File>, s: &Sample) -> Result<(), csv::Error> {
@@ -355,7 +296,7 @@ impl CsvWriter {
             .map(|name| {
                 let path = dir.join(format!("{name}.csv"));
                 let mut w = csv::Writer::from_path(&path)?;
-                w.write_record(CSV_COLUMNS)?;
+                w.write_record(CSV_COLUMNS.iter())?;
                 Ok((path, w))
             })
             .collect::<Result<Vec<_>, csv::Error>>()?;
@@ -386,30 +327,62 @@ impl RunObserver for CsvWriter {
 }
 
 #[cfg(test)]
-impl Sample {
-    /// A centred wheelset at time `t`, arc length `s` and speed `speed`, every other field zero
-    /// (for tests that build their own samples).
-    pub(crate) fn at(t: f64, s: f64, speed: f64) -> Sample {
-        Sample {
-            t,
-            s,
-            speed,
-            y: 0.0,
-            yaw: 0.0,
-            z: 0.0,
-            roll: 0.0,
-            normal: [0.0; 2],
-            creep_x: [0.0; 2],
-            creep_y: [0.0; 2],
-            y_force: [0.0; 2],
-            q_force: [0.0; 2],
-            s_wheel: [0.0; 2],
-            s_rail: [0.0; 2],
-            position: [(0.0, 0.0); 2],
-            s_knife: None,
-            rails: [0.0; 4],
-            lift: [0.0; 2],
-            track_shift: 0.0,
+mod tests {
+    use super::*;
+
+    /// The CSV header of `kecsim run --csv` is a documented interface (scripts read the columns by
+    /// name and position): pinned here, name by name and in order.
+    #[test]
+    fn csv_header_is_pinned() {
+        const PINNED: [&str; 28] = [
+            "t_s",
+            "s_m",
+            "speed_m_s",
+            "y_mm",
+            "yaw_mrad",
+            "z_mm",
+            "roll_mrad",
+            "n_left_n",
+            "n_right_n",
+            "fx_left_n",
+            "fy_left_n",
+            "fx_right_n",
+            "fy_right_n",
+            "y_left_n",
+            "q_left_n",
+            "y_right_n",
+            "q_right_n",
+            "s_wheel_left_mm",
+            "s_rail_left_mm",
+            "s_wheel_right_mm",
+            "s_rail_right_mm",
+            "rail_y_left_mm",
+            "rail_z_left_mm",
+            "rail_y_right_mm",
+            "rail_z_right_mm",
+            "lift_left_mm",
+            "lift_right_mm",
+            "track_shift_mm",
+        ];
+        let header: Vec<&str> = CSV_COLUMNS.iter().copied().collect();
+        assert_eq!(header, PINNED);
+    }
+
+    /// Each CSV column's value of a sample, in the column's unit (pinned with the header).
+    #[test]
+    fn csv_row_is_pinned() {
+        let row = csv_row(&Sample::distinct());
+        let pinned = [
+            1.5, 23.25, 19.0, 2.0, -1.5, 0.7, 0.3, 48e3, 52e3, -1.5e3, 3.5e3, 2.5e3, -4.5e3, 6e3, 40e3, -8e3,
+            50e3, 4.0, 6.0, -5.0, -7.0, 750.0, 1.0, -750.0, 2.0, 0.0, 12.5, 0.5,
+        ];
+        assert_eq!(row.len(), pinned.len());
+        for (k, (a, b)) in row.iter().zip(pinned).enumerate() {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                "{}: {a} vs {b}",
+                CSV_COLUMNS[k]
+            );
         }
     }
 }

@@ -14,7 +14,8 @@ use std::time::Instant;
 use thiserror::Error;
 
 use super::integrator::{integrate_into, Completion, Flow, IntegrationError, Settings, Stats};
-use super::output::{ObserverError, OutputSample, RunObserver, RunStart, RunSummary, Sample};
+use super::output::{ObserverError, OutputSample, RunObserver, RunStart, RunSummary};
+use super::sample::Sample;
 use super::system::{
     BodySample, DynamicsError, Evaluator, InitialDisturbance, LandingEvent, Settling, VehicleModel,
 };

@@ -22,7 +22,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-use super::output::Sample;
+use super::sample::Sample;
 
 /// EN 14363's sliding window for Y/Q and ΣY, m.
 pub const WINDOW_M: f64 = 2.0;

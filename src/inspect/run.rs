@@ -9,7 +9,9 @@
 //! Timelines: `time` (simulated time, a duration) and `distance_mm` (the wheelset's arc length, mm,
 //! a sequence).
 //!
-//! Every wheelset `NAME` of the vehicle (the single-wheelset scenes: `wheelset_1`) has:
+//! The series, their line names and the plots of the layout are made from the table of recorded
+//! quantities ([`crate::dynamics::sample::QUANTITIES`]; the tables below are what it gives). Every
+//! wheelset `NAME` of the vehicle (the single-wheelset scenes: `wheelset_1`) has:
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
@@ -46,7 +48,8 @@ use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines,
 
 use super::{log_static, open_recording, section_mm, send_scalar_values, InspectError, Sink};
 use crate::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
-use crate::dynamics::{RunSummary, Sample};
+use crate::dynamics::sample::{Panel, Quantity, Sample, Series, QUANTITIES, WHEELS};
+use crate::dynamics::RunSummary;
 use crate::profile::Side;
 use crate::scenario::Scene;
 
@@ -71,14 +74,72 @@ pub fn detail_origin(wheelsets: &[String]) -> String {
     format!("/run/{}", detail_wheelset(wheelsets))
 }
 
-/// The layout for the run of `wheelsets` (by name): the first wheelset in detail, and with more
-/// than one a row with every wheelset side by side.
-pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
-    let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
+/// One plot of the run's layout: its title and the entity it shows.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Plot {
+    pub title: String,
+    pub origin: String,
+}
+
+/// The per-wheelset series of `table` (recorded under `run/NAME/`), in its order.
+fn wheelset_series(table: &'static [Quantity]) -> impl Iterator<Item = (&'static Quantity, &'static Series)> {
+    table
+        .iter()
+        .filter_map(|q| q.series.as_ref().filter(|s| s.panel.is_some()).map(|s| (q, s)))
+}
+
+/// The every-wheelset series of `table` (recorded under `run/vehicle/` with more than one
+/// wheelset), in its order.
+fn vehicle_series(table: &'static [Quantity]) -> impl Iterator<Item = (&'static Quantity, &'static Series)> {
+    table
+        .iter()
+        .filter_map(|q| q.series.as_ref().filter(|s| s.vehicle).map(|s| (q, s)))
+}
+
+/// The line names of a per-wheelset series: its title for one value, else the wheels.
+fn line_names(q: &Quantity, series: &Series) -> Vec<&'static str> {
+    match q.value.width() {
+        1 => vec![series.title],
+        _ => WHEELS.to_vec(),
+    }
+}
+
+/// The time-series plots of the run's layout, row by row, made from `table`: with more than one
+/// wheelset a row with every wheelset side by side (its [`Series::vehicle`] series), then the first
+/// wheelset's series, a row per [`Panel`].
+pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Plot>> {
+    let mut rows = Vec::new();
+    if wheelsets.len() > 1 {
+        rows.push(
+            vehicle_series(table)
+                .map(|(_, s)| Plot {
+                    title: format!("every wheelset: {}", s.title()),
+                    origin: format!("/run/vehicle/{}", s.entity()),
+                })
+                .collect(),
+        );
+    }
     let w = detail_origin(wheelsets);
     // The detailed views' titles name their wheelset.
     let first = detail_wheelset(wheelsets);
-    let title = |t: &str| format!("{first}: {t}");
+    for panel in Panel::ALL {
+        let row: Vec<Plot> = wheelset_series(table)
+            .filter(|(_, s)| s.panel == Some(panel))
+            .map(|(_, s)| Plot {
+                title: format!("{first}: {}", s.title()),
+                origin: format!("{w}/{}", s.entity()),
+            })
+            .collect();
+        if !row.is_empty() {
+            rows.push(row);
+        }
+    }
+    rows
+}
+
+/// The layout for the run of `wheelsets` (by name): the first wheelset's cross-sections and the
+/// track plan, then the [`plot_rows`] of [`QUANTITIES`], the last with the summary.
+pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
     let mut rows: Vec<ContainerLike> = vec![Horizontal::new([
         Spatial2DView::new("Right wheel and rail (−Y)")
             .with_origin("/run/section/right")
@@ -92,52 +153,23 @@ pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
     ])
     .into()];
     let mut shares = vec![3.0];
-    if wheelsets.len() > 1 {
-        rows.push(
-            Horizontal::new([
-                plot("every wheelset: y [mm]", "/run/vehicle/y_mm"),
-                plot("every wheelset: yaw [mrad]", "/run/vehicle/yaw_mrad"),
-                plot(
-                    "every wheelset: smaller wheel load [kN]",
-                    "/run/vehicle/min_normal_kn",
-                ),
-                plot("every wheelset: larger |Y/Q|", "/run/vehicle/max_abs_y_over_q"),
-            ])
-            .into(),
-        );
+    let plots = plot_rows(QUANTITIES, wheelsets);
+    let last = plots.len().saturating_sub(1);
+    for (k, row) in plots.into_iter().enumerate() {
+        let mut views: Vec<ContainerLike> = row
+            .into_iter()
+            .map(|p| TimeSeriesView::new(p.title).with_origin(p.origin).into())
+            .collect();
+        if k == last {
+            views.push(
+                TextDocumentView::new("Summary")
+                    .with_origin("/run/summary")
+                    .into(),
+            );
+        }
+        rows.push(Horizontal::new(views).into());
         shares.push(2.0);
     }
-    rows.push(
-        Horizontal::new([
-            plot(&title("y [mm]"), &format!("{w}/y_mm")),
-            plot(&title("yaw [mrad]"), &format!("{w}/yaw_mrad")),
-            plot(&title("z − r0 [mm]"), &format!("{w}/z_mm")),
-            plot(&title("roll [mrad]"), &format!("{w}/roll_mrad")),
-        ])
-        .into(),
-    );
-    rows.push(
-        Horizontal::new([
-            plot(&title("normal force [kN]"), &format!("{w}/normal_kn")),
-            plot(&title("creep Fx [kN]"), &format!("{w}/creep_fx_kn")),
-            plot(&title("creep Fy [kN]"), &format!("{w}/creep_fy_kn")),
-            plot(&title("Y/Q"), &format!("{w}/y_over_q")),
-        ])
-        .into(),
-    );
-    rows.push(
-        Horizontal::new([
-            plot(&title("contact on wheel s^w [mm]"), &format!("{w}/s_wheel_mm")),
-            plot(&title("contact on rail s^r [mm]"), &format!("{w}/s_rail_mm")),
-            plot(&title("KEC contact s^k [mm]"), &format!("{w}/s_knife_mm")),
-            plot(&title("wheel lift [mm]"), &format!("{w}/lift_mm")),
-            TextDocumentView::new("Summary")
-                .with_origin("/run/summary")
-                .into(),
-        ])
-        .into(),
-    );
-    shares.extend([2.0, 2.0, 2.0]);
     Blueprint::new(Vertical::new(rows).with_row_shares(shares)).with_time_panel(
         TimePanel::new()
             .with_timeline(TIME)
@@ -206,54 +238,6 @@ fn lr_colors() -> Vec<Color> {
     vec![Color::from_rgb(230, 120, 40), Color::from_rgb(60, 140, 230)]
 }
 
-/// One wheelset's series: entity under `run/NAME/`, line names, value(s) of a sample.
-type Series = (&'static str, &'static [&'static str], fn(&Sample) -> Vec<f64>);
-
-/// The per-wheelset series (kinematics, forces, contact positions; `s_knife_mm` apart: KEC only).
-const WHEELSET_SERIES: [Series; 11] = [
-    ("y_mm", &["y"], |s| vec![s.y * 1e3]),
-    ("yaw_mrad", &["yaw"], |s| vec![s.yaw * 1e3]),
-    ("z_mm", &["z − r0"], |s| vec![s.z * 1e3]),
-    ("roll_mrad", &["roll"], |s| vec![s.roll * 1e3]),
-    ("normal_kn", &["left", "right"], |s| {
-        vec![s.normal[0] * 1e-3, s.normal[1] * 1e-3]
-    }),
-    ("creep_fx_kn", &["left", "right"], |s| {
-        vec![s.creep_x[0] * 1e-3, s.creep_x[1] * 1e-3]
-    }),
-    ("creep_fy_kn", &["left", "right"], |s| {
-        vec![s.creep_y[0] * 1e-3, s.creep_y[1] * 1e-3]
-    }),
-    ("y_over_q", &["left", "right"], |s| {
-        vec![s.y_force[0] / s.q_force[0], s.y_force[1] / s.q_force[1]]
-    }),
-    ("s_wheel_mm", &["left", "right"], |s| {
-        vec![s.s_wheel[0] * 1e3, s.s_wheel[1] * 1e3]
-    }),
-    ("s_rail_mm", &["left", "right"], |s| {
-        vec![s.s_rail[0] * 1e3, s.s_rail[1] * 1e3]
-    }),
-    ("lift_mm", &["left", "right"], |s| {
-        vec![s.lift[0] * 1e3, s.lift[1] * 1e3]
-    }),
-];
-
-const KNIFE_SERIES: Series = ("s_knife_mm", &["left", "right"], |s| {
-    s.s_knife
-        .map_or(vec![f64::NAN; 2], |k| vec![k[0] * 1e3, k[1] * 1e3])
-});
-
-/// One every-wheelset series: entity under `run/vehicle/`, the value of a wheelset's sample.
-type VehicleSeries = (&'static str, fn(&Sample) -> f64);
-
-/// The every-wheelset series under `run/vehicle/` (one line per wheelset).
-const VEHICLE_SERIES: [VehicleSeries; 4] = [
-    ("y_mm", |s| s.y * 1e3),
-    ("yaw_mrad", |s| s.yaw * 1e3),
-    ("min_normal_kn", |s| s.normal[0].min(s.normal[1]) * 1e-3),
-    ("max_abs_y_over_q", |s| s.max_abs_y_over_q()),
-];
-
 fn log_err(entity: &str) -> impl Fn(rerun::RecordingStreamError) -> InspectError + '_ {
     move |source| InspectError::Log {
         entity: entity.to_string(),
@@ -277,7 +261,11 @@ pub struct LiveRecorder {
     sections: Vec<SectionRow>,
     /// The wheel profile's points drawn in the cross-section (surface parameters).
     wheel_knots: Vec<f64>,
-    knife_styled: Vec<bool>,
+    /// The entities of series that not every sample has ([`Value::WheelsWhereGiven`]), styled
+    /// when first sent.
+    ///
+    /// [`Value::WheelsWhereGiven`]: crate::dynamics::sample::Value::WheelsWhereGiven
+    styled: std::collections::HashSet<String>,
     /// Samples sent per wheelset.
     sent: usize,
 }
@@ -320,7 +308,7 @@ impl LiveRecorder {
             next_section_t: f64::NEG_INFINITY,
             sections: Vec::new(),
             wheel_knots,
-            knife_styled: vec![false; wheelsets.len()],
+            styled: std::collections::HashSet::new(),
             sent: 0,
         };
         r.log_statics()?;
@@ -328,29 +316,17 @@ impl LiveRecorder {
     }
 
     fn log_statics(&self) -> Result<(), InspectError> {
-        let green = vec![Color::from_rgb(60, 180, 120)];
         for name in &self.names {
-            for (entity, lines, _) in WHEELSET_SERIES {
-                let colors = if lines.len() == 1 {
-                    green.clone()
-                } else {
-                    lr_colors()
-                };
-                log_static(
-                    &self.rec,
-                    &format!("run/{name}/{entity}"),
-                    &SeriesLines::new()
-                        .with_names(lines.iter().copied())
-                        .with_colors(colors),
-                )?;
+            for (q, series) in wheelset_series(QUANTITIES).filter(|(q, _)| !q.value.is_conditional()) {
+                self.log_style(name, q, series)?;
             }
         }
         if self.names.len() > 1 {
             let colors: Vec<Color> = (0..self.names.len()).map(palette).collect();
-            for (entity, _) in VEHICLE_SERIES {
+            for (_, series) in vehicle_series(QUANTITIES) {
                 log_static(
                     &self.rec,
-                    &format!("run/vehicle/{entity}"),
+                    &format!("run/vehicle/{}", series.entity()),
                     &SeriesLines::new()
                         .with_names(self.names.iter().map(String::as_str))
                         .with_colors(colors.clone()),
@@ -391,8 +367,38 @@ impl LiveRecorder {
         Ok(())
     }
 
-    /// Sends one series of one wheelset's pending samples as columns on `time` and `distance_mm`.
-    fn send_series(&self, name: &str, samples: &[Sample], series: &Series) -> Result<(), InspectError> {
+    /// The style of one wheelset's series: its line names, green for one value, a colour per
+    /// wheel for two.
+    fn log_style(&self, name: &str, q: &Quantity, series: &Series) -> Result<(), InspectError> {
+        let lines = line_names(q, series);
+        let colors = if lines.len() == 1 {
+            vec![Color::from_rgb(60, 180, 120)]
+        } else {
+            lr_colors()
+        };
+        log_static(
+            &self.rec,
+            &format!("run/{name}/{}", series.entity()),
+            &SeriesLines::new().with_names(lines).with_colors(colors),
+        )
+    }
+
+    /// Sends one series of one wheelset's pending samples as columns on `time` and `distance_mm`
+    /// (nothing where a sample lacks it: a series that not every sample has).
+    fn send_series(
+        &self,
+        name: &str,
+        samples: &[Sample],
+        q: &Quantity,
+        series: &Series,
+    ) -> Result<(), InspectError> {
+        let Some(values) = samples
+            .iter()
+            .map(|s| q.value.of(s, series.unit))
+            .collect::<Option<Vec<_>>>()
+        else {
+            return Ok(());
+        };
         send_scalar_values(
             &self.rec,
             vec![
@@ -400,9 +406,9 @@ impl LiveRecorder {
                 TimeColumn::new_sequence(DISTANCE, samples.iter().map(|s| (s.s * 1e3).round() as i64)),
             ],
             samples.len(),
-            &format!("run/{name}/{}", series.0),
-            samples.iter().flat_map(series.2).collect(),
-            series.1.len(),
+            &format!("run/{name}/{}", series.entity()),
+            values.iter().flat_map(|v| v.iter().copied()).collect(),
+            q.value.width(),
         )
     }
 
@@ -412,35 +418,31 @@ impl LiveRecorder {
         if n == 0 {
             return Ok(());
         }
-        for (k, name) in self.names.iter().enumerate() {
-            let samples = &self.pending[k];
-            for series in &WHEELSET_SERIES {
-                self.send_series(name, samples, series)?;
-            }
-            if samples.iter().all(|s| s.s_knife.is_some()) {
-                if !self.knife_styled[k] {
-                    log_static(
-                        &self.rec,
-                        &format!("run/{name}/{}", KNIFE_SERIES.0),
-                        &SeriesLines::new()
-                            .with_names(KNIFE_SERIES.1.iter().copied())
-                            .with_colors(lr_colors()),
-                    )?;
-                    self.knife_styled[k] = true;
+        for (name, samples) in self.names.iter().zip(&self.pending) {
+            for (q, series) in wheelset_series(QUANTITIES) {
+                // A series that not every sample has is styled when first sent.
+                let given = || samples.iter().all(|s| q.value.of(s, series.unit).is_some());
+                if q.value.is_conditional()
+                    && given()
+                    && self.styled.insert(format!("run/{name}/{}", series.entity()))
+                {
+                    self.log_style(name, q, series)?;
                 }
-                self.send_series(name, samples, &KNIFE_SERIES)?;
+                self.send_series(name, samples, q, series)?;
             }
         }
         if self.names.len() > 1 {
-            let first = &self.pending[0];
-            for (entity, f) in VEHICLE_SERIES {
+            let pending = &self.pending;
+            let first = &pending[0];
+            for (q, series) in vehicle_series(QUANTITIES) {
+                let value = |s: &Sample| q.value.of(s, series.unit).map_or(f64::NAN, |v| v[0]);
                 send_scalar_values(
                     &self.rec,
                     vec![TimeColumn::new_duration_secs(TIME, first.iter().map(|s| s.t))],
                     n,
-                    &format!("run/vehicle/{entity}"),
+                    &format!("run/vehicle/{}", series.entity()),
                     (0..n)
-                        .flat_map(|i| self.pending.iter().map(move |w| f(&w[i])))
+                        .flat_map(|i| pending.iter().map(move |w| value(&w[i])))
                         .collect(),
                     self.names.len(),
                 )?;
@@ -581,5 +583,259 @@ impl RunObserver for LiveRecorder {
 
     fn finish(&mut self, summary: &RunSummary) -> Result<(), ObserverError> {
         Ok(self.log_summary(summary)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::output::{csv_header, CSV_COLUMNS};
+    use crate::dynamics::sample::{Csv, Unit, Value};
+
+    /// The per-wheelset series `table` records: entity under `run/NAME/`, line names, values of
+    /// [`Sample::distinct`].
+    fn recorded_wheelset_series(table: &'static [Quantity]) -> Vec<(String, Vec<String>, Vec<f64>)> {
+        let s = Sample::distinct();
+        wheelset_series(table)
+            .map(|(q, series)| {
+                (
+                    series.entity(),
+                    line_names(q, series).iter().map(|l| l.to_string()).collect(),
+                    q.value.of(&s, series.unit).unwrap().to_vec(),
+                )
+            })
+            .collect()
+    }
+
+    /// The every-wheelset series under `run/vehicle/`: entity, value of [`Sample::distinct`].
+    fn recorded_vehicle_series(table: &'static [Quantity]) -> Vec<(String, f64)> {
+        let s = Sample::distinct();
+        vehicle_series(table)
+            .map(|(q, series)| (series.entity(), q.value.of(&s, series.unit).unwrap()[0]))
+            .collect()
+    }
+
+    fn near(a: &[f64], b: &[f64]) -> bool {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(x, y)| (x - y).abs() <= 1e-12 * y.abs().max(1.0))
+    }
+
+    /// The recording's series are an interface (entity paths users and scripts look up): pinned
+    /// here with their line names and what they record of a sample.
+    #[test]
+    fn recorded_series_are_pinned() {
+        let lr = || vec!["left".to_string(), "right".to_string()];
+        let one = |l: &str| vec![l.to_string()];
+        let mut pinned: Vec<(String, Vec<String>, Vec<f64>)> = vec![
+            ("y_mm".into(), one("y"), vec![2.0]),
+            ("yaw_mrad".into(), one("yaw"), vec![-1.5]),
+            ("z_mm".into(), one("z − r0"), vec![0.7]),
+            ("roll_mrad".into(), one("roll"), vec![0.3]),
+            ("normal_kn".into(), lr(), vec![48.0, 52.0]),
+            ("creep_fx_kn".into(), lr(), vec![-1.5, 2.5]),
+            ("creep_fy_kn".into(), lr(), vec![3.5, -4.5]),
+            ("y_over_q".into(), lr(), vec![0.15, -0.16]),
+            ("s_wheel_mm".into(), lr(), vec![4.0, -5.0]),
+            ("s_rail_mm".into(), lr(), vec![6.0, -7.0]),
+            ("s_knife_mm".into(), lr(), vec![8.5, -9.5]),
+            ("lift_mm".into(), lr(), vec![0.0, 12.5]),
+        ];
+        let mut got = recorded_wheelset_series(QUANTITIES);
+        pinned.sort_by(|a, b| a.0.cmp(&b.0));
+        got.sort_by(|a, b| a.0.cmp(&b.0));
+        assert_eq!(got.len(), pinned.len(), "{got:?}");
+        for (g, p) in got.iter().zip(&pinned) {
+            assert!(g.0 == p.0 && g.1 == p.1 && near(&g.2, &p.2), "{g:?} vs {p:?}");
+        }
+        let mut vehicle = recorded_vehicle_series(QUANTITIES);
+        vehicle.sort_by(|a, b| a.0.cmp(&b.0));
+        let pinned = [
+            ("max_abs_y_over_q", 0.16),
+            ("min_normal_kn", 48.0),
+            ("y_mm", 2.0),
+            ("yaw_mrad", -1.5),
+        ];
+        assert_eq!(vehicle.len(), pinned.len(), "{vehicle:?}");
+        for (g, p) in vehicle.iter().zip(pinned) {
+            assert!(g.0 == p.0 && near(&[g.1], &[p.1]), "{g:?} vs {p:?}");
+        }
+        // A sample without the KEC parameters records no `s_knife_mm` (NaN in no CSV column).
+        let knife = QUANTITIES
+            .iter()
+            .find(|q| q.series.is_some_and(|s| s.stem == "s_knife"))
+            .unwrap();
+        assert!(knife.value.of(&Sample::at(0.0, 0.0, 0.0), Unit::MM).is_none());
+    }
+
+    /// The run's layout (the plots below the cross-sections), pinned as it was before it was made
+    /// from the table: titles and entities, row by row.
+    #[test]
+    fn layout_is_pinned() {
+        let rows = |names: &[&str]| -> Vec<Vec<(String, String)>> {
+            let names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+            plot_rows(QUANTITIES, &names)
+                .into_iter()
+                .map(|r| r.into_iter().map(|p| (p.title, p.origin)).collect())
+                .collect()
+        };
+        let detail = |w: &str| -> Vec<Vec<(String, String)>> {
+            [
+                vec![
+                    ("y [mm]", "y_mm"),
+                    ("yaw [mrad]", "yaw_mrad"),
+                    ("z − r0 [mm]", "z_mm"),
+                    ("roll [mrad]", "roll_mrad"),
+                ],
+                vec![
+                    ("normal force [kN]", "normal_kn"),
+                    ("creep Fx [kN]", "creep_fx_kn"),
+                    ("creep Fy [kN]", "creep_fy_kn"),
+                    ("Y/Q", "y_over_q"),
+                ],
+                vec![
+                    ("contact on wheel s^w [mm]", "s_wheel_mm"),
+                    ("contact on rail s^r [mm]", "s_rail_mm"),
+                    ("KEC contact s^k [mm]", "s_knife_mm"),
+                    ("wheel lift [mm]", "lift_mm"),
+                ],
+            ]
+            .into_iter()
+            .map(|r| {
+                r.into_iter()
+                    .map(|(t, e)| (format!("{w}: {t}"), format!("/run/{w}/{e}")))
+                    .collect()
+            })
+            .collect()
+        };
+        assert_eq!(rows(&["wheelset_1"]), detail("wheelset_1"));
+        let vehicle: Vec<(String, String)> = [
+            ("every wheelset: y [mm]", "/run/vehicle/y_mm"),
+            ("every wheelset: yaw [mrad]", "/run/vehicle/yaw_mrad"),
+            (
+                "every wheelset: smaller wheel load [kN]",
+                "/run/vehicle/min_normal_kn",
+            ),
+            ("every wheelset: larger |Y/Q|", "/run/vehicle/max_abs_y_over_q"),
+        ]
+        .into_iter()
+        .map(|(t, e)| (t.to_string(), e.to_string()))
+        .collect();
+        let mut expected = vec![vehicle];
+        expected.extend(detail("w1"));
+        assert_eq!(rows(&["w1", "w2"]), expected);
+    }
+
+    /// Checks that every quantity of `table` appears once, and only as declared, in the CSV
+    /// header, the recording's series and the layout made from it.
+    fn check_made_from(table: &'static [Quantity]) {
+        // The CSV: a column per value of every quantity written, each name once.
+        let header = csv_header(table);
+        let widths: usize = table
+            .iter()
+            .filter(|q| q.csv != Csv::No)
+            .map(|q| q.value.width())
+            .sum();
+        assert_eq!(header.len(), widths, "{header:?}");
+        let mut unique = header.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), header.len(), "a CSV column twice: {header:?}");
+        for q in table {
+            let (stem, unit) = match q.csv {
+                Csv::No => continue,
+                Csv::Columns(stem, unit) | Csv::WheelByWheelWithPrevious(stem, unit) => (stem, unit),
+            };
+            let columns: Vec<String> = match q.value.width() {
+                1 => vec![unit.name(stem)],
+                _ => WHEELS.iter().map(|w| unit.name(&format!("{stem}_{w}"))).collect(),
+            };
+            for c in &columns {
+                assert_eq!(header.iter().filter(|h| *h == c).count(), 1, "{}: {c}", q.name);
+            }
+        }
+        // The series and the layout: every series recorded once and plotted once (per wheelset
+        // in its panel; every wheelset side by side under `run/vehicle/`).
+        let names = ["w1".to_string(), "w2".to_string()];
+        let plots: Vec<Plot> = plot_rows(table, &names).into_iter().flatten().collect();
+        let per_wheelset = recorded_wheelset_series(table);
+        let vehicle = recorded_vehicle_series(table);
+        let mut entities: Vec<&String> = per_wheelset.iter().map(|s| &s.0).collect();
+        entities.sort();
+        entities.dedup();
+        assert_eq!(
+            entities.len(),
+            per_wheelset.len(),
+            "a series twice: {per_wheelset:?}"
+        );
+        for q in table {
+            let Some(series) = q.series else {
+                continue;
+            };
+            let entity = series.entity();
+            let shown = |origin: &str| plots.iter().filter(|p| p.origin == origin).count();
+            let (recorded, plotted) = (
+                per_wheelset.iter().filter(|s| s.0 == entity).count(),
+                shown(&format!("/run/w1/{entity}")),
+            );
+            let expected = usize::from(series.panel.is_some());
+            assert_eq!((recorded, plotted), (expected, expected), "{}: {entity}", q.name);
+            let (recorded, plotted) = (
+                vehicle.iter().filter(|s| s.0 == entity).count(),
+                shown(&format!("/run/vehicle/{entity}")),
+            );
+            let expected = usize::from(series.vehicle);
+            assert_eq!((recorded, plotted), (expected, expected), "{}: {entity}", q.name);
+        }
+        let series = table.iter().filter_map(|q| q.series);
+        assert_eq!(
+            plots.len(),
+            series.clone().filter(|s| s.panel.is_some()).count() + series.filter(|s| s.vehicle).count()
+        );
+    }
+
+    /// The CSV header, the recording's series and the layout are made from the table: every
+    /// quantity of [`QUANTITIES`] is in each once, as declared; and a quantity added to the table
+    /// is in all three with nothing else changed.
+    #[test]
+    fn outputs_are_made_from_the_table() {
+        assert_eq!(csv_header(QUANTITIES), *CSV_COLUMNS);
+        check_made_from(QUANTITIES);
+        let mut table = QUANTITIES.to_vec();
+        table.push(Quantity {
+            name: "wheel spin (a quantity added to the table)",
+            value: Value::Wheels(|s| [s.t, s.speed]),
+            csv: Csv::Columns("spin", Unit::MM),
+            series: Some(Series {
+                stem: "spin",
+                unit: Unit::MM,
+                title: "spin",
+                panel: Some(Panel::Kinematics),
+                vehicle: false,
+            }),
+        });
+        let table: &'static [Quantity] = table.leak();
+        check_made_from(table);
+        let mut header = CSV_COLUMNS.iter().map(|c| c.to_string()).collect::<Vec<_>>();
+        header.extend(["spin_left_mm".to_string(), "spin_right_mm".to_string()]);
+        assert_eq!(csv_header(table), header);
+        let series = recorded_wheelset_series(table);
+        assert_eq!(
+            series.last().unwrap(),
+            &(
+                "spin_mm".to_string(),
+                WHEELS.map(String::from).to_vec(),
+                vec![1500.0, 19000.0]
+            )
+        );
+        let rows = plot_rows(table, &["w1".to_string()]);
+        assert_eq!(
+            rows[0].last().unwrap(),
+            &Plot {
+                title: "w1: spin [mm]".into(),
+                origin: "/run/w1/spin_mm".into()
+            }
+        );
     }
 }

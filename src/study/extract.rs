@@ -18,8 +18,9 @@
 //! amplitude of a limit cycle, ~0 where the motion has decayed.
 
 use crate::dynamics::linear::LinearStability;
-use crate::dynamics::output::{csv_row, Sample, CSV_COLUMNS};
+use crate::dynamics::output::{csv_row, CSV_COLUMNS};
 use crate::dynamics::run::RunOutput;
+use crate::dynamics::sample::Sample;
 
 /// A figure of the run summary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

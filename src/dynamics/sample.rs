@@ -1,0 +1,535 @@
+//! The output sample of one wheelset ([`Sample`]) and the **table of what a run records of it**
+//! ([`QUANTITIES`]): each recorded quantity declared once, with its value in the sample, its CSV
+//! column(s) and its series in the recording. Everything that lists the quantities is generated
+//! from the table:
+//!
+//! * the CSV header and rows of `kecsim run --csv` ([`crate::dynamics::output::CSV_COLUMNS`],
+//!   [`crate::dynamics::output::csv_row`]);
+//! * the recording's series under `run/NAME/` and `run/vehicle/`, their line names and styles,
+//!   and the panels of the run's layout ([`crate::inspect::run`]).
+//!
+//! To record a new quantity: compute it in [`Sample::new`] (a field of [`Sample`]) and add one
+//! [`Quantity`] to [`QUANTITIES`]. The CSV columns, series entities and titles are made of the
+//! table's stems and [`Unit`]s; the tests pin today's names (`kecsim run --csv`'s columns and the
+//! recording's entity paths are interfaces that scripts rely on).
+//!
+//! This module depends on nothing of the run's output (CSV, summary, safety): they depend on it.
+
+use std::ops::Deref;
+
+use super::system::WheelsetSample;
+
+/// One output sample of one wheelset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    pub t: f64,
+    /// Arc length of the wheelset, m.
+    pub s: f64,
+    pub speed: f64,
+    pub y: f64,
+    pub yaw: f64,
+    /// Centre height minus r0, m.
+    pub z: f64,
+    pub roll: f64,
+    /// Normal forces left, right, N.
+    pub normal: [f64; 2],
+    /// Creep forces (contact frame) left, right: Fx, Fy, N.
+    pub creep_x: [f64; 2],
+    pub creep_y: [f64; 2],
+    /// Lateral (Y) and vertical (Q) wheel–rail force on each wheel, track frame, N.
+    pub y_force: [f64; 2],
+    pub q_force: [f64; 2],
+    /// Contact on the real wheel and rail (paper convention), m.
+    pub s_wheel: [f64; 2],
+    pub s_rail: [f64; 2],
+    /// Contact positions (Y, Z) in the wheelset-track frame, m.
+    pub position: [(f64, f64); 2],
+    /// KEC: knife-edge contact parameters, m.
+    pub s_knife: Option<[f64; 2]>,
+    /// Rail irregularities at the wheelset: left (Y, Z), right (Y, Z), m.
+    pub rails: [f64; 4],
+    /// Each wheel's gap to its rail (0 on the rail; a lifted wheel's lift), m.
+    pub lift: [f64; 2],
+    /// Lateral shift of the track under the wheelset (0 on a rigid track), m.
+    pub track_shift: f64,
+}
+
+impl Sample {
+    /// The output sample of one wheelset evaluation (Y and Q per wheel in the track frame).
+    pub fn new(t: f64, s: &WheelsetSample, r0: f64) -> Sample {
+        let d = &s.dynamics;
+        let y_force = [d.wheel_force[0].0, d.wheel_force[1].0];
+        let q_force = [d.wheel_force[0].1, d.wheel_force[1].1];
+        Sample {
+            t,
+            s: s.s,
+            speed: s.speed,
+            y: s.state.y,
+            yaw: s.state.psi,
+            z: s.kin.z - r0,
+            roll: s.kin.phi,
+            normal: d.normal,
+            creep_x: [d.creep[0].fx, d.creep[1].fx],
+            creep_y: [d.creep[0].fy, d.creep[1].fy],
+            y_force,
+            q_force,
+            s_wheel: [s.kin.contacts[0].s_wheel, s.kin.contacts[1].s_wheel],
+            s_rail: [s.kin.contacts[0].s_rail, s.kin.contacts[1].s_rail],
+            position: [s.kin.contacts[0].position, s.kin.contacts[1].position],
+            s_knife: s.kin.s_knife,
+            rails: s.rails,
+            lift: d.lift_gap,
+            track_shift: s.state.track_shift,
+        }
+    }
+
+    /// The larger |Y/Q| of the two wheels (a lifted wheel, Q = 0, has none).
+    pub fn max_abs_y_over_q(&self) -> f64 {
+        let ratio = |i: usize| {
+            if self.q_force[i] > 0.0 {
+                (self.y_force[i] / self.q_force[i]).abs()
+            } else {
+                0.0
+            }
+        };
+        ratio(0).max(ratio(1))
+    }
+}
+
+/// The unit a quantity is written or recorded in: the suffix of its CSV column and series entity,
+/// the label of its plot, and its factor from the sample's SI value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unit {
+    /// The end of the names: `y_mm`, `normal_kn`, `speed_m_s` (empty for a ratio: `y_over_q`).
+    pub suffix: &'static str,
+    /// In plot titles: `y [mm]` (empty for a ratio: `Y/Q`).
+    pub label: &'static str,
+    /// The value in this unit of one SI unit.
+    pub per_si: f64,
+}
+
+impl Unit {
+    pub const S: Unit = Unit::new("s", "s", 1.0);
+    pub const M: Unit = Unit::new("m", "m", 1.0);
+    pub const M_S: Unit = Unit::new("m_s", "m/s", 1.0);
+    pub const MM: Unit = Unit::new("mm", "mm", 1e3);
+    pub const MRAD: Unit = Unit::new("mrad", "mrad", 1e3);
+    pub const N: Unit = Unit::new("n", "N", 1.0);
+    pub const KN: Unit = Unit::new("kn", "kN", 1e-3);
+    /// A ratio (no unit).
+    pub const RATIO: Unit = Unit::new("", "", 1.0);
+
+    const fn new(suffix: &'static str, label: &'static str, per_si: f64) -> Unit {
+        Unit {
+            suffix,
+            label,
+            per_si,
+        }
+    }
+
+    /// `STEM_SUFFIX` (the stem alone for a ratio).
+    pub fn name(self, stem: &str) -> String {
+        if self.suffix.is_empty() {
+            stem.to_string()
+        } else {
+            format!("{stem}_{}", self.suffix)
+        }
+    }
+
+    /// `TITLE [LABEL]` (the title alone for a ratio).
+    pub fn title(self, title: &str) -> String {
+        if self.label.is_empty() {
+            title.to_string()
+        } else {
+            format!("{title} [{}]", self.label)
+        }
+    }
+}
+
+/// The wheels of a per-wheel quantity, in the order of its values (and its CSV columns' infix).
+pub const WHEELS: [&str; 2] = ["left", "right"];
+
+/// A quantity's values in a sample, SI: how many and how they are read.
+#[derive(Debug, Clone, Copy)]
+pub enum Value {
+    /// One value.
+    One(fn(&Sample) -> f64),
+    /// One per wheel (left, right).
+    Wheels(fn(&Sample) -> [f64; 2]),
+    /// One per wheel where the contact model gives them (KEC's knife-edge parameters): a sample
+    /// without them writes NaN to the CSV, and the recording sends the series only for batches
+    /// where every sample has them.
+    WheelsWhereGiven(fn(&Sample) -> Option<[f64; 2]>),
+}
+
+/// The values of a quantity in a sample (one, or one per wheel), in some [`Unit`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Values {
+    values: [f64; 2],
+    len: usize,
+}
+
+impl Deref for Values {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.values[..self.len]
+    }
+}
+
+impl Value {
+    /// How many values a sample has of it: 1, or 2 (one per wheel).
+    pub fn width(self) -> usize {
+        match self {
+            Value::One(_) => 1,
+            Value::Wheels(_) | Value::WheelsWhereGiven(_) => 2,
+        }
+    }
+
+    /// Whether some samples lack it ([`Value::WheelsWhereGiven`]).
+    pub fn is_conditional(self) -> bool {
+        matches!(self, Value::WheelsWhereGiven(_))
+    }
+
+    /// Its values in `s`, in `unit` (None where the sample has none).
+    pub fn of(self, s: &Sample, unit: Unit) -> Option<Values> {
+        let (values, len) = match self {
+            Value::One(f) => ([f(s), 0.0], 1),
+            Value::Wheels(f) => (f(s), 2),
+            Value::WheelsWhereGiven(f) => (f(s)?, 2),
+        };
+        Some(Values {
+            values: values.map(|v| v * unit.per_si),
+            len,
+        })
+    }
+}
+
+/// Where a quantity goes in the CSV of a wheelset (`kecsim run --csv`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Csv {
+    /// Not written.
+    No,
+    /// Its column(s) after the previous quantity's: `STEM_UNIT` (one value) or `STEM_left_UNIT`,
+    /// `STEM_right_UNIT` (one per wheel).
+    Columns(&'static str, Unit),
+    /// One per wheel, written wheel by wheel together with the previous quantity in the CSV
+    /// (itself per wheel): `fx_left_n, fy_left_n, fx_right_n, fy_right_n`.
+    WheelByWheelWithPrevious(&'static str, Unit),
+}
+
+/// A row of plots in the run's layout (top to bottom in the order of [`Panel::ALL`]); a panel's
+/// plots are in the order of [`QUANTITIES`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Panel {
+    /// Displacements and rotations.
+    Kinematics,
+    /// Wheel–rail forces.
+    Forces,
+    /// Where the wheels touch the rails.
+    Contact,
+}
+
+impl Panel {
+    pub const ALL: [Panel; 3] = [Panel::Kinematics, Panel::Forces, Panel::Contact];
+}
+
+/// A quantity's series in the recording.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Series {
+    /// The entity's name before its unit: `creep_fx` records `run/NAME/creep_fx_kn`.
+    pub stem: &'static str,
+    pub unit: Unit,
+    /// Its plot's title before the unit (`creep Fx` shows as `w1: creep Fx [kN]`); the line's
+    /// name of a one-value series (a per-wheel one has `left` and `right`).
+    pub title: &'static str,
+    /// Recorded for every wheelset under `run/NAME/`, and the first wheelset's plotted in this
+    /// panel (None: not recorded per wheelset).
+    pub panel: Option<Panel>,
+    /// Recorded under `run/vehicle/` too, one line per wheelset, and plotted in the layout's
+    /// every-wheelset row, when the vehicle has more than one wheelset (one-value quantities).
+    pub vehicle: bool,
+}
+
+impl Series {
+    /// Its entity's name under `run/NAME/` or `run/vehicle/` (`creep_fx_kn`).
+    pub fn entity(&self) -> String {
+        self.unit.name(self.stem)
+    }
+
+    /// Its plot's title without the wheelset (`creep Fx [kN]`).
+    pub fn title(&self) -> String {
+        self.unit.title(self.title)
+    }
+}
+
+/// One quantity a run records of each wheelset's samples: declared once in [`QUANTITIES`].
+#[derive(Debug, Clone, Copy)]
+pub struct Quantity {
+    /// What it is (documentation, and the name tests report).
+    pub name: &'static str,
+    /// Its values in a sample (SI).
+    pub value: Value,
+    /// Its CSV column(s).
+    pub csv: Csv,
+    /// Its series in the recording (None: not recorded as a series).
+    pub series: Option<Series>,
+}
+
+/// A series plotted in `panel` for every wheelset, not under `run/vehicle/`.
+const fn plot(stem: &'static str, unit: Unit, title: &'static str, panel: Panel) -> Option<Series> {
+    Some(Series {
+        stem,
+        unit,
+        title,
+        panel: Some(panel),
+        vehicle: false,
+    })
+}
+
+/// **What a run records of each wheelset**, in the order of the CSV's columns and of the layout's
+/// plots: the one place a recorded quantity is declared (see the module's documentation). The CSV
+/// columns and series names it makes are interfaces: [`crate::dynamics::output`]'s and
+/// [`crate::inspect::run`]'s tests pin them.
+pub const QUANTITIES: &[Quantity] = &[
+    Quantity {
+        name: "time",
+        value: Value::One(|s| s.t),
+        csv: Csv::Columns("t", Unit::S),
+        series: None,
+    },
+    Quantity {
+        name: "arc length of the wheelset",
+        value: Value::One(|s| s.s),
+        csv: Csv::Columns("s", Unit::M),
+        series: None,
+    },
+    Quantity {
+        name: "forward speed",
+        value: Value::One(|s| s.speed),
+        csv: Csv::Columns("speed", Unit::M_S),
+        series: None,
+    },
+    Quantity {
+        name: "lateral displacement",
+        value: Value::One(|s| s.y),
+        csv: Csv::Columns("y", Unit::MM),
+        series: Some(Series {
+            stem: "y",
+            unit: Unit::MM,
+            title: "y",
+            panel: Some(Panel::Kinematics),
+            vehicle: true,
+        }),
+    },
+    Quantity {
+        name: "yaw angle",
+        value: Value::One(|s| s.yaw),
+        csv: Csv::Columns("yaw", Unit::MRAD),
+        series: Some(Series {
+            stem: "yaw",
+            unit: Unit::MRAD,
+            title: "yaw",
+            panel: Some(Panel::Kinematics),
+            vehicle: true,
+        }),
+    },
+    Quantity {
+        name: "centre height minus r0",
+        value: Value::One(|s| s.z),
+        csv: Csv::Columns("z", Unit::MM),
+        series: plot("z", Unit::MM, "z − r0", Panel::Kinematics),
+    },
+    Quantity {
+        name: "roll angle",
+        value: Value::One(|s| s.roll),
+        csv: Csv::Columns("roll", Unit::MRAD),
+        series: plot("roll", Unit::MRAD, "roll", Panel::Kinematics),
+    },
+    Quantity {
+        name: "normal force (constraint reaction, Eq. 53)",
+        value: Value::Wheels(|s| s.normal),
+        csv: Csv::Columns("n", Unit::N),
+        series: plot("normal", Unit::KN, "normal force", Panel::Forces),
+    },
+    Quantity {
+        name: "creep force Fx, contact frame",
+        value: Value::Wheels(|s| s.creep_x),
+        csv: Csv::Columns("fx", Unit::N),
+        series: plot("creep_fx", Unit::KN, "creep Fx", Panel::Forces),
+    },
+    Quantity {
+        name: "creep force Fy, contact frame",
+        value: Value::Wheels(|s| s.creep_y),
+        csv: Csv::WheelByWheelWithPrevious("fy", Unit::N),
+        series: plot("creep_fy", Unit::KN, "creep Fy", Panel::Forces),
+    },
+    Quantity {
+        name: "lateral wheel–rail force Y, track frame",
+        value: Value::Wheels(|s| s.y_force),
+        csv: Csv::Columns("y", Unit::N),
+        series: None,
+    },
+    Quantity {
+        name: "vertical wheel–rail force Q, track frame",
+        value: Value::Wheels(|s| s.q_force),
+        csv: Csv::WheelByWheelWithPrevious("q", Unit::N),
+        series: None,
+    },
+    Quantity {
+        name: "lateral over vertical wheel–rail force Y/Q",
+        value: Value::Wheels(|s| [s.y_force[0] / s.q_force[0], s.y_force[1] / s.q_force[1]]),
+        csv: Csv::No,
+        series: plot("y_over_q", Unit::RATIO, "Y/Q", Panel::Forces),
+    },
+    Quantity {
+        name: "contact position on the real wheel s^w",
+        value: Value::Wheels(|s| s.s_wheel),
+        csv: Csv::Columns("s_wheel", Unit::MM),
+        series: plot("s_wheel", Unit::MM, "contact on wheel s^w", Panel::Contact),
+    },
+    Quantity {
+        name: "contact position on the real rail s^r",
+        value: Value::Wheels(|s| s.s_rail),
+        csv: Csv::WheelByWheelWithPrevious("s_rail", Unit::MM),
+        series: plot("s_rail", Unit::MM, "contact on rail s^r", Panel::Contact),
+    },
+    Quantity {
+        name: "KEC contact on the equivalent profiles s^k (KEC only)",
+        value: Value::WheelsWhereGiven(|s| s.s_knife),
+        csv: Csv::No,
+        series: plot("s_knife", Unit::MM, "KEC contact s^k", Panel::Contact),
+    },
+    Quantity {
+        name: "lateral rail irregularity",
+        value: Value::Wheels(|s| [s.rails[0], s.rails[2]]),
+        csv: Csv::Columns("rail_y", Unit::MM),
+        series: None,
+    },
+    Quantity {
+        name: "vertical rail irregularity",
+        value: Value::Wheels(|s| [s.rails[1], s.rails[3]]),
+        csv: Csv::WheelByWheelWithPrevious("rail_z", Unit::MM),
+        series: None,
+    },
+    Quantity {
+        name: "wheel lift (each wheel's gap to its rail; 0 on it)",
+        value: Value::Wheels(|s| s.lift),
+        csv: Csv::Columns("lift", Unit::MM),
+        series: plot("lift", Unit::MM, "wheel lift", Panel::Contact),
+    },
+    Quantity {
+        name: "lateral track shift under the wheelset",
+        value: Value::One(|s| s.track_shift),
+        csv: Csv::Columns("track_shift", Unit::MM),
+        series: None,
+    },
+    Quantity {
+        name: "the smaller wheel load",
+        value: Value::One(|s| s.normal[0].min(s.normal[1])),
+        csv: Csv::No,
+        series: Some(Series {
+            stem: "min_normal",
+            unit: Unit::KN,
+            title: "smaller wheel load",
+            panel: None,
+            vehicle: true,
+        }),
+    },
+    Quantity {
+        name: "the larger |Y/Q| of the two wheels",
+        value: Value::One(Sample::max_abs_y_over_q),
+        csv: Csv::No,
+        series: Some(Series {
+            stem: "max_abs_y_over_q",
+            unit: Unit::RATIO,
+            title: "larger |Y/Q|",
+            panel: None,
+            vehicle: true,
+        }),
+    },
+];
+
+#[cfg(test)]
+impl Sample {
+    /// A centred wheelset at time `t`, arc length `s` and speed `speed`, every other field zero
+    /// (for tests that build their own samples).
+    pub(crate) fn at(t: f64, s: f64, speed: f64) -> Sample {
+        Sample {
+            t,
+            s,
+            speed,
+            y: 0.0,
+            yaw: 0.0,
+            z: 0.0,
+            roll: 0.0,
+            normal: [0.0; 2],
+            creep_x: [0.0; 2],
+            creep_y: [0.0; 2],
+            y_force: [0.0; 2],
+            q_force: [0.0; 2],
+            s_wheel: [0.0; 2],
+            s_rail: [0.0; 2],
+            position: [(0.0, 0.0); 2],
+            s_knife: None,
+            rails: [0.0; 4],
+            lift: [0.0; 2],
+            track_shift: 0.0,
+        }
+    }
+
+    /// A sample whose every field has a value of its own.
+    pub(crate) fn distinct() -> Sample {
+        Sample {
+            t: 1.5,
+            s: 23.25,
+            speed: 19.0,
+            y: 0.002,
+            yaw: -0.0015,
+            z: 0.0007,
+            roll: 0.0003,
+            normal: [48e3, 52e3],
+            creep_x: [-1.5e3, 2.5e3],
+            creep_y: [3.5e3, -4.5e3],
+            y_force: [6e3, -8e3],
+            q_force: [40e3, 50e3],
+            s_wheel: [0.004, -0.005],
+            s_rail: [0.006, -0.007],
+            position: [(0.75, 0.01), (-0.74, 0.02)],
+            s_knife: Some([0.0085, -0.0095]),
+            rails: [0.75, 0.001, -0.75, 0.002],
+            lift: [0.0, 0.0125],
+            track_shift: 0.0005,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The table is well formed: a quantity written wheel by wheel with the previous one is, like
+    /// that one, per wheel; every-wheelset series have one value per sample (a line per wheelset)
+    /// that every sample has; names are made of stems without a unit.
+    #[test]
+    fn the_table_is_well_formed() {
+        let mut previous_csv: Option<&Quantity> = None;
+        for q in QUANTITIES {
+            if let Csv::WheelByWheelWithPrevious(..) = q.csv {
+                let p = previous_csv.expect("a first CSV quantity written with a previous one");
+                assert!(q.value.width() == 2 && p.value.width() == 2, "{}", q.name);
+            }
+            if q.csv != Csv::No {
+                previous_csv = Some(q);
+            }
+            if let Some(s) = q.series {
+                assert!(s.panel.is_some() || s.vehicle, "{}: recorded nowhere", q.name);
+                if s.vehicle {
+                    assert!(q.value.width() == 1 && !q.value.is_conditional(), "{}", q.name);
+                }
+                assert!(!s.stem.ends_with(&format!("_{}", s.unit.suffix)), "{}", q.name);
+            }
+            let v = q.value.of(&Sample::distinct(), Unit::RATIO).unwrap();
+            assert_eq!(v.len(), q.value.width(), "{}", q.name);
+        }
+    }
+}
