@@ -76,17 +76,22 @@ EOF
 
 k() { echo "+ kecsim $*" >&2; "$KECSIM" "$@" >"$WORK/last.log" 2>&1 || { cat "$WORK/last.log" >&2; return 1; }; }
 
-profiles()     { k profiles --save "$WORK/p.rrd"; shot profiles "$WORK/p.rrd"; }
-contact()      { k contact --save "$WORK/c.rrd"; shot contact "$WORK/c.rrd"; }
-kec()          { k kec --save "$WORK/k.rrd"; shot kec "$WORK/k.rrd"; }
+# The README's example of each command, writing into the scratch directory.
+profiles()     { k profiles --wheel s1002 --rail 60e1 --inclination 1:40 --save "$WORK/p.rrd"; shot profiles "$WORK/p.rrd"; }
+contact()      { k contact --csv "$WORK/table.csv" --save "$WORK/c.rrd"; shot contact "$WORK/c.rrd"; }
+kec()          { k kec --accuracy --save "$WORK/k.rrd"; shot kec "$WORK/k.rrd"; }
 design_wheel() { k design-wheel --csv "$WORK/ms-standin.csv" --save "$WORK/d.rrd"; shot design_wheel "$WORK/d.rrd"; }
 creep()        { k creep --normal-force-n 80000 --a-mm 6 --b-mm 4 --spin 1 --save "$WORK/cr.rrd"; shot creep "$WORK/cr.rrd"; }
-track()        { k track assets/track/tab6_irregular.toml --save "$WORK/t.rrd"; shot track "$WORK/t.rrd"; }
-run()          { k run --save "$WORK/r.rrd"; shot run "$WORK/r.rrd" 30; }
+track()        { k track assets/track/tab6_irregular.toml --csv "$WORK/track.csv" --save "$WORK/t.rrd"; shot track "$WORK/t.rrd"; }
+run()          { k run --csv "$WORK/out" --json "$WORK/summary.json" --save "$WORK/r.rrd"; shot run "$WORK/r.rrd" 30; }
 compare()      { k compare assets/scenes/ms_vehicle_tab6.toml --contact kec,lookup,lookup2 --duration 10 --save "$WORK/cmp.rrd"; shot compare "$WORK/cmp.rrd" 15; }
 paper()        { k paper --duration 10 --save "$WORK/pa.rrd"; shot paper "$WORK/pa.rrd" 15; }
-study()        { k study assets/studies/wheelset_speed_sweep.toml --out "$WORK/sweep-study" --save "$WORK/s.rrd"; shot study "$WORK/s.rrd" 15; }
-bench_precision() { k bench precision --duration 1.5 --contact kec,lookup --method bdf --rtol 1e-3,1e-4,1e-5 --reference-contact kec --reference-rtol 1e-7 --save "$WORK/bp.rrd"; shot bench_precision "$WORK/bp.rrd"; }
+study()        { k study assets/studies/wheelset_speed_sweep.toml --out "$WORK/sweep"; shot study "$WORK/sweep/study.rrd" 15; }
+bench_precision() {
+  k bench precision --duration 1.5 --contact kec,lookup --method bdf --rtol 1e-3,1e-4,1e-5 \
+    --reference-contact kec --reference-rtol 1e-7 --save "$WORK/bp.rrd"
+  shot bench_precision "$WORK/bp.rrd"
+}
 
 ALL=(profiles contact kec design_wheel creep track run compare paper study bench_precision)
 for name in "${@:-${ALL[@]}}"; do
