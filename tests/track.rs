@@ -304,6 +304,7 @@ fn realisations(psd: Psd, seeds: u64, length: f64, band: (f64, f64)) -> (f64, Ve
 }
 
 #[test]
+#[ignore = "slow: 2 spectra × 24 seeds × 2 km, Welch estimates (~21 s)"]
 fn generated_irregularities_have_the_target_psd_and_band_rms() {
     let band = (2.0, 60.0);
     let seeds = 24;

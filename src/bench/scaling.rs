@@ -7,7 +7,7 @@
 //!   simulated time only: p ≈ 1 for the wall time.
 //! - **Vehicle size**: a bogie, the Manchester vehicle 1, the MS vehicle and two MS vehicles coupled
 //!   ([`coupled_ms`]), each on its own scene's track over the same simulated window with the same
-//!   integrator (BDF, rtol 1e-4, atol 1e-6, the MS scene's), KEC. The cost of one right-hand side
+//!   integrator (BDF, rtol 1e-4, atol 1e-6: one setting for all four), KEC. The cost of one right-hand side
 //!   should grow linearly with the number of states (each body and wheelset is evaluated once, the
 //!   joints' Schur complement is block-sparse); the wall time per simulated second also carries the
 //!   step count, which depends on each vehicle's dynamics.
@@ -536,7 +536,7 @@ impl Scaling {
     /// Both tables and the fitted exponents (Markdown).
     pub fn markdown(&self) -> String {
         let mut s = String::from(
-            "# kecsim bench scaling (KEC, no recording; wall = integration time, preprocessing apart)\n\n## Track length: the MS vehicle over the Tab. 6 kilometre laid k times (its BDF, rtol 1e-4)\n\n| run | track km | simulated s | wall s | real-time factor | steps | right-hand sides | µs per right-hand side | outcome |\n|---|---|---|---|---|---|---|---|---|\n",
+            "# kecsim bench scaling (KEC, no recording; wall = integration time, preprocessing apart)\n\n## Track length: the MS vehicle over the Tab. 6 kilometre laid k times (with the scene's own integrator, as `kecsim run` runs it)\n\n| run | track km | simulated s | wall s | real-time factor | steps | right-hand sides | µs per right-hand side | outcome |\n|---|---|---|---|---|---|---|---|---|\n",
         );
         for r in &self.length {
             let _ = writeln!(
