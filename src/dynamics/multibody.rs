@@ -346,7 +346,11 @@ impl Multibody {
 
     /// Pose of the track reference at its point with nominal x (arms include x: centre −x e_x).
     fn track_pose(&self, s_ref: f64, x: f64, v: f64, v_dot: f64) -> Result<(Pose, FrameAt), DynamicsError> {
-        let f = self.frame_at(s_ref + x, v, v_dot)?;
+        let s = s_ref + x;
+        let f = self
+            .reference
+            .frame_of_body(s, v, v_dot)
+            .map_err(|source| DynamicsError::Track { s, source })?;
         Ok((
             Pose {
                 origin: f.origin,
@@ -441,7 +445,10 @@ impl Multibody {
             let q = &x[o..o + 6];
             let qd = &x[o + 6..o + 12];
             let s = s_ref + b.d + q[0];
-            let f = self.frame_at(s, v, v_dot)?;
+            let f = self
+                .reference
+                .frame_of_body(s, v, v_dot)
+                .map_err(|source| DynamicsError::Track { s, source })?;
             poses.push(Pose {
                 origin: f.origin,
                 rotation: f.rotation,

@@ -80,6 +80,17 @@ impl Reference {
 
     /// The track frame at arc length `s` for a body moving at V = `v`, V̇ = `v_dot`.
     pub fn frame(&self, s: f64, v: f64, v_dot: f64) -> Result<FrameAt, TrackError> {
+        self.frame_with(s, v, v_dot, true)
+    }
+
+    /// [`Reference::frame`] without the rails' motion (`rails` left at rest): for a body that
+    /// does not touch the rails (carbodies, bogie frames), whose right-hand side would evaluate
+    /// the irregularities for nothing.
+    pub fn frame_of_body(&self, s: f64, v: f64, v_dot: f64) -> Result<FrameAt, TrackError> {
+        self.frame_with(s, v, v_dot, false)
+    }
+
+    fn frame_with(&self, s: f64, v: f64, v_dot: f64, rails: bool) -> Result<FrameAt, TrackError> {
         match &self.track {
             None => {
                 let mut motion = FrameMotion::tangent(v);
@@ -92,7 +103,11 @@ impl Reference {
                 })
             }
             Some(track) => {
-                let (tf, irr) = track.eval(s)?;
+                let tf = track.centreline.frame(s)?;
+                let rails = match (&track.irregularities, rails) {
+                    (Some(i), true) => i.eval(s)?.rail_motion(v, v_dot),
+                    _ => RailMotion::default(),
+                };
                 let m = tf.motion(v, v_dot);
                 Ok(FrameAt {
                     origin: tf.position,
@@ -104,7 +119,7 @@ impl Reference {
                         alpha: m.angular_acceleration.into(),
                         gravity: tf.gravity(G).into(),
                     },
-                    rails: irr.rail_motion(v, v_dot),
+                    rails,
                 })
             }
         }

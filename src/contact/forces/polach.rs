@@ -69,9 +69,14 @@ pub fn forces(patch: &ContactPatch, creep: &Creepage, p: &PolachParams, speed: f
     if sc == 0.0 {
         return CreepForce::with_saturation(0.0, 0.0, 0.0, patch);
     }
-    let mu = patch.friction
-        * ((1.0 - p.friction_ratio) * (-p.friction_decay_s_per_m * sc * speed.abs()).exp()
-            + p.friction_ratio);
+    // Constant friction (A = 1, the default) needs no exponential: (1 − A) e^{…} + A = 1 exactly.
+    let mu = if p.friction_ratio == 1.0 {
+        patch.friction
+    } else {
+        patch.friction
+            * ((1.0 - p.friction_ratio) * (-p.friction_decay_s_per_m * sc * speed.abs()).exp()
+                + p.friction_ratio)
+    };
     if mu <= 0.0 {
         return CreepForce::with_saturation(0.0, 0.0, 0.0, patch);
     }
