@@ -3,7 +3,8 @@
 //!
 //! * [`system`]: the [`VehicleModel`] interface (model apart from run state), samples, errors;
 //! * [`single_wheelset`], [`multibody`]: the two vehicle systems;
-//! * [`wheelset`]: Newton–Euler of one wheelset with its contact constraints (Eq. 53);
+//! * [`wheelset`]: Newton–Euler of one wheelset with its contact constraints (Eq. 53), its
+//!   10×10 system solved by its structure in `reactions.rs`;
 //! * [`elastic`](mod@elastic): a free wheelset on elastic contacts (the elastic contact model);
 //! * [`kinematics`]: a wheelset's contact kinematics, constrained or free, and each kind's
 //!   equations behind one interface (the vehicle systems use it, not the two above);
@@ -24,6 +25,7 @@ pub mod kinematics;
 pub mod linear;
 pub mod multibody;
 pub mod output;
+mod reactions;
 pub mod reference;
 pub mod run;
 pub mod safety;

@@ -33,6 +33,7 @@
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2, Vector3};
 use thiserror::Error;
 
+use super::reactions::Reactions;
 use crate::contact::forces::{
     ContactForceSettings, ContactFrame, ContactPatch, CreepForce, Creepage, HertzContact, RelativeCurvature,
 };
@@ -339,7 +340,7 @@ const MIN_LIFT_GAIN: f64 = 0.02;
 /// φ = φ₀ + Σ σ_i θ_i, z = z₀ + Σ k_i σ_i θ_i — any (z, φ) near the two-point configuration
 /// (k_l ≠ k_r: the pivots lie on either side). Rolling about one wheel's contact point leaves
 /// that wheel's gap unchanged to first order, so each gap stays G_i θ_i; each wheel lands on
-/// its own event, the other flying on.
+/// its own event, the other flying on — or both in one impact where they come down together.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lift {
     /// The lifted wheel: 0 left, 1 right.
@@ -446,6 +447,9 @@ pub struct Landing {
     pub impulse: f64,
     /// Normal impulse on the other wheel, N s.
     pub pivot_impulse: f64,
+    /// The other wheel, off its rail too, landed in the same impact (its impulse
+    /// `pivot_impulse`).
+    pub other_landed: bool,
 }
 
 /// Points, normals and frames of one pose.
@@ -769,7 +773,7 @@ fn solve(
             )?,
         );
     }
-    let lu = matrix(inertia, &geo, &kin, lifts, track).lu();
+    let lu = Reactions::new(matrix(inertia, &geo, &kin, lifts, track));
     let lift_gap = lifts.map(|l| l.map_or(0.0, |l| l.gap()));
     // One pass: the creep forces at the normal forces `lambda`, then the accelerations and the
     // normal forces they give, Φ(λ).
@@ -916,6 +920,10 @@ fn solve(
     Ok(result)
 }
 
+/// A closing lifted wheel's gap below which it lands in the other wheel's landing impact (1 nm:
+/// far below anything the motion resolves, far above the events' location error).
+const SIMULTANEOUS_GAP_M: f64 = 1e-9;
+
 /// The landing of a lifted wheel (an event of the integrator where its θ returns to 0): a
 /// perfectly plastic impact. The impulses P_l, P_r at both contacts (along the rail normals, at
 /// the real points) change the velocities so that both constraints hold again:
@@ -926,7 +934,8 @@ fn solve(
 /// ```
 ///
 /// `kin` is the two-point configuration at the state's y, `side` the wheel that lands (0 left,
-/// 1 right). Should the other wheel be off its rail too (a flight), it stays free: no impulse on
+/// 1 right). Should the other wheel be off its rail too (a flight), it lands in the same impact
+/// where it is closing within [`SIMULTANEOUS_GAP_M`] of its rail, else it stays free: no impulse on
 /// it, its θ̇ changed by the impact. On return the state has the landed wheel's θ = θ̇ = 0 and
 /// the velocities after the impact.
 pub fn land(
@@ -946,13 +955,23 @@ pub fn land(
         state.lift[side] = 0.0;
         return Ok(None);
     }
+    // The other wheel lands in the same impact where it is within SIMULTANEOUS_GAP_M of its rail
+    // and closing (both wheels of a wheelset thrown up come down in one instant; the event
+    // located for one leaves the other a round-off above its rail, whose own event would come
+    // only after this impact has changed its speed). Else it flies on, free.
+    let other = 1 - side;
+    let co_landing = lifts[other].filter(|o| o.gap() <= SIMULTANEOUS_GAP_M && o.theta_dot < 0.0);
     let mut flying = ON_RAILS;
-    flying[1 - side] = lifts[1 - side];
+    if co_landing.is_none() {
+        flying[other] = lifts[other];
+    }
     let geo = Geometry::new(state, &apply_lifts(&lifts, kin))?;
     let a = matrix(inertia, &geo, kin, &flying, track);
     let mut b = SVector::<f64, 10>::zeros();
-    b[6] = -l.k * l.sigma * l.theta_dot;
-    b[7] = -l.sigma * l.theta_dot;
+    for w in std::iter::once(&l).chain(co_landing.as_ref()) {
+        b[6] -= w.k * w.sigma * w.theta_dot;
+        b[7] -= w.sigma * w.theta_dot;
+    }
     let sol = a.lu().solve(&b).ok_or(WheelsetError::Singular)?;
     state.x_dot += sol[0];
     state.y_dot += sol[1];
@@ -964,7 +983,10 @@ pub fn land(
     }
     state.lift[l.side] = 0.0;
     state.lift_rate[l.side] = 0.0;
-    let other = 1 - l.side;
+    if co_landing.is_some() {
+        state.lift[other] = 0.0;
+        state.lift_rate[other] = 0.0;
+    }
     let pivot_impulse = if flying[other].is_some() {
         state.lift_rate[other] += sol[6 + other];
         0.0
@@ -976,6 +998,7 @@ pub fn land(
         speed: -l.gain * l.theta_dot,
         impulse: sol[6 + l.side],
         pivot_impulse,
+        other_landed: co_landing.is_some(),
     }))
 }
 
