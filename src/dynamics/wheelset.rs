@@ -935,7 +935,7 @@ const SIMULTANEOUS_GAP_M: f64 = 1e-9;
 ///
 /// `kin` is the two-point configuration at the state's y, `side` the wheel that lands (0 left,
 /// 1 right). Should the other wheel be off its rail too (a flight), it lands in the same impact
-/// where it is closing within [`SIMULTANEOUS_GAP_M`] of its rail, else it stays free: no impulse on
+/// where it is closing within `SIMULTANEOUS_GAP_M` (1 nm) of its rail, else it stays free: no impulse on
 /// it, its θ̇ changed by the impact. On return the state has the landed wheel's θ = θ̇ = 0 and
 /// the velocities after the impact.
 pub fn land(
