@@ -209,12 +209,16 @@ mod tests {
                         );
                         let b =
                             Vector10::from_fn(|k, _| ((seed as f64 + 1.0) * (k as f64 + 0.37)).sin() * 1e4);
-                        let u = r.solve(&b).unwrap();
-                        let d = a.lu().solve(&b).unwrap();
+                        let u = r.solve(&b).expect("the structured solve of a regular system");
+                        let d = a.lu().solve(&b).expect("the dense solve of a regular system");
                         // The difference in units of the LU's own round-off: relative to the
                         // solution, over the condition number (1-norm estimate from the inverse).
-                        let cond =
-                            a.abs().column_sum().max() * a.try_inverse().unwrap().abs().column_sum().max();
+                        let cond = a.abs().column_sum().max()
+                            * a.try_inverse()
+                                .expect("a regular system")
+                                .abs()
+                                .column_sum()
+                                .max();
                         worst_diff = worst_diff.max((u - d).amax() / d.amax() / cond);
                         // The residual relative to |A| |u| + |b| (backward error).
                         let scale = (a.abs() * u.abs()).amax() + b.amax();
@@ -242,7 +246,7 @@ mod tests {
         let r = Reactions::new(a);
         assert!(matches!(r, Reactions::Dense(_)));
         let b = Vector10::from_fn(|k, _| k as f64 + 1.0);
-        let u = r.solve(&b).unwrap();
+        let u = r.solve(&b).expect("the dense fallback of a regular system");
         assert!((a * u - b).amax() < 1e-9 * b.amax());
         // Both normal-force columns zero and no lift: singular.
         let mut s = wheelset_like(7, false, false, None);
