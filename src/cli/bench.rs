@@ -37,8 +37,8 @@ pub(super) struct BenchArgs {
     #[arg(long, value_delimiter = ',', value_parser = super::contact_model_names())]
     contact: Vec<String>,
     /// `precision`: integrators swept [default: bdf, dopri5].
-    #[arg(long, value_delimiter = ',', value_parser = ["dopri5", "ros3", "ros34pw2", "bdf"])]
-    method: Vec<String>,
+    #[arg(long, value_delimiter = ',', value_parser = clap::builder::PossibleValuesParser::new(Method::NAMES).try_map(|m| m.parse::<Method>()))]
+    method: Vec<Method>,
     /// `precision`: relative tolerances swept (atol keeps the scene's atol/rtol) [default: 1e-3,
     /// 1e-4, 1e-5].
     #[arg(long, value_delimiter = ',')]
@@ -55,15 +55,6 @@ pub(super) struct BenchArgs {
 
 /// `precision` on the embedded MS scene: its default window, s.
 const MS_PRECISION_WINDOW_S: f64 = 6.0;
-
-fn method(name: &str) -> Method {
-    match name {
-        "dopri5" => Method::Dopri5,
-        "ros3" => Method::Ros3,
-        "ros34pw2" => Method::Ros34pw2,
-        _ => Method::Bdf,
-    }
-}
 
 /// Calls per measurement by default.
 const DEFAULT_CALLS: usize = 5_000_000;
@@ -243,7 +234,7 @@ fn precision(a: BenchArgs) -> Result<()> {
         settings.contacts = a.contact.clone();
     }
     if !a.method.is_empty() {
-        settings.methods = a.method.iter().map(|m| method(m)).collect();
+        settings.methods = a.method.clone();
     }
     if !a.rtol.is_empty() {
         settings.rtols = a.rtol.clone();

@@ -133,6 +133,38 @@ pub enum Method {
     Bdf,
 }
 
+impl Method {
+    /// Every method, in the order of [`Method::NAMES`].
+    pub const ALL: [Method; 4] = [Method::Dopri5, Method::Ros3, Method::Ros34pw2, Method::Bdf];
+    /// The one list of method names: the scenario's `[simulation.integrator] method`, the CLI's
+    /// `--method` values and the printed name are all these.
+    pub const NAMES: [&'static str; 4] = ["dopri5", "ros3", "ros34pw2", "bdf"];
+
+    /// The method's name in scenario files and on the command line.
+    pub fn name(self) -> &'static str {
+        let i = Method::ALL.iter().position(|&m| m == self).unwrap_or_default();
+        Method::NAMES[i]
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = String;
+    /// A method by its name; an unknown name is an error listing the known ones (never a silent
+    /// default).
+    fn from_str(name: &str) -> Result<Method, String> {
+        Method::NAMES
+            .iter()
+            .position(|&n| n == name)
+            .map(|i| Method::ALL[i])
+            .ok_or_else(|| {
+                format!(
+                    "unknown integration method '{name}' (expected one of: {})",
+                    Method::NAMES.join(", ")
+                )
+            })
+    }
+}
+
 /// BDF: Newton iterations per step before the Jacobian is renewed or the step fails.
 const NEWTON_MAX: usize = 4;
 /// BDF: the Newton iteration's remaining error, in the error norm (1 = the tolerance).

@@ -878,3 +878,28 @@ fn bdf_on_a_lightly_damped_mode_is_held_at_its_stability_boundary() {
         steps[1]
     );
 }
+
+/// The method names are one list: each parses to its method and back, the scenario file's serde
+/// names are the same, and an unknown name is an error naming the known ones (before, `kecsim
+/// bench` mapped every unknown name to BDF in its own copy of the list).
+#[test]
+fn method_names_are_one_list() {
+    #[derive(serde::Deserialize)]
+    struct T {
+        method: Method,
+    }
+    for (m, name) in Method::ALL.iter().zip(Method::NAMES) {
+        assert_eq!(m.name(), name);
+        assert_eq!(name.parse::<Method>(), Ok(*m));
+        let t: T = toml::from_str(&format!("method = \"{name}\"")).expect("a listed name deserialises");
+        assert_eq!(t.method, *m);
+    }
+    let e = "radau"
+        .parse::<Method>()
+        .expect_err("an unknown name must not parse");
+    assert!(
+        e.contains("radau") && e.contains("dopri5, ros3, ros34pw2, bdf"),
+        "{e}"
+    );
+    assert_eq!(Method::ALL.len(), Method::NAMES.len());
+}
