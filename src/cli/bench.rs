@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
+use clap::builder::TypedValueParser;
 use clap::Args;
 
 use kecsim::bench::precision::PrecisionSettings;
