@@ -59,6 +59,19 @@ pub trait OdeSystem {
     /// f(t, x) into `dxdt`. An `Err` at a trial stage rejects the step; if the step size collapses
     /// on it, the integration stops with that diagnosis.
     fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), Self::Error>;
+    /// f(t, x) on at least the rows of `rows` (blocks (offset, size)): the finite-difference
+    /// passes over blocks read only those rows, so a system may skip the work the other rows
+    /// need. Rows outside `rows` are unspecified. Default: the whole [`Self::rhs`].
+    fn rhs_rows(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        dxdt: &mut [f64],
+        rows: &[(usize, usize)],
+    ) -> Result<(), Self::Error> {
+        let _ = rows;
+        self.rhs(t, x, dxdt)
+    }
     /// The Jacobian ∂f/∂x, if the system can supply it (else finite differences are used).
     fn jacobian(&mut self, _t: f64, _x: &[f64], _jac: &mut DMatrix<f64>) -> Option<Result<(), Self::Error>> {
         None
@@ -1135,7 +1148,8 @@ impl Stepper {
             // Nothing perturbed (every block's column idle): the columns are zero.
             let col = &mut self.k[6];
             if any {
-                sys.rhs(t, &self.tmp, col).map_err(StepFailure::Model)?;
+                sys.rhs_rows(t, &self.tmp, col, blocks)
+                    .map_err(StepFailure::Model)?;
                 stats.rhs_evaluations += 1;
             }
             for (b, &(o, m)) in blocks.iter().enumerate() {

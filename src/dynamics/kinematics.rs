@@ -14,6 +14,7 @@
 //! search it runs at a free pose.
 
 use super::elastic::{evaluate_free, free_kinematics, initial_free_pose, FreeKinematics};
+use super::reference::FrameAt;
 use super::wheelset::{
     evaluate, land, pose_kinematics, FrameMotion, Landing, Load, NormalForceStart, WheelsetDynamics,
     WheelsetError, WheelsetInertia, WheelsetState,
@@ -135,5 +136,73 @@ pub fn initial_pose(
     match Kind::of(model) {
         Kind::Constrained => Ok(None),
         Kind::Free(_) => initial_free_pose(model, y, rails, loads, forces).map(Some),
+    }
+}
+
+/// A wheelset's kinematics from the last full evaluation, kept with the exact time and state slot
+/// it was computed at: an evaluation at the same (t, slot) — bit for bit — takes it instead of
+/// solving again. The finite-difference pass over the bogie frames' columns meets this: it moves
+/// the frames only, so every wheelset's kinematics is the one of f(t, x) just before
+/// ([`super::multibody`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct KinematicsMemo {
+    t: f64,
+    slot: Vec<f64>,
+    /// The contact model's kinematics at the slot's state.
+    pub kin: Kinematics,
+    /// The pose ([`Kinematics::pose`]).
+    pub pose: WheelsetKinematics,
+    /// The track frame at the wheelset.
+    pub frame: FrameAt,
+}
+
+impl KinematicsMemo {
+    /// Keeps `kin` and `pose`, computed at time `t` from the state slot `slot`.
+    pub fn new(
+        t: f64,
+        slot: &[f64],
+        kin: &Kinematics,
+        pose: &WheelsetKinematics,
+        frame: FrameAt,
+    ) -> KinematicsMemo {
+        KinematicsMemo {
+            t,
+            slot: slot.to_vec(),
+            kin: kin.clone(),
+            pose: pose.clone(),
+            frame,
+        }
+    }
+
+    /// Keeps `kin`, `pose` and `frame` at (t, slot) in `memo`, reusing its storage.
+    pub fn keep(
+        memo: &mut Option<KinematicsMemo>,
+        t: f64,
+        slot: &[f64],
+        kin: &Kinematics,
+        pose: &WheelsetKinematics,
+        frame: FrameAt,
+    ) {
+        match memo {
+            Some(m) if m.slot.len() == slot.len() => {
+                m.t = t;
+                m.slot.copy_from_slice(slot);
+                m.kin.clone_from(kin);
+                m.pose.clone_from(pose);
+                m.frame = frame;
+            }
+            _ => *memo = Some(KinematicsMemo::new(t, slot, kin, pose, frame)),
+        }
+    }
+
+    /// Whether this was computed at exactly (t, slot): the same bits, not merely close.
+    pub fn matches(&self, t: f64, slot: &[f64]) -> bool {
+        self.t.to_bits() == t.to_bits()
+            && self.slot.len() == slot.len()
+            && self
+                .slot
+                .iter()
+                .zip(slot)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
     }
 }

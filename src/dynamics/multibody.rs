@@ -37,7 +37,7 @@ use rayon::prelude::*;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Vector3, Vector6};
 
-use super::kinematics::{initial_pose, Kind, Kinematics};
+use super::kinematics::{initial_pose, Kind, Kinematics, KinematicsMemo};
 use super::reference::{FrameAt, Reference, G};
 use super::system::{
     BodySample, DynamicsError, InitialDisturbance, Settling, VehicleData, VehicleModel, VehicleSample,
@@ -71,6 +71,25 @@ pub struct WheelsetBody {
     pub name: String,
     pub d: f64,
     pub inertia: WheelsetInertia,
+}
+
+/// The parts of an evaluation a caller reads ([`Multibody::evaluate_parts`]).
+#[derive(Debug, Clone, Copy)]
+struct Parts {
+    /// The bodies' accelerations (and the joints).
+    bodies: bool,
+    /// The wheelsets' dynamics.
+    wheelsets: bool,
+    /// Keep each wheelset's solved kinematics in its memo (a full evaluation).
+    keep: bool,
+}
+
+impl Parts {
+    const ALL: Parts = Parts {
+        bodies: true,
+        wheelsets: true,
+        keep: true,
+    };
 }
 
 /// A spherical joint between two rigid bodies at one point (arms from their centres).
@@ -430,6 +449,30 @@ impl Multibody {
         x: &[f64],
         dxdt: Option<&mut [f64]>,
     ) -> Result<VehicleSample, DynamicsError> {
+        self.evaluate_parts(data, t, x, dxdt, Parts::ALL)
+    }
+
+    /// Which parts of the right-hand side the rows `rows` (blocks (offset, size)) need.
+    fn parts_for(&self, rows: &[(usize, usize)]) -> Parts {
+        let split = self.wheelset_offset(0);
+        Parts {
+            bodies: rows.iter().any(|&(o, _)| o < split),
+            wheelsets: rows.iter().any(|&(o, m)| o + m > split),
+            keep: false,
+        }
+    }
+
+    /// [`Self::evaluate`] with only the `parts` a caller reads: the bodies' rows, the wheelsets'
+    /// rows. Every wheelset's kinematics is solved either way (its pose loads the elements), or
+    /// taken from its [`KinematicsMemo`] where the time and its slot are the memo's to the bit.
+    fn evaluate_parts(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &[f64],
+        dxdt: Option<&mut [f64]>,
+        parts: Parts,
+    ) -> Result<VehicleSample, DynamicsError> {
         let (v, v_dot) = self.reference.speed_at(t);
         let s_ref = self.reference.s_ref(t);
         let nb = self.bodies.len();
@@ -474,16 +517,25 @@ impl Multibody {
         let kinematics: Vec<Result<_, DynamicsError>> = data
             .warm
             .par_iter_mut()
+            .zip(data.kinematics_memo.par_iter_mut())
             .enumerate()
             .with_min_len(WHEELSETS_PER_TASK)
-            .map(|(j, warm)| {
+            .map(|(j, (warm, memo))| {
                 let o = self.wheelset_offset(j);
-                let st = WheelsetState::read(&x[o..], self.is_irw(j));
+                let slot = &x[o..o + self.wheelset_size(j)];
+                let st = WheelsetState::read(slot, self.is_irw(j));
+                if let Some(m) = memo.as_ref().filter(|m| m.matches(t, slot)) {
+                    let s = s_ref + self.wheelsets[j].d + st.x;
+                    return Ok((st, m.kin.clone(), m.frame, s, m.pose.clone()));
+                }
                 let (kin, f, s) = self.wheelset_kinematics(warm, j, &st, s_ref, v, v_dot)?;
                 // The pose: the two-point configuration moved by a lifted wheel's θ.
                 let pose = kin
                     .pose(&st)
                     .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, st.y))?;
+                if parts.keep {
+                    KinematicsMemo::keep(memo, t, slot, &kin, &pose, f);
+                }
                 Ok((st, kin, f, s, pose))
             })
             .collect();
@@ -516,7 +568,13 @@ impl Multibody {
         self.accumulate(&poses, &loads, &mut acc);
         let mut dxdt = dxdt;
         let mut qdd: Vec<[Vector3<f64>; 2]> = Vec::with_capacity(nb);
-        for (i, b) in self.bodies.iter().enumerate() {
+        // The bodies' rows (skipped where only the wheelsets' are read).
+        for (i, b) in self
+            .bodies
+            .iter()
+            .enumerate()
+            .take(if parts.bodies { nb } else { 0 })
+        {
             let m = &motions[i];
             let p = &poses[i];
             let (f, mo) = acc[i];
@@ -533,7 +591,11 @@ impl Multibody {
             let acc_rot = (mo - w.cross(&iw)).component_div(&b.inertia) - al_t;
             qdd.push([acc_lin, acc_rot]);
         }
-        let joint_error = self.apply_joints(&poses, &motions, &mut qdd)?;
+        let joint_error = if parts.bodies {
+            self.apply_joints(&poses, &motions, &mut qdd)?
+        } else {
+            Vec::new()
+        };
         if let Some(d) = dxdt.as_deref_mut() {
             for (i, q) in qdd.iter().enumerate() {
                 let o = self.body_offset(i);
@@ -548,6 +610,9 @@ impl Multibody {
         }
         // Each wheelset's dynamics depends only on its own state, loads and normal-force start:
         // in parallel, as the kinematics.
+        if !parts.wheelsets {
+            return Ok(VehicleSample::default());
+        }
         let dynamics: Vec<Result<WheelsetDynamics, DynamicsError>> = data
             .normal_start
             .par_iter_mut()
@@ -953,6 +1018,21 @@ impl VehicleModel for Multibody {
 
     fn rhs(&self, data: &mut VehicleData, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError> {
         self.evaluate(data, t, x, Some(dxdt)).map(|_| ())
+    }
+
+    /// The rows of a finite-difference pass: the bogie frames' pass skips the wheelsets'
+    /// dynamics (and takes their kinematics from the memo: their states are f(t, x)'s), the
+    /// wheelsets' pass the bodies' accelerations and the joints.
+    fn rhs_rows(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &[f64],
+        dxdt: &mut [f64],
+        rows: &[(usize, usize)],
+    ) -> Result<(), DynamicsError> {
+        self.evaluate_parts(data, t, x, Some(dxdt), self.parts_for(rows))
+            .map(|_| ())
     }
 
     fn sample(&self, data: &mut VehicleData, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError> {

@@ -9,6 +9,7 @@
 use nalgebra::Vector3;
 use thiserror::Error;
 
+use super::kinematics::KinematicsMemo;
 use super::reference::Reference;
 use super::wheelset::{Landing, NormalForceStart, WheelsetDynamics, WheelsetError, WheelsetState};
 use crate::contact::{ContactModel, ContactModelError, WarmStart, WheelsetKinematics};
@@ -117,6 +118,8 @@ pub struct VehicleData {
     pub normal_start: Vec<NormalForceStart>,
     /// Contact-model evaluations (for the statistics).
     pub contact_evaluations: usize,
+    /// Per wheelset: its kinematics from the last full evaluation ([`KinematicsMemo`]).
+    pub kinematics_memo: Vec<Option<KinematicsMemo>>,
     /// The landings of lifted wheels so far (integrator events; trial steps never land).
     pub landings: Vec<LandingEvent>,
 }
@@ -124,9 +127,11 @@ pub struct VehicleData {
 impl VehicleData {
     /// Fresh warm starts and the given first normal forces.
     pub fn new(lambda: Vec<[f64; 2]>) -> VehicleData {
+        let n = lambda.len();
         VehicleData {
-            warm: vec![WarmStart::default(); lambda.len()],
+            warm: vec![WarmStart::default(); n],
             normal_start: lambda.into_iter().map(NormalForceStart::from).collect(),
+            kinematics_memo: vec![None; n],
             contact_evaluations: 0,
             landings: Vec::new(),
         }
@@ -181,6 +186,20 @@ pub trait VehicleModel: Send + Sync {
     fn new_data(&self) -> VehicleData;
     /// f(t, x) into `dxdt`.
     fn rhs(&self, data: &mut VehicleData, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError>;
+    /// f(t, x) on at least the rows of `rows` (blocks (offset, size)); the other rows of `dxdt`
+    /// are left as they are or filled. A finite-difference Jacobian pass reads only its blocks'
+    /// rows ([`super::integrator::OdeSystem::rhs_rows`]). Default: the whole right-hand side.
+    fn rhs_rows(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &[f64],
+        dxdt: &mut [f64],
+        rows: &[(usize, usize)],
+    ) -> Result<(), DynamicsError> {
+        let _ = rows;
+        self.rhs(data, t, x, dxdt)
+    }
     /// Everything an evaluation at (t, x) knows, for output.
     fn sample(&self, data: &mut VehicleData, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError>;
     /// The wheelsets' contact model.
@@ -300,6 +319,16 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
 
     fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), DynamicsError> {
         self.model.rhs(&mut self.data, t, x, dxdt)
+    }
+
+    fn rhs_rows(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        dxdt: &mut [f64],
+        rows: &[(usize, usize)],
+    ) -> Result<(), DynamicsError> {
+        self.model.rhs_rows(&mut self.data, t, x, dxdt, rows)
     }
 
     /// The W-method's blocks: each wheelset's states (the creep forces' stiff modes are the
