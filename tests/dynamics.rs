@@ -969,3 +969,60 @@ fn bench_scaling_measures_both_series() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("takes --duration and --km only"));
 }
+
+/// `kecsim bench rhs` (issue 34): every vehicle of the size series measured; the parts' times add
+/// up to the whole evaluation (each part is timed between clock reads, nothing falls between
+/// them); one pass evaluates every kept state; the coupled pair costs more than one vehicle.
+#[test]
+fn bench_rhs_measures_each_vehicle_and_its_parts() {
+    use kecsim::bench::rhs::{rhs, RhsSettings};
+    let b = rhs(&RhsSettings {
+        window_s: 0.2,
+        batches: 3,
+    })
+    .unwrap();
+    let labels: Vec<&str> = b.rows.iter().map(|r| r.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        [
+            "bogie (2 wheelsets)",
+            "Manchester vehicle 1",
+            "MS vehicle",
+            "2 MS vehicles coupled"
+        ]
+    );
+    for r in &b.rows {
+        let p = &r.parts;
+        assert_eq!(p.evaluations, r.samples, "{}", r.label);
+        assert!(
+            r.samples >= 200,
+            "{}: {} states kept every 1 ms over 0.2 s",
+            r.label,
+            r.samples
+        );
+        let sum =
+            p.body_frames_s + p.contact_kinematics_s + p.elements_s + p.bodies_s + p.wheelset_dynamics_s;
+        assert!(
+            (sum - p.total_s).abs() <= 0.02 * p.total_s,
+            "{}: parts {sum} s against {} s",
+            r.label,
+            p.total_s
+        );
+        for s in [r.one_thread_us, r.threads_us] {
+            assert!(
+                s.min > 0.0 && s.min <= s.median && s.median <= s.max && s.max.is_finite(),
+                "{}: {s:?}",
+                r.label
+            );
+        }
+    }
+    // Two coupled MS vehicles evaluate twice the wheelsets and bodies of one.
+    assert!(
+        b.rows[3].one_thread_us.min > 1.3 * b.rows[2].one_thread_us.min,
+        "{:?}",
+        b.rows
+    );
+    let md = b.markdown();
+    assert!(md.contains("| MS vehicle | 180 | 6 | 8 |"), "{md}");
+    assert!(md.contains("wheelset dynamics"), "{md}");
+}

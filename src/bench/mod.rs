@@ -4,6 +4,7 @@
 pub mod dynamics;
 pub mod hard;
 pub mod precision;
+pub mod rhs;
 pub mod scaling;
 pub mod study;
 

@@ -463,6 +463,31 @@ fn measure(
     })
 }
 
+/// The vehicle-size series' scenes, smallest first: (label, scenario TOML).
+pub fn vehicle_series() -> Result<Vec<(String, String)>, ScalingError> {
+    let bench_scene = |name: &str| {
+        super::dynamics::SCENES
+            .iter()
+            .find(|s| s.0 == name)
+            .map(|s| s.1)
+            .ok_or_else(|| ScalingError::NoScene {
+                name: name.to_string(),
+            })
+    };
+    Ok(vec![
+        (
+            "bogie (2 wheelsets)".into(),
+            bench_scene("bogie_tab6_curve")?.to_string(),
+        ),
+        (
+            "Manchester vehicle 1".into(),
+            bench_scene("manchester_vehicle1_tab6")?.to_string(),
+        ),
+        ("MS vehicle".into(), DEFAULT_SCENARIO.to_string()),
+        ("2 MS vehicles coupled".into(), coupled_ms(2)?),
+    ])
+}
+
 /// Runs both series.
 pub fn scaling(settings: &ScalingSettings) -> Result<Scaling, ScalingError> {
     if settings.kilometres.is_empty() || settings.kilometres.iter().any(|&k| !(1..=16).contains(&k)) {
@@ -484,27 +509,7 @@ pub fn scaling(settings: &ScalingSettings) -> Result<Scaling, ScalingError> {
             Some(k as f64 * MS_TRACK_M),
         )?);
     }
-    let bench_scene = |name: &str| {
-        super::dynamics::SCENES
-            .iter()
-            .find(|s| s.0 == name)
-            .map(|s| s.1)
-            .ok_or_else(|| ScalingError::NoScene {
-                name: name.to_string(),
-            })
-    };
-    let vehicles: Vec<(String, String)> = vec![
-        (
-            "bogie (2 wheelsets)".into(),
-            bench_scene("bogie_tab6_curve")?.to_string(),
-        ),
-        (
-            "Manchester vehicle 1".into(),
-            bench_scene("manchester_vehicle1_tab6")?.to_string(),
-        ),
-        ("MS vehicle".into(), DEFAULT_SCENARIO.to_string()),
-        ("2 MS vehicles coupled".into(), coupled_ms(2)?),
-    ];
+    let vehicles = vehicle_series()?;
     let mut size = Vec::new();
     for (label, text) in &vehicles {
         let scene = compile(text, label)?;

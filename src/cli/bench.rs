@@ -90,6 +90,11 @@ enum BenchTarget {
     /// widening — each with the elastic contact model (the reference) and the constraint models
     /// beside it: outcome, steps, smallest step, max |y|, Y/Q, lift, cost, difference to elastic.
     Hard,
+    /// The cost of one right-hand side of each vehicle (a bogie, the Manchester vehicle, the MS
+    /// vehicle, two coupled MS vehicles): µs on one thread and on the run's threads, and the share
+    /// of each part (body frames, contact kinematics, force elements, bodies and joints, wheelset
+    /// dynamics). --duration: the window whose states are evaluated [default: 10 s].
+    Rhs,
     /// A study's throughput (the study file in place of the scenario): one job, then one per
     /// core; cases per minute, the speed-up, the overhead per case.
     Study,
@@ -136,6 +141,18 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
             "{}",
             kecsim::bench::hard::hard(a.duration).map_err(anyhow::Error::msg)?
         );
+        return Ok(());
+    }
+    if matches!(a.target, BenchTarget::Rhs) {
+        anyhow::ensure!(!sweep_options, "`kecsim bench rhs` takes --duration only");
+        if a.calls != DEFAULT_CALLS {
+            eprintln!("kecsim: bench: --calls does not apply to this target (it evaluates a run's states)");
+        }
+        let mut settings = kecsim::bench::rhs::RhsSettings::default();
+        if let Some(d) = a.duration {
+            settings.window_s = d;
+        }
+        print!("{}", kecsim::bench::rhs::rhs(&settings)?.markdown());
         return Ok(());
     }
     if matches!(a.target, BenchTarget::Scaling) {
@@ -186,7 +203,11 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
             "{}",
             kecsim::bench::dynamics::dispatch().map_err(anyhow::Error::msg)?
         ),
-        BenchTarget::Precision | BenchTarget::Scaling | BenchTarget::Hard | BenchTarget::Study => {
+        BenchTarget::Precision
+        | BenchTarget::Scaling
+        | BenchTarget::Hard
+        | BenchTarget::Study
+        | BenchTarget::Rhs => {
             unreachable!("handled above")
         }
     }

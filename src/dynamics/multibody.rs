@@ -32,6 +32,7 @@
 //! ([`super::wheelset::Lift`]).
 
 use std::sync::Arc;
+use std::time::Instant;
 
 use rayon::prelude::*;
 
@@ -40,8 +41,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Vector3, Vector6};
 use super::kinematics::{initial_pose, Kind, Kinematics, KinematicsMemo};
 use super::reference::{FrameAt, Reference, G};
 use super::system::{
-    BodySample, DynamicsError, InitialDisturbance, Settling, VehicleData, VehicleModel, VehicleSample,
-    WheelsetSample,
+    BodySample, DynamicsError, InitialDisturbance, PartTimes, Settling, VehicleData, VehicleModel,
+    VehicleSample, WheelsetSample,
 };
 use super::wheelset::{
     FrameMotion, IrwInertia, Landing, Load, WheelsetDynamics, WheelsetInertia, WheelsetState,
@@ -71,6 +72,20 @@ pub struct WheelsetBody {
     pub name: String,
     pub d: f64,
     pub inertia: WheelsetInertia,
+}
+
+/// Adds the time since `lap` to the part `field` picks (when part times are asked for) and
+/// restarts the lap.
+fn lap_into(
+    times: &mut Option<PartTimes>,
+    lap: &mut Option<Instant>,
+    field: impl Fn(&mut PartTimes) -> &mut f64,
+) {
+    if let (Some(p), Some(l)) = (times.as_mut(), lap.as_mut()) {
+        let now = Instant::now();
+        *field(p) += (now - *l).as_secs_f64();
+        *l = now;
+    }
 }
 
 /// The parts of an evaluation a caller reads ([`Multibody::evaluate_parts`]).
@@ -473,6 +488,8 @@ impl Multibody {
         dxdt: Option<&mut [f64]>,
         parts: Parts,
     ) -> Result<VehicleSample, DynamicsError> {
+        let clock = data.part_times.is_some().then(Instant::now);
+        let mut lap = clock;
         let (v, v_dot) = self.reference.speed_at(t);
         let s_ref = self.reference.s_ref(t);
         let nb = self.bodies.len();
@@ -512,6 +529,7 @@ impl Multibody {
                 });
             }
         }
+        lap_into(&mut data.part_times, &mut lap, |p| &mut p.body_frames_s);
         // Each wheelset's contact kinematics depends only on its own state and warm start: the
         // wheelsets are evaluated in parallel (the results, errors included, in wheelset order).
         let kinematics: Vec<Result<_, DynamicsError>> = data
@@ -563,9 +581,11 @@ impl Multibody {
             ws_s.push(s);
             ws_rails.push(f.rails.q);
         }
+        lap_into(&mut data.part_times, &mut lap, |p| &mut p.contact_kinematics_s);
         let loads = self.element_loads(&poses, &frames, s_ref, v, v_dot)?;
         let mut acc = vec![(Vector3::zeros(), Vector3::zeros()); nb + nw];
         self.accumulate(&poses, &loads, &mut acc);
+        lap_into(&mut data.part_times, &mut lap, |p| &mut p.elements_s);
         let mut dxdt = dxdt;
         let mut qdd: Vec<[Vector3<f64>; 2]> = Vec::with_capacity(nb);
         // The bodies' rows (skipped where only the wheelsets' are read).
@@ -610,6 +630,7 @@ impl Multibody {
         }
         // Each wheelset's dynamics depends only on its own state, loads and normal-force start:
         // in parallel, as the kinematics.
+        lap_into(&mut data.part_times, &mut lap, |p| &mut p.bodies_s);
         if !parts.wheelsets {
             return Ok(VehicleSample::default());
         }
@@ -638,6 +659,11 @@ impl Multibody {
                     .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))
             })
             .collect();
+        lap_into(&mut data.part_times, &mut lap, |p| &mut p.wheelset_dynamics_s);
+        if let (Some(p), Some(c)) = (data.part_times.as_mut(), clock) {
+            p.total_s += c.elapsed().as_secs_f64();
+            p.evaluations += 1;
+        }
         let mut ws_samples = Vec::with_capacity(if sampling { nw } else { 0 });
         for (j, (dynamics, (_, pose))) in dynamics.into_iter().zip(kins).enumerate() {
             let dynamics = dynamics?;

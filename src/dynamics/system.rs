@@ -118,6 +118,8 @@ pub struct VehicleData {
     pub normal_start: Vec<NormalForceStart>,
     /// Contact-model evaluations (for the statistics).
     pub contact_evaluations: usize,
+    /// Where the right-hand sides' time goes, when asked for (`kecsim bench rhs`); None in runs.
+    pub part_times: Option<PartTimes>,
     /// Per wheelset: its kinematics from the last full evaluation ([`KinematicsMemo`]).
     pub kinematics_memo: Vec<Option<KinematicsMemo>>,
     /// The landings of lifted wheels so far (integrator events; trial steps never land).
@@ -131,11 +133,32 @@ impl VehicleData {
         VehicleData {
             warm: vec![WarmStart::default(); n],
             normal_start: lambda.into_iter().map(NormalForceStart::from).collect(),
+            part_times: None,
             kinematics_memo: vec![None; n],
             contact_evaluations: 0,
             landings: Vec::new(),
         }
     }
+}
+
+/// The wall time of each part of a vehicle's evaluations (a multibody vehicle's; see
+/// [`super::multibody::Multibody::evaluate`]), summed over `evaluations`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PartTimes {
+    /// The bodies' track frames.
+    pub body_frames_s: f64,
+    /// The wheelsets' contact kinematics (the contact model's solve: KEC, tables, online) and
+    /// their track frames with the rail irregularities.
+    pub contact_kinematics_s: f64,
+    /// The force elements' loads and their sums on each body.
+    pub elements_s: f64,
+    /// The bodies' accelerations and the joints' reactions.
+    pub bodies_s: f64,
+    /// The wheelsets' dynamics: creep forces, the normal-force iteration, Eq. 53's system.
+    pub wheelset_dynamics_s: f64,
+    /// Everything, from the first part's start to the last one's end.
+    pub total_s: f64,
+    pub evaluations: usize,
 }
 
 /// Everything one evaluation knows of a wheelset, for output.
