@@ -6,7 +6,7 @@
 //! the curve from ~8 s), its states kept every millisecond (about its step size, so that each
 //! evaluation's warm starts are as close as in a run). The RHS is then evaluated over those states
 //! in order, in `batches` passes on one thread and as many on the run's own threads (two on the
-//! 2-core VM): µs per RHS as the median of the passes, with the smallest and largest beside it (the
+//! 2-core VM), interleaved: µs per RHS as the median of the passes, with the smallest and largest beside it (the
 //! spread is the figure's error on a shared machine). One more pass on one thread records the wall
 //! time of each part of the evaluation ([`PartTimes`]: the clock read between parts costs
 //! ~0.1 µs per RHS, included in the total). Beside it, the integration's own µs per RHS over the
@@ -145,16 +145,14 @@ pub fn rhs(settings: &RhsSettings) -> Result<RhsBench, ScalingError> {
             (states, us)
         });
         let one = RunPool::new(Threads::Count(1));
-        let one_thread_us = Spread::of(
-            (0..batches)
-                .map(|_| one.install(|| pass(model, &states, false).0))
-                .collect(),
-        );
-        let threads_us = Spread::of(
-            (0..batches)
-                .map(|_| pool.install(|| pass(model, &states, false).0))
-                .collect(),
-        );
+        // The two settings' passes interleaved, so that a machine slowing down or speeding up
+        // weighs on both alike.
+        let (mut one_us, mut pool_us) = (Vec::new(), Vec::new());
+        for _ in 0..batches {
+            one_us.push(one.install(|| pass(model, &states, false).0));
+            pool_us.push(pool.install(|| pass(model, &states, false).0));
+        }
+        let (one_thread_us, threads_us) = (Spread::of(one_us), Spread::of(pool_us));
         let parts = one.install(|| pass(model, &states, true).1);
         rows.push(RhsRow {
             label,
