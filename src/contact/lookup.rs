@@ -479,7 +479,7 @@ fn flange_scan(angle: &impl Fn(f64) -> Result<f64, TableError>) -> Result<(f64, 
 }
 
 /// Step of [`flange_scan`], m.
-const FLANGE_SCAN_STEP_M: f64 = 1e-4;
+pub const FLANGE_SCAN_STEP_M: f64 = 1e-4;
 
 /// The contact angle of one side at |y| towards that side.
 fn side_angle(

@@ -589,7 +589,12 @@ impl Scene {
                     })?;
                 // The safety figures' flange angle; a pair whose contact cannot be followed up
                 // the flange on the ideal track runs without them.
-                let angle = flange_angle(&ContactGeometry::with_defaults(self.pair.clone())).ok();
+                let geom = ContactGeometry::with_defaults(self.pair.clone());
+                let angle = match &self.table_cache {
+                    Some(c) => c.flange_angle(&geom).map(|(a, _)| a),
+                    None => flange_angle(&geom),
+                }
+                .ok();
                 if let Some(c) = cache.filter(|_| !model.history_dependent()) {
                     c.put(key, model.clone(), angle);
                 }
