@@ -767,12 +767,22 @@ enum IterationMatrix {
     Blocks {
         blocks: Vec<(usize, usize)>,
         lus: Vec<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+        /// Blocks whose Jacobian is only the exact q̇ = v coupling (a body outside the
+        /// finite-difference blocks): solved in closed form, nothing to factor.
+        kinematic: Vec<(usize, usize)>,
         gh: f64,
     },
 }
 
 impl IterationMatrix {
-    fn factor(jac: &DMatrix<f64>, blocks: Option<&[(usize, usize)]>, gh: f64) -> IterationMatrix {
+    /// (1/(γh)) I − J factored: dense, or by its diagonal `blocks` (each an LU) and its
+    /// `kinematic` blocks (closed form) with the identity elsewhere.
+    fn factor(
+        jac: &DMatrix<f64>,
+        blocks: Option<&[(usize, usize)]>,
+        kinematic: &[(usize, usize)],
+        gh: f64,
+    ) -> IterationMatrix {
         match blocks {
             None => {
                 let mut g = -jac.clone();
@@ -793,6 +803,7 @@ impl IterationMatrix {
                         g.lu()
                     })
                     .collect(),
+                kinematic: kinematic.to_vec(),
                 gh,
             },
         }
@@ -803,9 +814,9 @@ impl IterationMatrix {
         let n = v.len();
         match self {
             IterationMatrix::Dense(_) => (0..n).map(|m| (0..n).map(|c| jac[(m, c)] * v[c]).sum()).collect(),
-            IterationMatrix::Blocks { blocks, .. } => {
+            IterationMatrix::Blocks { blocks, kinematic, .. } => {
                 let mut out = vec![0.0; n];
-                for &(o, m) in blocks.iter() {
+                for &(o, m) in blocks.iter().chain(kinematic) {
                     for r in 0..m {
                         out[o + r] = (0..m).map(|c| jac[(o + r, o + c)] * v[o + c]).sum();
                     }
@@ -818,7 +829,12 @@ impl IterationMatrix {
     fn solve(&self, rhs: &nalgebra::DVector<f64>) -> Option<nalgebra::DVector<f64>> {
         match self {
             IterationMatrix::Dense(lu) => lu.solve(rhs),
-            IterationMatrix::Blocks { blocks, lus, gh } => {
+            IterationMatrix::Blocks {
+                blocks,
+                lus,
+                kinematic,
+                gh,
+            } => {
                 // Outside the blocks: (1/(γh)) k = r.
                 // Each block solved in place (nalgebra's `solve` is a copy and this; the copies
                 // and allocations of 14 blocks per Newton iteration measured ~25 % of its cost).
@@ -828,6 +844,18 @@ impl IterationMatrix {
                     part.copy_from(&rhs.rows(o, m));
                     if !lu.solve_mut(&mut part) {
                         return None;
+                    }
+                }
+                // A kinematic block [c I, −I; 0, c I] (c = 1/(γh)): v = r_v / c, then
+                // q = (r_q + v) / c — the operations its LU (no pivoting: L = I) would do, in
+                // its order, so the result is the LU's bit for bit.
+                let c = 1.0 / *gh;
+                for &(o, m) in kinematic {
+                    let half = m / 2;
+                    for i in 0..half {
+                        let v = rhs[o + half + i] / c;
+                        k[o + half + i] = v;
+                        k[o + i] = (rhs[o + i] + v) / c;
                     }
                 }
                 Some(k)
@@ -915,9 +943,11 @@ struct Stepper {
     groups: Vec<Vec<(usize, usize)>>,
     /// BDF: the accepted points and the order.
     bdf: bdf::Bdf,
-    /// BDF: the Newton matrix's blocks — the system's Jacobian blocks, then its kinematic blocks
-    /// (their entries the constant identity coupling, set once).
+    /// BDF: the Newton matrix's blocks — the system's Jacobian blocks (finite differences).
     newton_blocks: Option<Vec<(usize, usize)>>,
+    /// BDF: its kinematic blocks outside those (their entries the constant identity coupling, set
+    /// once; solved in closed form).
+    newton_kinematic: Vec<(usize, usize)>,
     /// BDF: the factored Newton matrix and the α₀ it was factored for (None after a new
     /// Jacobian).
     newton_matrix: Option<(IterationMatrix, f64)>,
@@ -938,6 +968,7 @@ impl Stepper {
             groups: Vec::new(),
             bdf: bdf::Bdf::new(),
             newton_blocks: None,
+            newton_kinematic: Vec::new(),
             newton_matrix: None,
             limiting: None,
         }
@@ -973,7 +1004,7 @@ impl Stepper {
                 });
             }
         }
-        let mut all = blocks.clone();
+        let mut kinematic_only = Vec::new();
         for &(o, m) in &kinematic {
             if overlap(o, m, usize::MAX) {
                 continue;
@@ -988,11 +1019,12 @@ impl Stepper {
             for i in 0..m / 2 {
                 self.jac[(o + i, o + m / 2 + i)] = 1.0;
             }
-            all.push((o, m));
+            kinematic_only.push((o, m));
         }
+        self.newton_blocks = Some(blocks.clone());
+        self.newton_kinematic = kinematic_only;
         self.blocks = Some(blocks);
         self.groups = groups;
-        self.newton_blocks = Some(all);
         Ok(())
     }
 
@@ -1328,7 +1360,7 @@ impl Stepper {
         }
         // (I − γ h W) k = r  ⇔  (1/(γ h) I − W) k = r / (γ h).
         let gh = W_GAMMA * h;
-        let iteration = IterationMatrix::factor(&self.jac, self.blocks.as_deref(), gh);
+        let iteration = IterationMatrix::factor(&self.jac, self.blocks.as_deref(), &[], gh);
         let mut fs = vec![0.0; n];
         let mut v = vec![0.0; n];
         let mut rhs = nalgebra::DVector::zeros(n);
@@ -1412,7 +1444,12 @@ impl Stepper {
             let alpha_m = match &self.newton_matrix {
                 Some((_, a)) if (alpha0 / a - 1.0).abs() <= 0.2 => *a,
                 _ => {
-                    let m = IterationMatrix::factor(&self.jac, self.newton_blocks.as_deref(), 1.0 / alpha0);
+                    let m = IterationMatrix::factor(
+                        &self.jac,
+                        self.newton_blocks.as_deref(),
+                        &self.newton_kinematic,
+                        1.0 / alpha0,
+                    );
                     self.newton_matrix = Some((m, alpha0));
                     alpha0
                 }
