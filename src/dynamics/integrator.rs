@@ -814,7 +814,9 @@ impl IterationMatrix {
         let n = v.len();
         match self {
             IterationMatrix::Dense(_) => (0..n).map(|m| (0..n).map(|c| jac[(m, c)] * v[c]).sum()).collect(),
-            IterationMatrix::Blocks { blocks, kinematic, .. } => {
+            IterationMatrix::Blocks {
+                blocks, kinematic, ..
+            } => {
                 let mut out = vec![0.0; n];
                 for &(o, m) in blocks.iter().chain(kinematic) {
                     for r in 0..m {

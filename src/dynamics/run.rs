@@ -8,6 +8,7 @@
 //! [`RunOutput`] and every observer has seen them and its `finish`.
 
 use std::fmt;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -289,6 +290,12 @@ impl RunPool {
         }
     }
 
+    /// Whether the run has a pool of its own (not the caller's: a study's cases run in the
+    /// study's pool, one per thread, and get no output worker either).
+    pub fn owned(&self) -> bool {
+        self.0.is_some()
+    }
+
     /// The number of threads the run's work is split between.
     pub fn threads(&self) -> usize {
         match &self.0 {
@@ -330,6 +337,50 @@ pub fn run(
         .install(|| run_here(vehicle, settings, labels, observers))
 }
 
+/// Output times queued for the output worker at most (then the integration waits for it).
+const OUTPUT_QUEUE: usize = 1024;
+
+/// Why an output time could not be recorded.
+enum RecordFailure {
+    /// The sample's evaluation failed.
+    Sample(DynamicsError),
+    /// An observer failed.
+    Observer(ObserverError),
+}
+
+/// The output side of a run: its own evaluator (its warm starts apart from the integrator's),
+/// the samples kept, the observers.
+struct Recorder<'v, 'o, 'p> {
+    out: Evaluator<'v>,
+    r0: f64,
+    wheelsets: Vec<(String, Vec<Sample>)>,
+    bodies: Vec<(String, Vec<(f64, BodySample)>)>,
+    observers: &'o mut [&'p mut (dyn RunObserver + Send)],
+}
+
+impl Recorder<'_, '_, '_> {
+    /// Samples (t, x), keeps the samples and hands them to every observer; the wheelsets' row.
+    fn record(&mut self, t: f64, x: &[f64]) -> Result<Vec<Sample>, RecordFailure> {
+        let s = self.out.sample(t, x).map_err(RecordFailure::Sample)?;
+        let row: Vec<Sample> = s.wheelsets.iter().map(|w| Sample::new(t, w, self.r0)).collect();
+        for (k, w) in row.iter().enumerate() {
+            self.wheelsets[k].1.push(*w);
+        }
+        for (k, b) in s.bodies.iter().enumerate() {
+            self.bodies[k].1.push((t, *b));
+        }
+        let sample = OutputSample {
+            t,
+            wheelsets: &row,
+            bodies: &s.bodies,
+        };
+        for o in self.observers.iter_mut() {
+            o.sample(&sample).map_err(RecordFailure::Observer)?;
+        }
+        Ok(row)
+    }
+}
+
 /// [`run`] on this thread.
 fn run_here(
     vehicle: &dyn VehicleModel,
@@ -344,9 +395,6 @@ fn run_here(
     if vehicle.contact().history_dependent() {
         integrator.jacobian_max_age = 1;
     }
-    let mut wheelsets: Vec<(String, Vec<Sample>)> = names.iter().map(|n| (n.clone(), Vec::new())).collect();
-    let mut bodies: Vec<(String, Vec<(f64, BodySample)>)> =
-        body_names.iter().map(|n| (n.clone(), Vec::new())).collect();
     let start = RunStart {
         wheelsets: &names,
         bodies: &body_names,
@@ -359,41 +407,91 @@ fn run_here(
         }
     }
     let mut sys = Evaluator::new(vehicle);
-    let mut out = Evaluator::new(vehicle);
+    let mut recorder = Recorder {
+        out: Evaluator::new(vehicle),
+        r0,
+        wheelsets: names.iter().map(|n| (n.clone(), Vec::new())).collect(),
+        bodies: body_names.iter().map(|n| (n.clone(), Vec::new())).collect(),
+        observers,
+    };
     let x0 = vehicle.initial_state(&settings.initial);
     let mut stop: Option<Stop> = None;
     let mut stats = Stats::default();
     let t_run = Instant::now();
+    let dt_out = 1.0 / settings.record_rate_hz;
     let result = if observer_error.is_some() {
         Ok(Completion::Stopped { t: 0.0 })
+    } else if settings.pool.owned() && settings.stop.lateral_m.is_none() {
+        // The samples computed and handed to the observers on a worker of their own, fed
+        // (t, x) in order: the integration never waits for them. The worker's evaluator sees
+        // the same states in the same order as it would here, so the samples are the same to
+        // the bit. (A stop condition reads each sample before the next step: then here.)
+        let failed = AtomicBool::new(false);
+        let (sent, queue) = std::sync::mpsc::sync_channel::<(f64, Vec<f64>)>(OUTPUT_QUEUE);
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(|| {
+                RunPool::new(Threads::Count(1)).install(|| {
+                    let mut failure = None;
+                    for (t, x) in queue {
+                        if let Err(e) = recorder.record(t, &x) {
+                            failure = Some((t, e));
+                            failed.store(true, Ordering::Relaxed);
+                            break;
+                        }
+                    }
+                    failure
+                })
+            });
+            let result = integrate_into(
+                &mut sys,
+                0.0,
+                &x0,
+                settings.duration_s,
+                dt_out,
+                &integrator,
+                &mut |t, x| {
+                    if failed.load(Ordering::Relaxed) || sent.send((t, x.to_vec())).is_err() {
+                        return Ok(Flow::Stop);
+                    }
+                    if settings.integrator.cancel.requested() {
+                        stop = Some(Stop::Interrupted { t });
+                        return Ok(Flow::Stop);
+                    }
+                    Ok(Flow::Continue)
+                },
+                &mut stats,
+            );
+            drop(sent);
+            let failure = match worker.join() {
+                Ok(f) => f,
+                Err(panic) => std::panic::resume_unwind(panic),
+            };
+            match failure {
+                Some((t, RecordFailure::Sample(error))) => Err(IntegrationError::Output { t, error }),
+                Some((_, RecordFailure::Observer(e))) => {
+                    observer_error = Some(e);
+                    result
+                }
+                None => result,
+            }
+        })
     } else {
         integrate_into(
             &mut sys,
             0.0,
             &x0,
             settings.duration_s,
-            1.0 / settings.record_rate_hz,
+            dt_out,
             &integrator,
             &mut |t, x| {
-                let s = out.sample(t, x)?;
-                let row: Vec<Sample> = s.wheelsets.iter().map(|w| Sample::new(t, w, r0)).collect();
-                for (k, w) in row.iter().enumerate() {
-                    wheelsets[k].1.push(*w);
-                }
-                for (k, b) in s.bodies.iter().enumerate() {
-                    bodies[k].1.push((t, *b));
-                }
-                let sample = OutputSample {
-                    t,
-                    wheelsets: &row,
-                    bodies: &s.bodies,
-                };
-                for o in observers.iter_mut() {
-                    if let Err(e) = o.sample(&sample) {
+                let row = match recorder.record(t, x) {
+                    Ok(row) => row,
+                    Err(RecordFailure::Sample(e)) => return Err(e),
+                    Err(RecordFailure::Observer(e)) => {
                         observer_error = Some(e);
                         return Ok(Flow::Stop);
                     }
-                }
+                };
                 stop = if settings.integrator.cancel.requested() {
                     Some(Stop::Interrupted { t })
                 } else {
@@ -408,6 +506,12 @@ fn run_here(
             &mut stats,
         )
     };
+    let Recorder {
+        wheelsets,
+        bodies,
+        observers,
+        ..
+    } = recorder;
     let wall_s = t_run.elapsed().as_secs_f64();
     let end = match (result, observer_error, stop) {
         (_, Some(e), _) => RunEnd::Failed(RunFailure::Observer(e)),
