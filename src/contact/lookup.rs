@@ -478,7 +478,7 @@ fn flange_scan(angle: &impl Fn(f64) -> Result<f64, TableError>) -> Result<(f64, 
     }
 }
 
-/// Step of [`flange_scan`], m.
+/// Step of the scan up the flange (`flange_scan`), m.
 pub const FLANGE_SCAN_STEP_M: f64 = 1e-4;
 
 /// The contact angle of one side at |y| towards that side.
