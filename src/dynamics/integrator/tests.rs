@@ -392,37 +392,6 @@ fn ros34pw2_reuses_jacobians_on_a_stiff_problem() {
     }
 }
 
-/// The ROS34PW2 digits satisfy the order conditions (Hairer–Wanner II, Table IV.7.1, with
-/// β_ij = a_ij + γ_ij, β'_i = Σ_j<i β_ij, α_i = Σ_j a_ij): order 3 for b, order 2 for b̂, and the
-/// explicit-method conditions of a W-method (Σ b α = 1/2, Σ b a α = 1/6, Σ b γ_i = 0).
-#[test]
-fn ros34pw2_tableau_satisfies_the_order_conditions() {
-    let g = W_GAMMA;
-    let alpha: Vec<f64> = W_A.iter().map(|r| r.iter().sum()).collect();
-    let beta = |i: usize, j: usize| if j < 3 { W_A[i][j] + W_G[i][j] } else { 0.0 };
-    let beta_p: Vec<f64> = (0..4).map(|i| (0..i).map(|j| beta(i, j)).sum()).collect();
-    let gamma_i: Vec<f64> = (0..4).map(|i| g + W_G[i].iter().sum::<f64>()).collect();
-    let dot = |b: &[f64; 4], v: &dyn Fn(usize) -> f64| (0..4).map(|i| b[i] * v(i)).sum::<f64>();
-    for (b, order) in [(&W_B, 3), (&W_BHAT, 2)] {
-        assert!((dot(b, &|_| 1.0) - 1.0).abs() < 1e-15);
-        assert!((dot(b, &|i| beta_p[i]) - (0.5 - g)).abs() < 1e-15);
-        assert!((dot(b, &|i| alpha[i]) - 0.5).abs() < 1e-15);
-        assert!(dot(b, &|i| gamma_i[i]).abs() < 1e-15);
-        if order == 3 {
-            assert!((dot(b, &|i| alpha[i] * alpha[i]) - 1.0 / 3.0).abs() < 1e-15);
-            let bb = |i: usize| (0..i).map(|j| beta(i, j) * beta_p[j]).sum::<f64>();
-            assert!((dot(b, &bb) - (1.0 / 6.0 - g + g * g)).abs() < 1e-15);
-            let aa = |i: usize| (0..i).map(|j| W_A[i][j] * alpha[j]).sum::<f64>();
-            assert!((dot(b, &aa) - 1.0 / 6.0).abs() < 1e-15);
-        }
-    }
-    // Stiffly accurate: b is the last row of a + γ (with γ on the diagonal).
-    for (j, b) in W_B.iter().take(3).enumerate() {
-        assert!((b - beta(3, j)).abs() < 1e-15);
-    }
-    assert!((W_B[3] - g).abs() < 1e-15);
-}
-
 /// Three stiff blocks (Prothero–Robinson pairs, a' = −λ (a − cos t) − sin t, b' = −λ (b − a) −
 /// sin t: exact a = b = cos t) beside a non-stiff oscillator outside every block: the W-method
 /// with W restricted to the blocks keeps the stiff components stable at the steps the full
