@@ -38,11 +38,13 @@
 //! `bdf_step` (with the BDF's formulas in [`bdf`]) —, the finite-difference Jacobian in
 //! `jacobian`, the factored Newton matrix in `newton`.
 //!
-//! Rosenbrock step (Hairer–Wanner II, §IV.7; f_t by a forward difference):
+//! Rosenbrock step, both methods by one code path from their tableaux in the standard form
+//! (Hairer–Wanner II, §IV.7, (7.4) with W for ∂f/∂x; ROS3 converted from its published
+//! transformed coefficients; f_t by a forward difference):
 //!
 //! ```text
-//! (1/(hγ) I − J) K_i = f(t + α_i h, x + Σ_j a_ij K_j) + Σ_j (c_ij / h) K_j + γ_i h f_t
-//! x₁ = x + Σ m_i K_i,   err = Σ e_i K_i
+//! (I − γ h W) k_i = h f(t + α_i h, x + Σ_j a_ij k_j) + h W Σ_j γ_ij k_j + γ_i h² f_t
+//! x₁ = x + Σ b_i k_i,   err = Σ (b_i − b̂_i) k_i
 //! ```
 //!
 //! Error norm (both methods): RMS over the components of err_i / (atol + rtol max(|x₀ᵢ|, |x₁ᵢ|)),
@@ -746,6 +748,8 @@ struct Stepper {
     newton_matrix: Option<(IterationMatrix, f64)>,
     /// The component with the largest error term in the last trial step ([`Stats::limiting`]).
     limiting: Option<usize>,
+    /// A Rosenbrock method's tableau.
+    tableau: Option<rosenbrock::Tableau>,
 }
 
 impl Stepper {
@@ -764,6 +768,7 @@ impl Stepper {
             newton_kinematic: Vec::new(),
             newton_matrix: None,
             limiting: None,
+            tableau: rosenbrock::Tableau::of(method),
         }
     }
 
@@ -881,8 +886,12 @@ impl Stepper {
     ) -> Result<f64, StepFailure<S::Error>> {
         match self.method {
             Method::Dopri5 => self.dopri5(sys, t, x, f0, h, s, x1, f1, stats),
-            Method::Ros3 => self.ros3(sys, t, x, f0, h, s, x1, f1, stats),
-            Method::Ros34pw2 => self.ros34pw2(sys, t, x, f0, h, s, x1, f1, stats),
+            Method::Ros3 | Method::Ros34pw2 => {
+                let tableau = self.tableau.take().expect("a Rosenbrock method has its tableau");
+                let r = self.rosenbrock(&tableau, sys, t, x, f0, h, s, x1, f1, stats);
+                self.tableau = Some(tableau);
+                r
+            }
             Method::Bdf => self.bdf_step(sys, t, x, f0, h, s, x1, f1, stats),
         }
     }

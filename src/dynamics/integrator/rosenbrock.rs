@@ -1,5 +1,6 @@
 //! The Rosenbrock methods: ROS3 ([`Method::Ros3`], L-stable, order 3) and the W-method
-//! ROS34PW2 ([`Method::Ros34pw2`]), each from its tableau.
+//! ROS34PW2 ([`Method::Ros34pw2`]), one code path ([`Stepper::rosenbrock`]) run from each one's
+//! tableau in the standard form ([`Tableau`]).
 
 use super::*;
 
@@ -7,11 +8,13 @@ use super::*;
 #[allow(clippy::excessive_precision)]
 mod ros3_tableau {
     pub(super) const R_GAMMA: f64 = 0.435_866_521_508_458_999_416_019_451_193_56;
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(super) const R_ALPHA2: f64 = 0.435_866_521_508_458_999_416_019_451_193_56;
     pub(super) const R_C21: f64 = -1.015_617_108_387_770_209_197_560_011_554_5;
     pub(super) const R_C31: f64 = 4.075_995_645_253_769_982_480_583_535_806_7;
     pub(super) const R_C32: f64 = 9.207_679_429_833_079_124_215_681_847_400_3;
-    /// γ_i = Σ_j γ_ij, multiplying h f_t in stage i.
+    /// γ_i = Σ_j γ_ij, multiplying h f_t in stage i (published; the standard form's check).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(super) const R_GAMMAS: [f64; 3] = [
         0.435_866_521_508_458_999_416_019_451_193_56,
         0.242_919_964_548_168_043_665_922_496_833_14,
@@ -72,73 +75,99 @@ mod ros34pw2_tableau {
 }
 use ros34pw2_tableau::*;
 
-impl Stepper {
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn ros3<S: OdeSystem + ?Sized>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        x: &[f64],
-        f0: &[f64],
-        h: f64,
-        s: &Settings,
-        x1: &mut [f64],
-        f1: &mut [f64],
-        stats: &mut Stats,
-    ) -> Result<f64, StepFailure<S::Error>> {
-        let n = x.len();
-        // A classical Rosenbrock method: the exact Jacobian at every step.
-        self.jacobian(sys, t, x, f0, h, s, stats)?;
-        let mut g = -self.jac.clone();
-        let d = 1.0 / (h * R_GAMMA);
-        for i in 0..n {
-            g[(i, i)] += d;
+/// A Rosenbrock method in the standard form (Hairer–Wanner II, §IV.7, (7.4) with W in place of
+/// ∂f/∂x): s stages
+///
+/// ```text
+/// (I − γ h W) k_i = h f(t + α_i h, x + Σ_{j<i} a_ij k_j) + h W Σ_{j<i} γ_ij k_j + γ_i h² f_t,
+/// α_i = Σ_j a_ij,  γ_i = γ + Σ_j γ_ij,  x₁ = x + Σ b_i k_i,  err = Σ (b_i − b̂_i) k_i.
+/// ```
+///
+/// One code path runs every Rosenbrock method from its tableau ([`Stepper::rosenbrock`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Tableau {
+    pub(super) gamma: f64,
+    /// a_ij, strictly lower (row i has i entries).
+    pub(super) a: Vec<Vec<f64>>,
+    /// γ_ij, strictly lower.
+    pub(super) g: Vec<Vec<f64>>,
+    pub(super) b: Vec<f64>,
+    pub(super) bhat: Vec<f64>,
+    /// A classical Rosenbrock method (the exact Jacobian at every step), not a W-method (one
+    /// Jacobian kept for many steps).
+    pub(super) jacobian_every_step: bool,
+}
+
+impl Tableau {
+    /// ROS34PW2 as published (Rang & Angermann 2005).
+    pub(super) fn ros34pw2() -> Tableau {
+        Tableau {
+            gamma: W_GAMMA,
+            a: (0..4).map(|i| W_A[i][..i].to_vec()).collect(),
+            g: (0..4).map(|i| W_G[i][..i].to_vec()).collect(),
+            b: W_B.to_vec(),
+            bhat: W_BHAT.to_vec(),
+            jacobian_every_step: false,
         }
-        let lu = g.lu();
-        let solve = |lu: &nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
-                     rhs: &mut Vec<f64>|
-         -> Result<(), StepFailure<S::Error>> {
-            let b = nalgebra::DVector::from_column_slice(rhs);
-            let sol = lu.solve(&b).ok_or(StepFailure::Singular)?;
-            rhs.copy_from_slice(sol.as_slice());
-            Ok(())
-        };
-        let ft = &self.ft;
-        // Stage 1.
-        let mut k1: Vec<f64> = (0..n).map(|i| f0[i] + h * R_GAMMAS[0] * ft[i]).collect();
-        solve(&lu, &mut k1)?;
-        // Stages 2 and 3 share f at x + K1 (a21 = a31 = 1, a32 = 0), t + α2 h.
-        for i in 0..n {
-            self.tmp[i] = x[i] + k1[i];
-        }
-        let mut f2 = vec![0.0; n];
-        sys.rhs(t + R_ALPHA2 * h, &self.tmp, &mut f2)
-            .map_err(StepFailure::Model)?;
-        stats.rhs_evaluations += 1;
-        let mut k2: Vec<f64> = (0..n)
-            .map(|i| f2[i] + R_C21 / h * k1[i] + h * R_GAMMAS[1] * ft[i])
-            .collect();
-        solve(&lu, &mut k2)?;
-        let mut k3: Vec<f64> = (0..n)
-            .map(|i| f2[i] + (R_C31 * k1[i] + R_C32 * k2[i]) / h + h * R_GAMMAS[2] * ft[i])
-            .collect();
-        solve(&lu, &mut k3)?;
-        let mut norm = ErrorNorm::default();
-        for i in 0..n {
-            x1[i] = x[i] + R_M[0] * k1[i] + R_M[1] * k2[i] + R_M[2] * k3[i];
-            let e = R_E[0] * k1[i] + R_E[1] * k2[i] + R_E[2] * k3[i];
-            norm.add(x[i], x1[i], e, s);
-        }
-        self.limiting = norm.worst_index;
-        sys.rhs(t + h, x1, f1).map_err(StepFailure::Model)?;
-        stats.rhs_evaluations += 1;
-        Ok(norm.value())
     }
 
-    /// One ROS34PW2 step with the stored Jacobian (evaluated here only when none is valid).
+    /// ROS3 in the standard form, from its published transformed coefficients (Hairer–Wanner
+    /// II, (7.3'): Γ⁻¹ = diag(1/γ) − C, a = ã Γ, bᵀ = mᵀ Γ, (b − b̂)ᵀ = eᵀ Γ, with ã21 = ã31 = 1,
+    /// ã32 = 0: stages 2 and 3 at the same point). Checked against the published γ_i (the rows
+    /// of Γ) and the order conditions (tests).
+    pub(super) fn ros3() -> Tableau {
+        let c = [[0.0; 3], [R_C21, 0.0, 0.0], [R_C31, R_C32, 0.0]];
+        // Γ = (diag(1/γ) − C)⁻¹, lower triangular: forward substitution column by column.
+        let mut gamma = [[0.0; 3]; 3];
+        #[allow(clippy::needless_range_loop)] // Γ's columns by index, as the formula reads
+        for col in 0..3 {
+            for row in col..3 {
+                let rhs = if row == col { 1.0 } else { 0.0 };
+                // Σ_k (Γ⁻¹)_{row,k} Γ_{k,col} = δ: (1/γ) Γ_{row,col} − Σ_{k<row} c_{row,k} Γ_{k,col}.
+                let sum: f64 = (col..row).map(|k| c[row][k] * gamma[k][col]).sum();
+                gamma[row][col] = R_GAMMA * (rhs + sum);
+            }
+        }
+        let a_tilde = [[0.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+        let times = |v: &[f64; 3], col: usize| (0..3).map(|k| v[k] * gamma[k][col]).sum::<f64>();
+        let a: Vec<Vec<f64>> = (0..3)
+            .map(|i| (0..i).map(|j| times(&a_tilde[i], j)).collect())
+            .collect();
+        let g: Vec<Vec<f64>> = (0..3).map(|i| gamma[i][..i].to_vec()).collect();
+        let b: Vec<f64> = (0..3).map(|j| times(&R_M, j)).collect();
+        let e: Vec<f64> = (0..3).map(|j| times(&R_E, j)).collect();
+        Tableau {
+            gamma: R_GAMMA,
+            a,
+            g,
+            bhat: b.iter().zip(&e).map(|(b, e)| b - e).collect(),
+            b,
+            jacobian_every_step: true,
+        }
+    }
+
+    /// The tableau of a Rosenbrock method (None for the others).
+    pub(super) fn of(method: Method) -> Option<Tableau> {
+        match method {
+            Method::Ros3 => Some(Tableau::ros3()),
+            Method::Ros34pw2 => Some(Tableau::ros34pw2()),
+            Method::Dopri5 | Method::Bdf => None,
+        }
+    }
+
+    fn stages(&self) -> usize {
+        self.b.len()
+    }
+}
+
+impl Stepper {
+    /// One step of the Rosenbrock method of `tableau`: the Jacobian evaluated first when the
+    /// method wants it every step or none is valid, W restricted to the system's blocks where it
+    /// declares them; a stage at the previous stage's point reuses its f.
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn ros34pw2<S: OdeSystem + ?Sized>(
+    pub(super) fn rosenbrock<S: OdeSystem + ?Sized>(
         &mut self,
+        tableau: &Tableau,
         sys: &mut S,
         t: f64,
         x: &[f64],
@@ -150,33 +179,35 @@ impl Stepper {
         stats: &mut Stats,
     ) -> Result<f64, StepFailure<S::Error>> {
         let n = x.len();
-        if self.jac_age.is_none() {
+        if tableau.jacobian_every_step || self.jac_age.is_none() {
             self.jacobian(sys, t, x, f0, h, s, stats)?;
         }
         // (I − γ h W) k = r  ⇔  (1/(γ h) I − W) k = r / (γ h).
-        let gh = W_GAMMA * h;
+        let gh = tableau.gamma * h;
         let iteration = IterationMatrix::factor(&self.jac, self.blocks.as_deref(), &[], gh);
         let mut fs = vec![0.0; n];
         let mut v = vec![0.0; n];
         let mut rhs = nalgebra::DVector::zeros(n);
-        for i in 0..4 {
-            // Stage point and f there.
-            let alpha: f64 = W_A[i].iter().sum();
+        for i in 0..tableau.stages() {
+            // Stage point and f there (the previous stage's where the point is the same).
+            let a = &tableau.a[i];
+            let alpha: f64 = a.iter().sum();
             if i == 0 {
                 fs.copy_from_slice(f0);
-            } else {
+            } else if !(i > 1 && a[..i - 1] == tableau.a[i - 1][..] && a[i - 1] == 0.0) {
                 for (m, (tm, xm)) in self.tmp.iter_mut().zip(x).enumerate() {
-                    *tm = xm + (0..i).map(|j| W_A[i][j] * self.k[j][m]).sum::<f64>();
+                    *tm = xm + (0..i).map(|j| a[j] * self.k[j][m]).sum::<f64>();
                 }
                 sys.rhs(t + alpha * h, &self.tmp, &mut fs)
                     .map_err(StepFailure::Model)?;
                 stats.rhs_evaluations += 1;
             }
             // r = h f + h W Σ_j γ_ij k_j + γ_i h² f_t, γ_i = γ + Σ_j γ_ij.
+            let g = &tableau.g[i];
             for (m, vm) in v.iter_mut().enumerate() {
-                *vm = (0..i).map(|j| W_G[i][j] * self.k[j][m]).sum::<f64>();
+                *vm = (0..i).map(|j| g[j] * self.k[j][m]).sum::<f64>();
             }
-            let gamma_i = W_GAMMA + W_G[i].iter().sum::<f64>();
+            let gamma_i = tableau.gamma + g.iter().sum::<f64>();
             let wv = iteration.w_times(&self.jac, &v);
             for m in 0..n {
                 rhs[m] = (h * (fs[m] + wv[m]) + gamma_i * h * h * self.ft[m]) / gh;
@@ -185,9 +216,12 @@ impl Stepper {
             self.k[i].copy_from_slice(k.as_slice());
         }
         let mut norm = ErrorNorm::default();
+        let stages = tableau.stages();
         for m in 0..n {
-            x1[m] = x[m] + (0..4).map(|j| W_B[j] * self.k[j][m]).sum::<f64>();
-            let e: f64 = (0..4).map(|j| (W_B[j] - W_BHAT[j]) * self.k[j][m]).sum();
+            x1[m] = x[m] + (0..stages).map(|j| tableau.b[j] * self.k[j][m]).sum::<f64>();
+            let e: f64 = (0..stages)
+                .map(|j| (tableau.b[j] - tableau.bhat[j]) * self.k[j][m])
+                .sum();
             norm.add(x[m], x1[m], e, s);
         }
         self.limiting = norm.worst_index;
@@ -230,5 +264,52 @@ mod tests {
             assert!((b - beta(3, j)).abs() < 1e-15);
         }
         assert!((W_B[3] - g).abs() < 1e-15);
+    }
+
+    /// The classical order conditions (Hairer–Wanner II, Table IV.7.1) of a tableau: order 3 for
+    /// b, order 2 for b̂. Returns the largest residual.
+    fn classical_residual(t: &Tableau) -> f64 {
+        let g = t.gamma;
+        let n = t.stages();
+        let alpha: Vec<f64> = t.a.iter().map(|r| r.iter().sum()).collect();
+        let beta = |i: usize, j: usize| if j < i { t.a[i][j] + t.g[i][j] } else { 0.0 };
+        let beta_p: Vec<f64> = (0..n).map(|i| (0..i).map(|j| beta(i, j)).sum()).collect();
+        let dot = |b: &[f64], v: &dyn Fn(usize) -> f64| (0..n).map(|i| b[i] * v(i)).sum::<f64>();
+        let mut worst: f64 = 0.0;
+        for (b, order) in [(&t.b, 3), (&t.bhat, 2)] {
+            worst = worst.max((dot(b, &|_| 1.0) - 1.0).abs());
+            worst = worst.max((dot(b, &|i| beta_p[i]) - (0.5 - g)).abs());
+            if order == 3 {
+                worst = worst.max((dot(b, &|i| alpha[i] * alpha[i]) - 1.0 / 3.0).abs());
+                let bb = |i: usize| (0..i).map(|j| beta(i, j) * beta_p[j]).sum::<f64>();
+                worst = worst.max((dot(b, &bb) - (1.0 / 6.0 - g + g * g)).abs());
+            }
+        }
+        worst
+    }
+
+    /// ROS3 converted to the standard form the one Rosenbrock path runs: its rows of Γ sum to the
+    /// published γ_i, stage 2 sits at the published α₂, stage 3 at stage 2's point, and the
+    /// converted tableau meets the classical order conditions (3, embedded 2); ROS34PW2's too.
+    #[test]
+    fn ros3_in_the_standard_form_is_the_published_method() {
+        let t = Tableau::ros3();
+        for (i, published) in R_GAMMAS.iter().enumerate() {
+            let gamma_i = t.gamma + t.g[i].iter().sum::<f64>();
+            assert!(
+                (gamma_i - published).abs() < 1e-14,
+                "γ_{i}: {gamma_i} against {published}"
+            );
+        }
+        assert!((t.a[1][0] - R_ALPHA2).abs() < 1e-15);
+        assert_eq!(t.a[2], vec![t.a[1][0], 0.0], "stage 3 at stage 2's point");
+        let r = classical_residual(&t);
+        assert!(r < 1e-13, "ROS3: order-condition residual {r:e}");
+        let r = classical_residual(&Tableau::ros34pw2());
+        assert!(r < 1e-15, "ROS34PW2: {r:e}");
+        // A tableau with a wrong digit fails the check (the check can fail).
+        let mut wrong = Tableau::ros3();
+        wrong.b[1] += 1e-6;
+        assert!(classical_residual(&wrong) > 1e-7);
     }
 }
