@@ -146,7 +146,22 @@ fn hard_cases_end_in_physical_answers() {
     // over the last 2 m beyond Nadal's limit. KEC's constraint holds the wheel at the flange's
     // largest angle (its profiles end there only in y), so it completes — but its own running
     // safety figures flag the exceedance.
-    let kink = &find("alignment_kink", "elastic").output.summary;
+    // Over the scene's own 4 s, not the suite's 2 s window: where the elastic flange climbs is a
+    // bifurcation (1.4 s apart between two builds that differ by round-off in the creep forces),
+    // while that it climbs is not.
+    let kink_scene = HARD_SCENES.iter().find(|h| h.name == "alignment_kink").unwrap();
+    let kink_scene = compile(kink_scene, None).unwrap();
+    let kink_run = |model: &str| {
+        kink_scene
+            .build_run(&kecsim::scenario::RunOptions {
+                contact: Some(model.to_string()),
+                ..Default::default()
+            })
+            .unwrap()
+            .run(&mut [])
+    };
+    let kink_elastic = kink_run("elastic");
+    let kink = &kink_elastic.summary;
     let nadal = kink.safety.as_ref().unwrap().nadal_limit;
     assert_eq!(kink.outcome, "derailed", "{:?}", kink.error);
     assert!(
@@ -162,7 +177,8 @@ fn hard_cases_end_in_physical_answers() {
         "{:?}",
         kink.derailment_max_y_over_q_2m
     );
-    let kec_kink = &find("alignment_kink", "kec").output.summary;
+    let kink_kec = kink_run("kec");
+    let kec_kink = &kink_kec.summary;
     let kec_yq = kec_kink.safety.as_ref().unwrap().wheelsets[0].y_over_q_2m;
     println!(
         "alignment kink: elastic derails at {:.2} s (Y/Q over its last 2 m {:.2}); KEC {} with Y/Q (2 m) {kec_yq:.2}; Nadal {nadal:.2}",
