@@ -407,6 +407,127 @@ fn the_slurm_script_runs_the_shards_and_merges_after_them() {
     std::fs::remove_dir_all(&d).ok();
 }
 
+/// The generated sbatch script with hostile values (issue 35): an output directory with spaces,
+/// quotes and `$(…)` is written only quoted — in the shell lines and in the `#SBATCH` directives —,
+/// so that the script passes `bash -n` and running its lines would execute nothing of the values;
+/// a newline in any value, a partition that is not a Slurm name and a `--time` that is not a Slurm
+/// time are refused before anything is written.
+#[test]
+fn the_slurm_script_quotes_every_value_it_writes() {
+    let d = tmpdir("study-slurm-hostile");
+    let path = grid_study(&d);
+    let script = d.join("job.sh");
+    let out = d.join("My 'Studies' $(touch pwned) \"double\"");
+    let args = |extra: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = ["study", "slurm", path.to_str().unwrap(), "--shards", "2", "--out"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        v.push(out.to_str().unwrap().to_string());
+        v.push("--script".into());
+        v.push(script.to_str().unwrap().to_string());
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let run = |extra: &[&str]| {
+        let a = args(extra);
+        kecsim(&a.iter().map(|s| s.as_str()).collect::<Vec<_>>(), &d)
+    };
+    let o = run(&["--time", "1-02:30:00", "--partition", "gpu_long.v2"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = std::fs::read_to_string(&script).unwrap();
+    let check = std::process::Command::new("bash")
+        .arg("-n")
+        .arg(&script)
+        .output()
+        .unwrap();
+    assert!(
+        check.status.success(),
+        "bash -n: {}\n{s}",
+        String::from_utf8_lossy(&check.stderr)
+    );
+    assert!(
+        s.contains("#SBATCH --time=1-02:30:00\n") && s.contains("#SBATCH --partition=gpu_long.v2\n"),
+        "{s}"
+    );
+    // Every line naming the directory holds it inside quotes: single quotes in the shell lines,
+    // double quotes in the directives (sbatch's own quoting).
+    let dir = out.to_str().unwrap();
+    let single = format!("'{}", dir.replace('\'', r"'\''"));
+    let double = format!("=\"{}/", dir.replace('\\', "\\\\").replace('"', "\\\""));
+    for line in s.lines().filter(|l| l.contains("Studies")) {
+        let quoted = if line.starts_with("#SBATCH") {
+            line.contains(&double) && line.ends_with('"')
+        } else {
+            line.contains(&single) || line.starts_with('#')
+        };
+        assert!(quoted, "unquoted: {line}\n{s}");
+    }
+    assert!(!s
+        .lines()
+        .any(|l| l.starts_with("#SBATCH") && l.contains("$(") && !l.contains('"')));
+    // The shell lines, run with sbatch and kecsim stubbed, see the values as they are and run
+    // nothing inside them.
+    let stubbed = s.replace("KECSIM=", "KECSIM=true; : ");
+    let stub_dir = d.join("stub");
+    std::fs::create_dir_all(&stub_dir).unwrap();
+    std::fs::write(stub_dir.join("sbatch"), "#!/bin/sh\nexit 0\n").unwrap();
+    let mut perm = std::fs::metadata(stub_dir.join("sbatch")).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut perm, 0o755);
+    std::fs::set_permissions(stub_dir.join("sbatch"), perm).unwrap();
+    let stub_script = d.join("stubbed.sh");
+    std::fs::write(&stub_script, stubbed.replace("\"$KECSIM\"", "true")).unwrap();
+    let ran = std::process::Command::new("bash")
+        .arg(&stub_script)
+        .current_dir(&d)
+        .env(
+            "PATH",
+            format!("{}:{}", stub_dir.display(), std::env::var("PATH").unwrap()),
+        )
+        .env("SLURM_ARRAY_TASK_ID", "0")
+        .env("SLURM_ARRAY_JOB_ID", "7")
+        .output()
+        .unwrap();
+    assert!(ran.status.success(), "{}", String::from_utf8_lossy(&ran.stderr));
+    assert!(!d.join("pwned").exists(), "a value was executed");
+    // Refused before writing: a newline in a value, a partition that is no Slurm name, a time
+    // that is no Slurm time.
+    std::fs::remove_file(&script).unwrap();
+    for (extra, want) in [
+        (vec!["--partition", "a\n#SBATCH --mem=1"], "--partition"),
+        (vec!["--partition", "gpu; rm -rf /"], "--partition"),
+        (vec!["--time", "abc"], "--time"),
+        (vec!["--time", "1:2:3:4"], "--time"),
+        (vec!["--time", "10\n#SBATCH --x"], "--time"),
+    ] {
+        let o = run(&extra.iter().map(|s| &**s).collect::<Vec<&str>>());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(want), "{extra:?}: {err}");
+        assert!(!script.exists(), "{extra:?}: a script was written");
+    }
+    let newline_out = d.join("a\nb");
+    let o = kecsim(
+        &[
+            "study",
+            "slurm",
+            path.to_str().unwrap(),
+            "--shards",
+            "2",
+            "--out",
+            newline_out.to_str().unwrap(),
+            "--script",
+            script.to_str().unwrap(),
+        ],
+        &d,
+    );
+    assert!(
+        !o.status.success() && String::from_utf8_lossy(&o.stderr).contains("newline"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    std::fs::remove_dir_all(&d).ok();
+}
+
 /// The linear stability the critical-speed study extracts, against the time simulation it
 /// linearises: at a speed where the least-damped oscillatory mode has Re λ < 0 a 0.05 mm
 /// disturbance decays, where Re λ > 0 it grows, at about the rate Re λ says.

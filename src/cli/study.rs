@@ -320,6 +320,18 @@ fn merge_dir(dir: &Path, sink: &SinkArgs) -> Result<()> {
     finish(dir, &sink)
 }
 
+/// Whether `t` is one of Slurm's `--time` formats: `M`, `M:S`, `H:M:S`, `D-H`, `D-H:M`,
+/// `D-H:M:S` (digits only).
+fn slurm_time(t: &str) -> bool {
+    let digits = |f: &str| !f.is_empty() && f.bytes().all(|b| b.is_ascii_digit());
+    let (days, rest) = match t.split_once('-') {
+        Some((d, r)) => (Some(d), r),
+        None => (None, t),
+    };
+    let fields: Vec<&str> = rest.split(':').collect();
+    days.is_none_or(digits) && (1..=3).contains(&fields.len()) && fields.iter().all(|f| digits(f))
+}
+
 /// The sbatch script: a job array of `shards` tasks, each `kecsim study` on its slice (the shard
 /// from SLURM_ARRAY_TASK_ID/COUNT), and a merge job that runs once every task has ended well.
 fn slurm(
@@ -336,6 +348,18 @@ fn slurm(
         "--shards {shards}: expected 1 ..= 10000"
     );
     anyhow::ensure!(cpus >= 1, "--cpus-per-task {cpus}: expected at least 1");
+    anyhow::ensure!(
+        slurm_time(time),
+        "--time {time:?}: expected a Slurm time (minutes, minutes:seconds, hours:minutes:seconds, \
+         days-hours, days-hours:minutes or days-hours:minutes:seconds)"
+    );
+    if let Some(p) = partition {
+        anyhow::ensure!(
+            !p.is_empty() && p.chars().all(|c| c.is_ascii_alphanumeric() || "_.,-".contains(c)),
+            "--partition {p:?}: expected a Slurm partition name (letters, digits, `_`, `.`, `-`; \
+             several separated by `,`)"
+        );
+    }
     // Checked now: a study that does not read must not reach the queue.
     let s = Study::read(study)?;
     anyhow::ensure!(
@@ -347,7 +371,27 @@ fn slurm(
     let out = abs(&out.unwrap_or_else(|| default_out(study)));
     let exe = abs(&std::env::current_exe().context("cannot find the kecsim binary's path")?);
     let study = abs(study);
+    for (what, p) in [
+        ("--out", &out),
+        ("the study file", &study),
+        ("the kecsim binary", &exe),
+    ] {
+        anyhow::ensure!(
+            !p.to_string_lossy().contains(['\n', '\r']),
+            "{what} {p:?}: a path with a newline cannot go into a job script"
+        );
+    }
+    // The shell's quoting: single quotes, each ' as '\''.
     let q = |p: &Path| format!("'{}'", p.display().to_string().replace('\'', r"'\''"));
+    // A Slurm file name: % doubled (its patterns start with %).
+    let slurm_file = |p: &Path| PathBuf::from(p.display().to_string().replace('%', "%%"));
+    // An #SBATCH directive's value: sbatch reads it with double quotes and backslash escapes.
+    let directive = |p: &Path| {
+        format!(
+            "\"{}\"",
+            p.display().to_string().replace('\\', "\\\\").replace('"', "\\\"")
+        )
+    };
     let partition = partition.map_or(String::new(), |p| format!("#SBATCH --partition={p}\n"));
     let text = format!(
         "#!/bin/bash\n\
@@ -358,7 +402,7 @@ fn slurm(
          #SBATCH --cpus-per-task={cpus}\n\
          #SBATCH --time={time}\n\
          {partition}\
-         #SBATCH --output={log}/shard-%a.log\n\
+         #SBATCH --output={shard_log}\n\
          set -euo pipefail\n\
          KECSIM={exe}\n\
          STUDY={study}\n\
@@ -369,12 +413,13 @@ fn slurm(
          # task has ended well (submitted by task 0, dependent on the whole array).\n\
          if [ \"${{SLURM_ARRAY_TASK_ID}}\" = 0 ]; then\n\
          \x20 sbatch --dependency=afterok:${{SLURM_ARRAY_JOB_ID}} --job-name=kecsim-merge \\\n\
-         \x20   --output={log}/merge.log --wrap \"\\\"$KECSIM\\\" study merge \\\"$OUT\\\"\"\n\
+         \x20   --output={merge_log} --wrap \"\\\"$KECSIM\\\" study merge \\\"$OUT\\\"\"\n\
          fi\n",
-        name = s.name.replace('\n', " "),
+        name = s.name.replace(['\n', '\r'], " "),
         cases = s.cases.len(),
         last = shards - 1,
-        log = out.display(),
+        shard_log = directive(&slurm_file(&out).join("shard-%a.log")),
+        merge_log = q(&slurm_file(&out).join("merge.log")),
         exe = q(&exe),
         study = q(&study),
         outq = q(&out),
