@@ -407,6 +407,42 @@ fn the_slurm_script_runs_the_shards_and_merges_after_them() {
     std::fs::remove_dir_all(&d).ok();
 }
 
+/// Counts read from a study's manifest are held to the study's limits (issue 35): `study merge`
+/// on a `study.json` whose `cases` is 1e8 or 1e12 (or whose seed axes point past its axes) ends
+/// with an error naming the file and the key — before, it aborted allocating 2e10–2e14 bytes.
+#[test]
+fn study_merge_refuses_absurd_manifest_counts() {
+    let d = tmpdir("study-manifest-counts");
+    let path = grid_study(&d);
+    let out = d.join("out");
+    let o = out.to_str().unwrap();
+    kecsim_ok(&["study", path.to_str().unwrap(), "--out", o, "--jobs", "1"], &d);
+    let manifest = out.join("study.json");
+    let text = std::fs::read_to_string(&manifest).unwrap();
+    assert!(text.contains("\"cases\": 4"), "{text}");
+    for (from, to, key) in [
+        ("\"cases\": 4", "\"cases\": 100000000", "cases"),
+        ("\"cases\": 4", "\"cases\": 1000000000000", "cases"),
+        ("\"cases\": 4", "\"cases\": 0", "cases"),
+    ] {
+        std::fs::write(&manifest, text.replace(from, to)).unwrap();
+        let r = kecsim(&["study", "merge", o], &d);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{to}: {err}");
+        assert!(err.contains("study.json") && err.contains(key), "{to}: {err}");
+    }
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    json["seed_axes"] = serde_json::json!([7]);
+    std::fs::write(&manifest, json.to_string()).unwrap();
+    let r = kecsim(&["study", "merge", o], &d);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success() && err.contains("seed_axes"), "{err}");
+    // The manifest as written merges.
+    std::fs::write(&manifest, &text).unwrap();
+    kecsim_ok(&["study", "merge", o], &d);
+    std::fs::remove_dir_all(&d).ok();
+}
+
 /// The generated sbatch script with hostile values (issue 35): an output directory with spaces,
 /// quotes and `$(…)` is written only quoted — in the shell lines and in the `#SBATCH` directives —,
 /// so that the script passes `bash -n` and running its lines would execute nothing of the values;

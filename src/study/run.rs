@@ -24,7 +24,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::case::{CaseResult, Manifest};
-use super::spec::{value_text, Case, Fnv, Study};
+use super::spec::{value_text, Case, Fnv, Study, MAX_CASES};
 use super::StudyError;
 use crate::dynamics::output::CsvWriter;
 use crate::dynamics::{CancelToken, RunEnd, RunObserver, Stop, Threads};
@@ -93,13 +93,46 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), StudyError> {
 pub fn read_manifest(out: &Path) -> Result<Option<Manifest>, StudyError> {
     let path = out.join("study.json");
     match std::fs::read_to_string(&path) {
-        Ok(text) => serde_json::from_str(&text)
-            .map(Some)
-            .map_err(|e| io(&path, format!("not a study manifest: {e}"))),
+        Ok(text) => {
+            let m: Manifest =
+                serde_json::from_str(&text).map_err(|e| io(&path, format!("not a study manifest: {e}")))?;
+            check_manifest(&m).map_err(|problem| io(&path, problem))?;
+            Ok(Some(m))
+        }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(io(&path, e)),
     }
 }
+
+/// A manifest's counts held to the study's own limits, as a study file's are: `cases` within
+/// 1 ..= [`MAX_CASES`] (`--no-limits` lifts the upper one), no more axes or extracts than a study
+/// may have, the seed axes among the axes. (A `cases` of 1e8 made `study merge` allocate for
+/// 1e8 results and abort.)
+fn check_manifest(m: &Manifest) -> Result<(), String> {
+    if m.cases == 0 || (m.cases > MAX_CASES && !crate::limits::lifted()) {
+        return Err(format!(
+            "cases = {}: expected 1 ..= {MAX_CASES} (a study's limit; --no-limits lifts it)",
+            m.cases
+        ));
+    }
+    if m.axes.len() > MAX_MANIFEST_NAMES || m.extracts.len() > MAX_MANIFEST_NAMES {
+        return Err(format!(
+            "{} axes and {} extracts: expected at most {MAX_MANIFEST_NAMES} of each",
+            m.axes.len(),
+            m.extracts.len()
+        ));
+    }
+    if let Some(k) = m.seed_axes.iter().find(|&&k| k >= m.axes.len()) {
+        return Err(format!(
+            "seed_axes names axis {k}, but there are {} axes",
+            m.axes.len()
+        ));
+    }
+    Ok(())
+}
+
+/// Most axes, and most extracts, a manifest may name.
+const MAX_MANIFEST_NAMES: usize = 10_000;
 
 /// The finished result of case `k` in `out`, where there is one for this study and scenario.
 fn finished(out: &Path, study_id: &str, case: &Case) -> Option<CaseResult> {
@@ -341,7 +374,8 @@ pub fn collect(out: &Path) -> Result<(Manifest, Vec<CaseResult>), StudyError> {
             "no study here (a study's output directory has study.json)",
         )
     })?;
-    let mut rows = Vec::with_capacity(manifest.cases);
+    // (Not more up front than a real study has, whatever the manifest says with --no-limits.)
+    let mut rows = Vec::with_capacity(manifest.cases.min(MAX_CASES));
     let mut missing = Vec::new();
     for k in 0..manifest.cases {
         let path = case_dir(out, k).join("result.json");
