@@ -974,7 +974,7 @@ fn bench_scaling_measures_both_series() {
 
 /// `kecsim bench rhs` (issue 34): every vehicle of the size series measured; the parts' times add
 /// up to the whole evaluation (each part is timed between clock reads, nothing falls between
-/// them); one pass evaluates every kept state; the coupled pair costs more than one vehicle.
+/// them); one pass evaluates every kept state; the coupled pair has twice one vehicle's states.
 #[test]
 fn bench_rhs_measures_each_vehicle_and_its_parts() {
     use kecsim::bench::rhs::{rhs, RhsSettings};
@@ -1018,11 +1018,12 @@ fn bench_rhs_measures_each_vehicle_and_its_parts() {
             );
         }
     }
-    // Two coupled MS vehicles evaluate twice the wheelsets and bodies of one.
-    assert!(
-        b.rows[3].one_thread_us.min > 1.3 * b.rows[2].one_thread_us.min,
-        "{:?}",
-        b.rows
+    // Two coupled MS vehicles: twice the states, wheelsets and bodies of one. (No timing is
+    // asserted: the suite's tests run side by side, and a bench prints, it does not judge.)
+    let (one, two) = (&b.rows[2], &b.rows[3]);
+    assert_eq!(
+        (two.states, two.wheelsets, two.bodies),
+        (2 * one.states, 2 * one.wheelsets, 2 * one.bodies)
     );
     let md = b.markdown();
     assert!(md.contains("| MS vehicle | 180 | 6 | 8 |"), "{md}");

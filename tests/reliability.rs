@@ -618,6 +618,47 @@ fn a_byte_order_mark_is_not_a_bad_number() {
     assert!(out.ok, "{}", out.stderr);
 }
 
+/// Range errors in `[simulation]` (and its sub-tables), `[wheelset]` and `[contact_forces]`
+/// (with its `[contact_forces.creep]`) name the file and the line of the key, as `[vehicle]` and
+/// `[track]` ones do (issue 35: they named the key only).
+#[test]
+fn range_errors_name_the_line_of_their_key() {
+    let dir = tmpdir("rel-range-lines");
+    let path = scenario(
+        &dir,
+        "ranges.toml",
+        &[
+            ("duration_s = 0.5", "duration_s = -1.0"),
+            (
+                "record_rate_hz = 100.0\n",
+                "record_rate_hz = 100.0\n\n[simulation.integrator]\nmethod = \"bdf\"\nrtol = 2.0\n\n[wheelset]\nback_to_back_m = 5.0\n\n[contact_forces]\nfriction = 7.0\n\n[contact_forces.creep]\nmodel = \"polach\"\nfriction_ratio = 3.0\n",
+            ),
+        ],
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let line = |needle: &str| 1 + text[..text.find(needle).unwrap()].matches('\n').count();
+    let file = path.display().to_string();
+    let mut needles = Vec::new();
+    for (key, at) in [
+        ("simulation.duration_s = -1", "duration_s = -1.0"),
+        ("simulation.integrator.rtol = 2", "rtol = 2.0"),
+        ("wheelset.back_to_back_m = 5", "back_to_back_m = 5.0"),
+        ("friction = 7", "friction = 7.0"),
+        ("friction_ratio = 3", "friction_ratio = 3.0"),
+    ] {
+        needles.push(format!("{file}:{}: ", line(at)));
+        needles.push(key.to_string());
+    }
+    let out = rejects(&["run", path.to_str().unwrap()], &dir, 30, &[]);
+    for (k, key) in needles.chunks(2).map(|c| (&c[0], &c[1])) {
+        let hit = out
+            .stderr
+            .lines()
+            .any(|l| l.contains(k.as_str()) && l.contains(key.as_str()));
+        assert!(hit, "no line `{k}…{key}` in:\n{}", out.stderr);
+    }
+}
+
 #[test]
 fn a_bad_key_inside_a_tagged_table_is_reported_at_its_line() {
     let dir = tmpdir("rel-axis");

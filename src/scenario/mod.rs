@@ -195,7 +195,11 @@ impl Scenario {
         }
         let mut positive = |name: &str, v: f64, lo: f64, hi: f64| {
             if !(v.is_finite() && v >= lo && v <= hi) {
-                problems.push(format!("{name} = {v}: expected a value in [{lo}, {hi}]"));
+                problems.push(locate_key(
+                    origin,
+                    &self.source,
+                    &format!("{name} = {v}: expected a value in [{lo}, {hi}]"),
+                ));
             }
         };
         if self.track.horizontal.is_empty() {
@@ -236,13 +240,16 @@ impl Scenario {
         let contact_forces = match ContactForceSettings::new(cf.creep, cf.friction, material) {
             Ok(s) => Some(s),
             Err(p) => {
-                problems.extend(p.into_iter().map(|p| format!("contact_forces: {p}")));
+                problems.extend(
+                    p.into_iter()
+                        .map(|p| locate_key(origin, &self.source, &format!("contact_forces: {p}"))),
+                );
                 None
             }
         };
         let simulation = match (&self.simulation, &self.vehicle) {
             (Some(sim), Some(veh)) => {
-                problems.extend(sim.problems());
+                problems.extend(sim.problems().iter().map(|p| locate_key(origin, &self.source, p)));
                 problems.extend(
                     veh.problems()
                         .into_iter()
@@ -383,6 +390,62 @@ fn locate(origin: &str, source: &str, problem: &str) -> String {
         })
         .map_or(start, |i| start + i);
     format!("{origin}:{}: {problem}", crate::track::file::line_of(source, at))
+}
+
+/// A range problem with the file and line of the key it names: `a.b.key = value: …` (the key
+/// `key` of the table `[a.b]`), `contact_forces: key = …` and `contact_forces: MODEL: key = …`
+/// (`[contact_forces]`, `[contact_forces.creep]`). The line of `key =` inside its table where the
+/// file has it, else of the table's header; the problem as it is where neither is found.
+fn locate_key(origin: &str, source: &str, problem: &str) -> String {
+    let (path, rest) = match problem.strip_prefix("contact_forces: ") {
+        Some(r) => match r.split_once(": ") {
+            Some((model, r)) if !model.contains(' ') && !model.contains('=') => {
+                ("contact_forces.creep.".to_string(), r)
+            }
+            _ => ("contact_forces.".to_string(), r),
+        },
+        None => (String::new(), problem),
+    };
+    let Some((key, _)) = rest.split_once(" = ") else {
+        return problem.to_string();
+    };
+    if key.contains(' ') {
+        return problem.to_string();
+    }
+    let full = format!("{path}{key}");
+    let (table, key) = full.rsplit_once('.').unwrap_or(("", full.as_str()));
+    let header = |line: &str| {
+        let t = line.split('#').next().unwrap_or("").trim();
+        t.strip_prefix('[')
+            .and_then(|t| t.strip_suffix(']'))
+            .map(|name| name.split('.').map(str::trim).collect::<Vec<_>>().join("."))
+    };
+    let mut offset = 0;
+    let mut in_table = table.is_empty();
+    let mut header_at = None;
+    for line in source.split_inclusive('\n') {
+        if let Some(name) = header(line) {
+            in_table = name == table;
+            if in_table && header_at.is_none() {
+                header_at = Some(offset);
+            }
+        } else if in_table {
+            let t = line.trim_start();
+            if t.strip_prefix(key)
+                .is_some_and(|r| r.trim_start().starts_with('='))
+            {
+                return format!(
+                    "{origin}:{}: {problem}",
+                    crate::track::file::line_of(source, offset)
+                );
+            }
+        }
+        offset += line.len();
+    }
+    match header_at {
+        Some(at) => format!("{origin}:{}: {problem}", crate::track::file::line_of(source, at)),
+        None => problem.to_string(),
+    }
 }
 
 /// A standard profile name stays as it is; anything else is a path relative to `base`.
