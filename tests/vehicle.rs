@@ -934,6 +934,31 @@ fn manchester_vehicle_runs_the_whole_kilometre() {
     );
 }
 
+/// The states of `model` (built from `sc`) integrated with the scene's integrator settings from
+/// its initial state, every `dt` s from `from` to `to`.
+fn states_between(sc: &Scene, model: &Multibody, from: f64, to: f64, dt: f64) -> Vec<(f64, Vec<f64>)> {
+    let x0 = model.initial_state(&InitialDisturbance::default());
+    let (sim, _) = sc.simulation.clone().unwrap();
+    let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
+    let mut states = Vec::new();
+    integrate(
+        &mut Evaluator::new(model),
+        0.0,
+        &x0,
+        to,
+        dt,
+        &settings,
+        &mut |t, x| {
+            if t >= from {
+                states.push((t, x.to_vec()));
+            }
+            Ok(Flow::Continue)
+        },
+    )
+    .unwrap();
+    states
+}
+
 /// The creep/normal-force iteration converges: the right-hand side is a function of the state,
 /// not of the previous evaluation's normal forces that the iteration starts from. (Issue 13,
 /// defect 3: the plain fixed point stopped silently after 8 passes, leaving up to 1.3e-7 relative
@@ -943,25 +968,7 @@ fn manchester_vehicle_runs_the_whole_kilometre() {
 fn right_hand_side_does_not_depend_on_the_previous_evaluation() {
     let sc = scene("manchester_vehicle1_tab6.toml");
     let model = multibody(&sc, "kec", true);
-    let x0 = model.initial_state(&InitialDisturbance::default());
-    let (sim, _) = sc.simulation.clone().unwrap();
-    let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
-    let mut states = Vec::new();
-    integrate(
-        &mut Evaluator::new(&model),
-        0.0,
-        &x0,
-        12.0,
-        0.01,
-        &settings,
-        &mut |t, x| {
-            if t >= 8.0 {
-                states.push((t, x.to_vec()));
-            }
-            Ok(Flow::Continue)
-        },
-    )
-    .unwrap();
+    let states = states_between(&sc, &model, 8.0, 12.0, 0.01);
     let n = model.dim();
     let mut worst: f64 = 0.0;
     for (t, x) in &states {
@@ -1008,24 +1015,8 @@ fn right_hand_side_does_not_depend_on_the_previous_evaluation() {
 fn partial_right_hand_sides_are_the_whole_one_on_their_rows() {
     let sc = scene("ms_vehicle_tab6.toml");
     let model = multibody(&sc, "kec", true);
-    let x0 = model.initial_state(&InitialDisturbance::default());
-    let (sim, _) = sc.simulation.clone().unwrap();
-    let settings = Settings::new(sim.integrator.method, sim.integrator.rtol, sim.integrator.atol);
-    let mut states = Vec::new();
     // The first wheelset reaches the curve's transition at ~8.9 s.
-    integrate(
-        &mut Evaluator::new(&model),
-        0.0,
-        &x0,
-        10.0,
-        0.5,
-        &settings,
-        &mut |t, x| {
-            states.push((t, x.to_vec()));
-            Ok(Flow::Continue)
-        },
-    )
-    .unwrap();
+    let states = states_between(&sc, &model, 0.0, 10.0, 0.5);
     let groups = model.newton_groups();
     assert!(groups.len() >= 2, "wheelsets and bogie frames: {groups:?}");
     let n = model.dim();

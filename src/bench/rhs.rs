@@ -23,9 +23,9 @@ use std::time::Instant;
 use crate::dynamics::integrator::{integrate, Flow};
 use crate::dynamics::run::{RunPool, Threads};
 use crate::dynamics::system::{Evaluator, InitialDisturbance, PartTimes, VehicleModel};
-use crate::scenario::{RunOptions, Scenario};
+use crate::scenario::RunOptions;
 
-use super::scaling::{vehicle_series, ScalingError};
+use super::scaling::{compile, vehicle_series, ScalingError};
 
 /// What the benchmark measures.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,13 +101,7 @@ pub fn rhs(settings: &RhsSettings) -> Result<RhsBench, ScalingError> {
     let batches = settings.batches.max(1);
     let mut rows = Vec::new();
     for (label, text) in vehicle_series()? {
-        let compile_err = |source| ScalingError::Compile {
-            scene: label.clone(),
-            source,
-        };
-        let scene = Scenario::parse(&text, &label)
-            .and_then(|s| s.compile(&label, std::path::Path::new(".")))
-            .map_err(compile_err)?;
+        let scene = compile(&text, &label)?;
         let built = scene
             .build_run(&RunOptions {
                 contact: Some("kec".to_string()),

@@ -404,7 +404,8 @@ pub fn coupled_ms(units: usize) -> Result<String, ScalingError> {
     write(&doc, what)
 }
 
-fn compile(text: &str, name: &str) -> Result<Scene, ScalingError> {
+/// A series' scene from its TOML text.
+pub(super) fn compile(text: &str, name: &str) -> Result<Scene, ScalingError> {
     Scenario::parse(text, name)
         .and_then(|s| s.compile(name, std::path::Path::new(".")))
         .map_err(|source| ScalingError::Compile {
