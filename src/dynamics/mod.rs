@@ -37,6 +37,8 @@ pub mod wheelset;
 pub use cancel::CancelToken;
 pub use output::{RunObserver, RunSummary};
 pub use reference::{Reference, SpeedProfile};
-pub use run::{run, RunEnd, RunLabels, RunOutput, RunPool, RunSettings, Stop, StopConditions, Threads};
+pub use run::{
+    run, RunEnd, RunLabels, RunOutput, RunPool, RunSettings, Stop, StopConditions, Threads, OUTPUT_QUEUE,
+};
 pub use sample::Sample;
 pub use system::{DynamicsError, InitialDisturbance, Settling, VehicleModel, VehicleSample};

@@ -338,7 +338,12 @@ pub fn run(
 }
 
 /// Output times queued for the output worker at most (then the integration waits for it).
-const OUTPUT_QUEUE: usize = 1024;
+///
+/// It bounds how far the integration runs ahead of the samples the observers have seen: a stop
+/// asked for by an observer is honoured at most `OUTPUT_QUEUE + 2` output times after the sample
+/// that asked. 64 smooths the worker's jitter as well as 1024 did (MS kilometre: wall-time ratio
+/// 0.996–1.021 side by side, within the machine's noise).
+pub const OUTPUT_QUEUE: usize = 64;
 
 /// Why an output time could not be recorded.
 enum RecordFailure {
