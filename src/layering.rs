@@ -29,7 +29,7 @@ const LAYERS: &[&[&str]] = &[
     &["contact"],
     &["profile"],
     &["track"],
-    &["vehicle", "spline", "interpolation", "limits"],
+    &["vehicle", "spline", "interpolation", "limits", "files"],
     &[""],
 ];
 

@@ -28,6 +28,7 @@ pub mod bench;
 pub mod compare;
 pub mod contact;
 pub mod dynamics;
+pub mod files;
 pub mod inspect;
 pub mod interpolation;
 #[cfg(test)]

@@ -622,7 +622,7 @@ impl KecModel {
     /// s_wheel_right_mm, s_rail_right_mm`.
     pub fn write_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
         let model = self;
-        let mut w = csv::Writer::from_path(path)?;
+        let mut w = crate::files::csv_writer(path)?;
         w.write_record([
             "y_mm",
             "s_lk_mm",
@@ -651,7 +651,7 @@ impl KecModel {
                 [a[0], a[1], a[2], b[1], b[2], a[3], a[4], b[3], b[4]].map(|v| format!("{:.9}", v * 1e3));
             w.write_record(&cells)?;
         }
-        w.flush()
+        crate::files::commit_csv(w)
     }
 
     /// The equivalent profile of a side.

@@ -1451,7 +1451,7 @@ fn row_values(r: &TableRow, t: &LookupTable1) -> [f64; 40] {
 /// Writes the tables' rows, one per line, with the [`CSV_COLUMNS`] header (a NaN gap is an empty
 /// cell).
 fn write_rows_csv(path: &Path, tables: &[&LookupTable1]) -> std::io::Result<()> {
-    let mut w = csv::Writer::from_path(path)?;
+    let mut w = crate::files::csv_writer(path)?;
     w.write_record(CSV_COLUMNS)?;
     for (t, r) in tables.iter().flat_map(|t| t.rows.iter().map(move |r| (t, r))) {
         let cells: Vec<String> = row_values(r, t)
@@ -1466,7 +1466,7 @@ fn write_rows_csv(path: &Path, tables: &[&LookupTable1]) -> std::io::Result<()> 
             .collect();
         w.write_record(&cells)?;
     }
-    w.flush()
+    crate::files::commit_csv(w)
 }
 
 /// A row read from a table file, with what its table holds besides (repeated on every row).

@@ -12,6 +12,7 @@ use std::sync::LazyLock;
 use serde::Serialize;
 
 use super::safety::Safety;
+use crate::files::AtomicFile;
 use super::sample::{Csv, Quantity, Sample, Unit, QUANTITIES, WHEELS};
 use super::system::BodySample;
 
@@ -276,15 +277,17 @@ pub fn csv_row(s: &Sample) -> Vec<f64> {
     row(&CSV_LAYOUT, s)
 }
 
-fn write_row(w: &mut csv::Writer<std::fs::File>, s: &Sample) -> Result<(), csv::Error> {
+fn write_row(w: &mut csv::Writer<AtomicFile>, s: &Sample) -> Result<(), csv::Error> {
     w.write_record(csv_row(s).iter().map(|x| format!("{x:.9e}")))
 }
 
 /// Writes one CSV per wheelset into a directory as the samples come (`DIR/NAME.csv`, the
-/// [`CSV_COLUMNS`]); the files are created at the start (a directory that cannot be written fails
-/// before any work), and what was written is kept if the run stops or fails.
+/// [`CSV_COLUMNS`]). Each is written to its part file beside it (`DIR/.NAME.csv.part-PID`) and
+/// takes its name when the run ends ([`crate::files::AtomicFile`]), however it ends: a reader
+/// never sees half a file, and what was written is kept if the run stops or fails. The files are
+/// created at the start (a directory that cannot be written fails before any work).
 pub struct CsvWriter {
-    writers: Vec<(PathBuf, csv::Writer<std::fs::File>)>,
+    writers: Vec<(PathBuf, Option<csv::Writer<AtomicFile>>)>,
 }
 
 impl CsvWriter {
@@ -295,9 +298,9 @@ impl CsvWriter {
             .iter()
             .map(|name| {
                 let path = dir.join(format!("{name}.csv"));
-                let mut w = csv::Writer::from_path(&path)?;
+                let mut w = crate::files::csv_writer(&path)?;
                 w.write_record(CSV_COLUMNS.iter())?;
-                Ok((path, w))
+                Ok((path, Some(w)))
             })
             .collect::<Result<Vec<_>, csv::Error>>()?;
         Ok(CsvWriter { writers })
@@ -312,17 +315,26 @@ impl CsvWriter {
 impl RunObserver for CsvWriter {
     fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
         for ((path, w), s) in self.writers.iter_mut().zip(sample.wheelsets) {
+            let w = w.as_mut().ok_or_else(|| format!("{}: written after its end", path.display()))?;
             write_row(w, s).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
         Ok(())
     }
 
+    /// Each file renamed into place (all are tried; the first failure is reported).
     fn finish(&mut self, _summary: &RunSummary) -> Result<(), ObserverError> {
+        let mut first = None;
         for (path, w) in &mut self.writers {
-            w.flush()
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            if let Some(w) = w.take() {
+                if let Err(e) = crate::files::commit_csv(w) {
+                    first.get_or_insert(format!("cannot write {}: {e}", path.display()));
+                }
+            }
         }
-        Ok(())
+        match first {
+            Some(e) => Err(e.into()),
+            None => Ok(()),
+        }
     }
 }
 

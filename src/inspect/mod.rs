@@ -129,7 +129,8 @@ pub fn probe_viewer(url: &str, timeout: std::time::Duration) -> Result<(), Strin
     ))
 }
 
-/// Ends a recording: a stream to a viewer is flushed within [`VIEWER_TIMEOUT`]; the line to
+/// Ends a recording: a file is renamed from its part file into place (see [`crate::files`]); a
+/// stream to a viewer is flushed within [`VIEWER_TIMEOUT`]; the line to
 /// print says where the recording went; a stream the viewer did not take is an error (the command
 /// then exits non-zero, after writing its other outputs). `rec` must be the stream's last handle:
 /// a file's footer is written when it drops here.
@@ -137,6 +138,11 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
     match sink {
         Sink::Save(p) => {
             drop(rec);
+            // The recording went to its part file (see open_recording): now whole, it takes
+            // the file's name (through a symlink: the file it points to).
+            let target = crate::files::write_target(p);
+            std::fs::rename(crate::files::part_path(&target), &target)
+                .map_err(|e| format!("cannot save {}: {e}", p.display()))?;
             Ok(format!("saved {}", p.display()))
         }
         Sink::Spawn | Sink::Connect(_) => {
@@ -170,10 +176,17 @@ pub fn open_recording(
 ) -> Result<RecordingStream, InspectError> {
     let builder = || rerun::RecordingStreamBuilder::new(app_id).with_blueprint(blueprint());
     let rec = match sink {
-        Sink::Save(path) => builder().save(path).map_err(|source| InspectError::Open {
-            what: format!("saving to {}", path.display()),
-            source,
-        })?,
+        // Written to the part file beside the target, renamed onto it by finish_recording: a
+        // reader never sees half a recording, and a recording that fails keeps the old file.
+        Sink::Save(path) => {
+            let target = crate::files::write_target(path);
+            builder()
+                .save(crate::files::part_path(&target))
+                .map_err(|source| InspectError::Open {
+                    what: format!("saving to {}", path.display()),
+                    source,
+                })?
+        }
         Sink::Connect(url) => {
             builder()
                 .connect_grpc_opts(url.clone())

@@ -17,7 +17,6 @@
 //! are trimmed, and the profile's notes say so. A wheel profile is shifted vertically so that its
 //! taping line (y = 0) is at z = 0 (the nominal radius is then r0 at y = 0).
 
-use std::fs;
 use std::io::Write;
 use std::path::Path;
 
@@ -525,7 +524,7 @@ pub fn write_csv(profile: &Profile, path: &Path) -> std::io::Result<()> {
 
 /// [`write_csv`] with more `#` lines after the source (a designed profile's target and result).
 pub fn write_csv_with_header(profile: &Profile, path: &Path, header: &[String]) -> std::io::Result<()> {
-    let mut f = std::io::BufWriter::new(fs::File::create(path)?);
+    let mut f = crate::files::AtomicFile::create(path)?;
     writeln!(f, "# kecsim {} profile '{}'", profile.kind, profile.name)?;
     writeln!(f, "# source: {}", profile.source)?;
     for line in header {
@@ -547,13 +546,14 @@ pub fn write_csv_with_header(profile: &Profile, path: &Path, header: &[String]) 
     for (a, b) in s.iter().zip(z) {
         w.write_record([format!("{:.9}", a * 1e3), format!("{:.9}", b * 1e3)])?;
     }
-    w.flush()
+    crate::files::commit_csv(w)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::profile::StandardProfile;
+    use std::fs;
 
     fn tmp(name: &str, content: &str) -> std::path::PathBuf {
         let dir = std::env::temp_dir().join(format!("kecsim-io-{}", std::process::id()));

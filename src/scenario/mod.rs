@@ -273,8 +273,12 @@ impl Scenario {
                 None
             }
         };
+        let mut inputs = Vec::new();
         let mut load = |spec: &str, kind: ProfileKind| {
             let resolved = resolve_path(spec, base);
+            if Path::new(&resolved).is_file() {
+                inputs.push(PathBuf::from(&resolved));
+            }
             match Profile::resolve(&resolved, kind) {
                 Ok(p) => Some(p),
                 Err(e) => {
@@ -320,7 +324,11 @@ impl Scenario {
         };
         let pair = WheelRailPair::new(wheel, rail, inclination, gauge, wheelset)
             .map_err(|e| invalid(vec![e.to_string()]))?;
+        if let Some(t) = &track {
+            inputs.extend(t.source_files.iter().cloned());
+        }
         Ok(Scene {
+            inputs,
             name: self.name.clone(),
             origin: origin.to_string(),
             pair,

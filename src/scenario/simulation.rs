@@ -296,6 +296,10 @@ pub struct Scene {
     /// Where the contact models' tables are cached between runs (None: built every time; the
     /// command line sets it, see [`crate::contact::cache`]).
     pub table_cache: Option<TableCache>,
+    /// The files the scenario named and its compile read (profile files, a measured irregularity
+    /// file; not the scenario file itself): inputs no output may overwrite
+    /// ([`crate::files::OutputGuard`]).
+    pub inputs: Vec<std::path::PathBuf>,
 }
 
 /// Options of a run beyond its scenario (the command line's `--contact`, `--speed`), and what the

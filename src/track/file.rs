@@ -473,6 +473,10 @@ impl TrackSpec {
             problems: vec![e.to_string()],
         })?;
         let (a, b) = centreline.range();
+        let source_files = match &plan {
+            Some(IrrPlan::File(path)) => vec![path.clone()],
+            _ => Vec::new(),
+        };
         let irregularities = match plan {
             None => None,
             Some(IrrPlan::Generate(g)) => Some(Irregularities::generate(&g, a, b)?.0),
@@ -524,6 +528,7 @@ impl TrackSpec {
                 measuring_depth_m: self.gauge_measuring_depth_m,
             },
             lateral_flexibility: self.lateral_flexibility.as_ref().map(|f| *f.get_ref()),
+            source_files,
         })
     }
 }

@@ -201,7 +201,7 @@ pub fn write_csv(irr: &Irregularities, path: &Path) -> Result<(), TrackError> {
         path: path.display().to_string(),
         source,
     };
-    let mut w = csv::Writer::from_path(path).map_err(|e| io(e.into()))?;
+    let mut w = crate::files::csv_writer(path).map_err(io)?;
     let mut header = vec!["s_m"];
     header.extend(COMBINATION_COLUMNS);
     w.write_record(&header).map_err(|e| io(e.into()))?;
@@ -210,7 +210,7 @@ pub fn write_csv(irr: &Irregularities, path: &Path) -> Result<(), TrackError> {
         row.extend(v.iter().map(|x| format!("{:.9}", x * 1e3)));
         w.write_record(&row).map_err(|e| io(e.into()))?;
     }
-    w.flush().map_err(io)
+    crate::files::commit_csv(w).map_err(io)
 }
 
 #[cfg(test)]

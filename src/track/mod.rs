@@ -39,6 +39,9 @@ pub struct Track {
     pub gauge: TrackGauge,
     /// `None`: rigid rails (the paper's).
     pub lateral_flexibility: Option<LateralFlexibility>,
+    /// The files its build read beyond the track file itself (a measured irregularity file):
+    /// inputs that no output may overwrite ([`crate::files::OutputGuard`]).
+    pub source_files: Vec<std::path::PathBuf>,
 }
 
 /// The track's lateral flexibility under each wheelset (a departure from the paper's rigid

@@ -81,7 +81,7 @@ pub fn write_csv(samples: &[Sample], path: &Path) -> Result<(), TrackError> {
         path: path.display().to_string(),
         source,
     };
-    let mut w = csv::Writer::from_path(path).map_err(|e| io(e.into()))?;
+    let mut w = crate::files::csv_writer(path).map_err(io)?;
     w.write_record(CSV_COLUMNS).map_err(|e| io(e.into()))?;
     for smp in samples {
         let f = &smp.frame;
@@ -108,7 +108,7 @@ pub fn write_csv(samples: &[Sample], path: &Path) -> Result<(), TrackError> {
             .collect();
         w.write_record(&row).map_err(|e| io(e.into()))?;
     }
-    w.flush().map_err(io)
+    crate::files::commit_csv(w).map_err(io)
 }
 
 /// ∫ ρ_h ds over the whole track from the sections (exact: ρ_h is linear in each), rad.

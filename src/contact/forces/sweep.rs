@@ -105,7 +105,7 @@ pub fn curve(
 /// Writes curve points as CSV: `model, curve, normal_force_n, spin_1pm, creepage_x, creepage_y,
 /// fx_n, fy_n, mz_nm, saturation`.
 pub fn write_csv(path: &std::path::Path, points: &[CurvePoint]) -> Result<(), csv::Error> {
-    let mut w = csv::Writer::from_path(path)?;
+    let mut w = crate::files::csv_writer(path)?;
     w.write_record([
         "model",
         "curve",
@@ -132,7 +132,7 @@ pub fn write_csv(path: &std::path::Path, points: &[CurvePoint]) -> Result<(), cs
             format!("{:.6}", p.force.saturation),
         ])?;
     }
-    w.flush()?;
+    crate::files::commit_csv(w)?;
     Ok(())
 }
 

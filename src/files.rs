@@ -1,0 +1,454 @@
+//! Output files written safely: the guard that keeps a command from writing over a file it reads
+//! or over another of its outputs, the lock that keeps two runs from writing one file, and the
+//! write to a temporary file renamed into place, so that a reader never sees half a file.
+//!
+//! - **Identity.** Two paths name the same file when they resolve to the same device and inode
+//!   (a hard link, a symlink, `..` or another spelling); a path that does not exist yet is known
+//!   by its resolved directory and name.
+//! - **The guard** ([`OutputGuard`]) is told every file the command reads, then every file it will
+//!   write; an output that is an input, or another output, is refused before any work, naming both.
+//! - **The lock** ([`OutputLock`]): a hidden `.NAME.kecsim-lock` beside each output, locked
+//!   (`flock`) while the command runs and holding its pid; a second run on the same output
+//!   refuses, naming the first's pid. The operating system releases the lock when a process ends,
+//!   however it ends, so a lock left by a killed run never blocks the next.
+//! - **The write** ([`AtomicFile`]): into `.NAME.part-PID` in the output's directory, renamed onto
+//!   the output when complete (through a symlink: onto the file it points to). A write that is
+//!   abandoned removes its part file; a process killed mid-write leaves it (it holds what was
+//!   written).
+
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, Read, Seek, Write};
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+/// Why an output cannot be written.
+#[derive(Debug, Error)]
+pub enum GuardError {
+    /// The output is a file the command reads.
+    #[error("{what} {path}: this is {input}, which this command reads; writing it would destroy it")]
+    Input {
+        what: String,
+        path: String,
+        /// The input as it was named, with how it is the same file.
+        input: String,
+    },
+    /// Two outputs are one file.
+    #[error("{what} and {other} both name the file {path}: one output would overwrite the other")]
+    Twice { what: String, other: String, path: String },
+    /// Another process holds the output's lock.
+    #[error("{what} {path}: another kecsim run (pid {pid}) is writing this file; wait for it to end or choose another path")]
+    Locked { what: String, path: String, pid: String },
+    /// The output cannot be written (its directory, its permissions).
+    #[error("{what} {path}: {problem}")]
+    Unwritable {
+        what: String,
+        path: String,
+        problem: String,
+    },
+}
+
+/// What a file is, for comparing two paths: its device and inode where it exists, else its
+/// resolved path (the directory's symlinks and `..` resolved, the name kept).
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Identity {
+    Inode(u64, u64),
+    Path(PathBuf),
+}
+
+fn identity(p: &Path) -> Identity {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let Ok(m) = fs::metadata(p) {
+            return Identity::Inode(m.dev(), m.ino());
+        }
+    }
+    Identity::Path(resolved(p))
+}
+
+/// The directory of `p` (`.` for a bare name).
+fn dir_of(p: &Path) -> PathBuf {
+    match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// `p` with every symlink and `..` resolved: the file it names if it exists, else its resolved
+/// directory joined with its name.
+pub fn resolved(p: &Path) -> PathBuf {
+    if let Ok(c) = fs::canonicalize(p) {
+        return c;
+    }
+    let dir = dir_of(p);
+    let dir = fs::canonicalize(&dir).unwrap_or(dir);
+    match p.file_name() {
+        Some(n) => dir.join(n),
+        None => dir,
+    }
+}
+
+/// A hidden file beside `target`: `.NAME` + `suffix`.
+fn beside(target: &Path, suffix: &str) -> PathBuf {
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    dir_of(target).join(format!(".{name}{suffix}"))
+}
+
+/// The files a command reads and writes; an output that is an input or another output is refused
+/// ([`OutputGuard::output`]), and each output is locked while the guard lives.
+#[derive(Debug, Default)]
+pub struct OutputGuard {
+    inputs: Vec<(PathBuf, Identity)>,
+    outputs: Vec<(String, PathBuf, Identity)>,
+    locks: Vec<OutputLock>,
+}
+
+impl OutputGuard {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A file the command reads (one that does not exist is skipped: it cannot be destroyed).
+    pub fn input(&mut self, path: impl AsRef<Path>) {
+        let p = path.as_ref();
+        if fs::metadata(p).is_ok() {
+            self.inputs.push((p.to_path_buf(), identity(p)));
+        }
+    }
+
+    /// Every file in `paths` as an input.
+    pub fn inputs<P: AsRef<Path>>(&mut self, paths: impl IntoIterator<Item = P>) {
+        for p in paths {
+            self.input(p);
+        }
+    }
+
+    /// A file the command will write (`what` names it: the option, or the option and the file in
+    /// its directory). Refused if it is an input or another output, a directory, a dangling
+    /// symlink or in a directory that does not exist or cannot be written; else locked (refused if
+    /// another run holds its lock) until the guard drops.
+    pub fn output(&mut self, what: &str, path: &Path) -> Result<(), GuardError> {
+        let shown = path.display().to_string();
+        let unwritable = |problem: String| GuardError::Unwritable {
+            what: what.to_string(),
+            path: shown.clone(),
+            problem,
+        };
+        if path.is_dir() {
+            return Err(unwritable("is a directory; expected a file name".into()));
+        }
+        if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) && fs::metadata(path).is_err() {
+            return Err(unwritable("is a symlink to nothing; give the file itself".into()));
+        }
+        let id = identity(path);
+        for (input, iid) in &self.inputs {
+            if *iid == id {
+                let how = if resolved(input) == resolved(path) {
+                    format!("the input {}", input.display())
+                } else {
+                    format!("the input {} (the same file by a link or another name)", input.display())
+                };
+                return Err(GuardError::Input {
+                    what: what.to_string(),
+                    path: shown,
+                    input: how,
+                });
+            }
+        }
+        for (other, _, oid) in &self.outputs {
+            if *oid == id {
+                return Err(GuardError::Twice {
+                    what: what.to_string(),
+                    other: other.clone(),
+                    path: shown,
+                });
+            }
+        }
+        let dir = dir_of(path);
+        if !dir.is_dir() {
+            return Err(unwritable(format!("the directory {} does not exist", dir.display())));
+        }
+        if let Ok(m) = fs::metadata(path) {
+            if m.permissions().readonly() {
+                return Err(unwritable("the file is read-only".into()));
+            }
+        }
+        let lock = OutputLock::acquire(path).map_err(|e| match e {
+            LockFailure::Held { pid } => GuardError::Locked {
+                what: what.to_string(),
+                path: shown.clone(),
+                pid,
+            },
+            LockFailure::Io(e) => unwritable(format!("cannot write in its directory ({e})")),
+        })?;
+        self.locks.push(lock);
+        self.outputs.push((what.to_string(), path.to_path_buf(), id));
+        Ok(())
+    }
+}
+
+/// Why a lock was not taken.
+#[derive(Debug)]
+pub enum LockFailure {
+    /// Another process holds it (its pid as it wrote it, or `unknown`).
+    Held { pid: String },
+    Io(io::Error),
+}
+
+/// The lock of one output file: `.NAME.kecsim-lock` beside it, `flock`ed and holding the pid;
+/// removed and released on drop.
+#[derive(Debug)]
+pub struct OutputLock {
+    path: PathBuf,
+    _file: File,
+}
+
+impl OutputLock {
+    /// Takes the lock of `target`, or says who holds it.
+    pub fn acquire(target: &Path) -> Result<OutputLock, LockFailure> {
+        let path = beside(&resolved(target), ".kecsim-lock");
+        // A holder that ends removes the file after we opened it: the lock we then take is on a
+        // file no longer at the path, and is taken again on the new one.
+        for _ in 0..8 {
+            let mut file = OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(&path)
+                .map_err(LockFailure::Io)?;
+            match file.try_lock() {
+                Ok(()) => {}
+                Err(fs::TryLockError::WouldBlock) => {
+                    let mut pid = String::new();
+                    file.read_to_string(&mut pid).ok();
+                    let pid = pid.trim();
+                    return Err(LockFailure::Held {
+                        pid: if pid.is_empty() { "unknown".into() } else { pid.to_string() },
+                    });
+                }
+                Err(fs::TryLockError::Error(e)) => return Err(LockFailure::Io(e)),
+            }
+            if !same_file(&file, &path) {
+                continue;
+            }
+            file.set_len(0).map_err(LockFailure::Io)?;
+            file.rewind().map_err(LockFailure::Io)?;
+            write!(file, "{}", std::process::id()).map_err(LockFailure::Io)?;
+            return Ok(OutputLock { path, _file: file });
+        }
+        Err(LockFailure::Io(io::Error::other(format!(
+            "{}: the lock file keeps changing",
+            path.display()
+        ))))
+    }
+}
+
+/// Whether the open `file` is still the file at `path`.
+fn same_file(file: &File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (file.metadata(), fs::metadata(path)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (file, path);
+        true
+    }
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        // Removed while still locked: a run waiting on it then finds the path gone or new.
+        fs::remove_file(&self.path).ok();
+    }
+}
+
+/// A file written in full or not at all: the bytes go to `.NAME.part-PID` beside the target,
+/// renamed onto it by [`AtomicFile::commit`]; dropped without the commit, the part file is
+/// removed and the target is as it was.
+#[derive(Debug)]
+pub struct AtomicFile {
+    target: PathBuf,
+    part: PathBuf,
+    file: Option<io::BufWriter<File>>,
+}
+
+impl AtomicFile {
+    /// Opens the part file of `target` (a symlink's target: the file it points to).
+    pub fn create(target: &Path) -> io::Result<AtomicFile> {
+        let target = write_target(target);
+        let part = part_path(&target);
+        let file = File::create(&part)?;
+        Ok(AtomicFile {
+            target,
+            part,
+            file: Some(io::BufWriter::new(file)),
+        })
+    }
+
+    /// The file this becomes.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Flushes the bytes and renames the part file onto the target.
+    pub fn commit(mut self) -> io::Result<()> {
+        let file = self.file.take().expect("committed once");
+        let file = file.into_inner().map_err(|e| e.into_error())?;
+        file.sync_data().ok();
+        drop(file);
+        fs::rename(&self.part, &self.target)
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.file.as_mut().expect("not committed").write(buf)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.file.as_mut().expect("not committed").flush()
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.file.take().is_some() {
+            fs::remove_file(&self.part).ok();
+        }
+    }
+}
+
+/// The file a write to `p` replaces: `p` itself, or the file it points to if it is a symlink
+/// (the link is kept).
+pub fn write_target(p: &Path) -> PathBuf {
+    if fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_symlink()) {
+        fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf())
+    } else {
+        p.to_path_buf()
+    }
+}
+
+/// The part file `.NAME.part-PID` beside `target`, where a write goes before its rename.
+pub fn part_path(target: &Path) -> PathBuf {
+    beside(target, &format!(".part-{}", std::process::id()))
+}
+
+/// A CSV writer onto an [`AtomicFile`] at `path`; [`commit_csv`] puts the file in place.
+pub fn csv_writer(path: &Path) -> io::Result<csv::Writer<AtomicFile>> {
+    Ok(csv::Writer::from_writer(AtomicFile::create(path)?))
+}
+
+/// Flushes a [`csv_writer`] and renames its file into place.
+pub fn commit_csv(w: csv::Writer<AtomicFile>) -> io::Result<()> {
+    w.into_inner().map_err(|e| e.into_error())?.commit()
+}
+
+/// Writes `bytes` to `path` in full or not at all ([`AtomicFile`]).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let mut f = AtomicFile::create(path)?;
+    f.write_all(bytes)?;
+    f.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("kecsim-files-{tag}-{}", std::process::id()));
+        fs::remove_dir_all(&d).ok();
+        fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    /// An output that is an input by a hard link, a symlink, `..` or its own name is refused, and
+    /// so is one output twice; other files pass.
+    #[test]
+    fn an_output_that_is_an_input_by_any_name_is_refused() {
+        let d = dir("guard");
+        let input = d.join("scene.toml");
+        fs::write(&input, "x").unwrap();
+        fs::hard_link(&input, d.join("hard.toml")).unwrap();
+        #[cfg(unix)]
+        std::os::unix::fs::symlink(&input, d.join("soft.toml")).unwrap();
+        fs::create_dir(d.join("sub")).unwrap();
+        let mut g = OutputGuard::new();
+        g.input(&input);
+        let mut routes = vec![
+            d.join("scene.toml"),
+            d.join("hard.toml"),
+            d.join("sub").join("..").join("scene.toml"),
+        ];
+        if cfg!(unix) {
+            routes.push(d.join("soft.toml"));
+        }
+        for p in routes {
+            let e = g.output("--json", &p).unwrap_err().to_string();
+            assert!(e.contains("this command reads") && e.contains("scene.toml"), "{e}");
+        }
+        g.output("--json", &d.join("out.json")).unwrap();
+        let e = g.output("--save", &d.join("sub/../out.json")).unwrap_err().to_string();
+        assert!(e.contains("--save and --json both name"), "{e}");
+        assert_eq!(fs::read_to_string(&input).unwrap(), "x");
+        fs::remove_dir_all(&d).ok();
+    }
+
+    /// A second guard on the same output refuses, naming the first's pid; once the first drops,
+    /// the output is free and no lock file is left.
+    #[test]
+    fn a_held_output_is_refused_with_the_holders_pid() {
+        let d = dir("lock");
+        let out = d.join("run.json");
+        let mut a = OutputGuard::new();
+        a.output("--json", &out).unwrap();
+        let e = OutputGuard::new().output("--json", &out).unwrap_err().to_string();
+        assert!(e.contains(&format!("pid {}", std::process::id())), "{e}");
+        drop(a);
+        let mut b = OutputGuard::new();
+        b.output("--json", &out).unwrap();
+        drop(b);
+        let left: Vec<_> = fs::read_dir(&d).unwrap().collect();
+        assert!(left.is_empty(), "{left:?}");
+        fs::remove_dir_all(&d).ok();
+    }
+
+    /// Until the commit, the target keeps its old bytes and the new ones are in the part file; an
+    /// abandoned write leaves the target as it was and no part file; through a symlink, the file
+    /// it points to is replaced and the link kept.
+    #[test]
+    fn an_atomic_file_appears_whole_or_not_at_all() {
+        let d = dir("atomic");
+        let out = d.join("a.csv");
+        fs::write(&out, "old").unwrap();
+        let mut f = AtomicFile::create(&out).unwrap();
+        f.write_all(b"new").unwrap();
+        f.flush().unwrap();
+        assert_eq!(fs::read_to_string(&out).unwrap(), "old");
+        assert_eq!(fs::read_to_string(part_path(&out)).unwrap(), "new");
+        f.commit().unwrap();
+        assert_eq!(fs::read_to_string(&out).unwrap(), "new");
+        let mut f = AtomicFile::create(&out).unwrap();
+        f.write_all(b"half").unwrap();
+        drop(f);
+        assert_eq!(fs::read_to_string(&out).unwrap(), "new");
+        assert!(!part_path(&out).exists());
+        #[cfg(unix)]
+        {
+            let link = d.join("link.csv");
+            std::os::unix::fs::symlink(&out, &link).unwrap();
+            write_atomic(&link, b"through").unwrap();
+            assert!(fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+            assert_eq!(fs::read_to_string(&out).unwrap(), "through");
+        }
+        fs::remove_dir_all(&d).ok();
+    }
+}
