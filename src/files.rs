@@ -35,7 +35,11 @@ pub enum GuardError {
     },
     /// Two outputs are one file.
     #[error("{what} and {other} both name the file {path}: one output would overwrite the other")]
-    Twice { what: String, other: String, path: String },
+    Twice {
+        what: String,
+        other: String,
+        path: String,
+    },
     /// Another process holds the output's lock.
     #[error("{what} {path}: another kecsim run (pid {pid}) is writing this file; wait for it to end or choose another path")]
     Locked { what: String, path: String, pid: String },
@@ -141,7 +145,8 @@ impl OutputGuard {
         if path.is_dir() {
             return Err(unwritable("is a directory; expected a file name".into()));
         }
-        if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) && fs::metadata(path).is_err() {
+        if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) && fs::metadata(path).is_err()
+        {
             return Err(unwritable("is a symlink to nothing; give the file itself".into()));
         }
         let id = identity(path);
@@ -150,7 +155,10 @@ impl OutputGuard {
                 let how = if resolved(input) == resolved(path) {
                     format!("the input {}", input.display())
                 } else {
-                    format!("the input {} (the same file by a link or another name)", input.display())
+                    format!(
+                        "the input {} (the same file by a link or another name)",
+                        input.display()
+                    )
                 };
                 return Err(GuardError::Input {
                     what: what.to_string(),
@@ -170,7 +178,10 @@ impl OutputGuard {
         }
         let dir = dir_of(path);
         if !dir.is_dir() {
-            return Err(unwritable(format!("the directory {} does not exist", dir.display())));
+            return Err(unwritable(format!(
+                "the directory {} does not exist",
+                dir.display()
+            )));
         }
         if let Ok(m) = fs::metadata(path) {
             if m.permissions().readonly() {
@@ -195,7 +206,9 @@ impl OutputGuard {
 #[derive(Debug)]
 pub enum LockFailure {
     /// Another process holds it (its pid as it wrote it, or `unknown`).
-    Held { pid: String },
+    Held {
+        pid: String,
+    },
     Io(io::Error),
 }
 
@@ -228,7 +241,11 @@ impl OutputLock {
                     file.read_to_string(&mut pid).ok();
                     let pid = pid.trim();
                     return Err(LockFailure::Held {
-                        pid: if pid.is_empty() { "unknown".into() } else { pid.to_string() },
+                        pid: if pid.is_empty() {
+                            "unknown".into()
+                        } else {
+                            pid.to_string()
+                        },
                     });
                 }
                 Err(fs::TryLockError::Error(e)) => return Err(LockFailure::Io(e)),
@@ -393,10 +410,16 @@ mod tests {
         }
         for p in routes {
             let e = g.output("--json", &p).unwrap_err().to_string();
-            assert!(e.contains("this command reads") && e.contains("scene.toml"), "{e}");
+            assert!(
+                e.contains("this command reads") && e.contains("scene.toml"),
+                "{e}"
+            );
         }
         g.output("--json", &d.join("out.json")).unwrap();
-        let e = g.output("--save", &d.join("sub/../out.json")).unwrap_err().to_string();
+        let e = g
+            .output("--save", &d.join("sub/../out.json"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("--save and --json both name"), "{e}");
         assert_eq!(fs::read_to_string(&input).unwrap(), "x");
         fs::remove_dir_all(&d).ok();

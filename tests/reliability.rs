@@ -536,10 +536,12 @@ fn an_interrupted_run_keeps_everything_recorded() {
         &dir,
         &[],
     );
-    // Wait until rows are being written, then SIGTERM.
+    // Wait until rows are being written (into the part file, which takes the name w1.csv when
+    // the run ends), then SIGTERM.
     let t = Instant::now();
     let w1 = csv.join("w1.csv");
-    while std::fs::read_to_string(&w1).map_or(0, |s| s.lines().count()) < 20 {
+    let part = csv.join(format!(".w1.csv.part-{}", child.id()));
+    while std::fs::read_to_string(&part).map_or(0, |s| s.lines().count()) < 20 {
         assert!(t.elapsed() < Duration::from_secs(120), "no CSV rows after 120 s");
         std::thread::sleep(Duration::from_millis(50));
     }
@@ -564,7 +566,7 @@ fn an_interrupted_run_keeps_everything_recorded() {
         j["samples"].as_u64().unwrap() as usize,
         "CSV rows vs JSON samples"
     );
-    assert!(rrd.exists());
+    assert!(rrd.exists() && !part.exists(), "the part files took their names");
     common::rerun_verify(&rrd);
 }
 
@@ -715,19 +717,19 @@ fn outputs_never_overwrite_inputs_or_each_other() {
         ],
         &dir,
         30,
-        &["--json and --save name the same path"],
+        &["--save and --json both name the file"],
     );
     rejects(
         &["run", sc.to_str().unwrap(), "--json", "d", "--csv", "d"],
         &dir,
         30,
-        &["same path"],
+        &["--json d", "is a directory"],
     );
     rejects(
         &["contact", "--csv", "t.csv", "--table2-csv", "t.csv"],
         &dir,
         30,
-        &["--csv and --table2-csv name the same path"],
+        &["--table2-csv and --csv both name the file"],
     );
     let profile = dir.join("w.csv");
     std::fs::copy(
@@ -899,4 +901,183 @@ fn a_stream_nobody_takes_is_reported_and_fails_the_command() {
     let url = format!("rerun+http://127.0.0.1:{port}/proxy");
     // `run` fails the test if the command is still running after its deadline.
     run(&["profiles", "--connect", &url], &dir, HANG_S);
+}
+
+/// Every file of `dir` (not its subdirectories) with its bytes.
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut v: Vec<(PathBuf, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .map(|p| {
+            let bytes = std::fs::read(&p).unwrap();
+            (p, bytes)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// Issue 35, item 1: every route by which an output could land on a file the command reads is
+/// refused before any work, and every file is as it was (compared byte for byte): a file the
+/// scenario names (profile, irregularity file) by `--json`, `--save` or as a CSV inside `--csv`, a
+/// hard link and a symlink of the scenario, a hard link of a profile, a track's own file, the
+/// study and its base scenario, the merge's table, the Slurm script onto the study.
+#[test]
+fn no_output_route_overwrites_an_input() {
+    let dir = tmpdir("rel-guard");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/s1002.csv"),
+        dir.join("w.csv"),
+    )
+    .unwrap();
+    // A measured irregularity file that happens to carry a wheelset's CSV name.
+    std::fs::write(
+        dir.join("wheelset_1.csv"),
+        "s_m,al_mm,vp_mm,gv_mm,cl_mm\n0,0,0,0,0\n300,0.5,0.2,0,0\n600,-0.3,0.1,0,0\n1000,0,0,0,0\n",
+    )
+    .unwrap();
+    let sc = scenario(
+        &dir,
+        "sc.toml",
+        &[
+            ("wheel = \"s1002\"", "wheel = \"w.csv\""),
+            (
+                "psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0",
+                "file = \"wheelset_1.csv\"",
+            ),
+        ],
+    );
+    std::fs::hard_link(&sc, dir.join("hard.toml")).unwrap();
+    std::fs::hard_link(dir.join("w.csv"), dir.join("hard_w.csv")).unwrap();
+    std::os::unix::fs::symlink(&sc, dir.join("link.toml")).unwrap();
+    std::fs::write(
+        dir.join("st.toml"),
+        "schema_version = 1\nname = \"guard\"\nscenario = \"sc.toml\"\nextract = [\"max_abs_y_mm\"]\n\
+         [[axis]]\nkey = \"simulation.speed_m_s\"\nvalues = [10.0, 20.0]\n",
+    )
+    .unwrap();
+    std::fs::create_dir(dir.join("st-out")).unwrap();
+    let before = snapshot(&dir);
+    let s = sc.to_str().unwrap();
+    let d = dir.to_str().unwrap();
+    let routes: &[(&[&str], &[&str])] = &[
+        (&["run", s, "--csv", d], &["--csv", "wheelset_1.csv", "the input"]),
+        (
+            &["run", s, "--json", "w.csv"],
+            &["--json w.csv", "the input", "w.csv"],
+        ),
+        (
+            &["run", s, "--save", "wheelset_1.csv"],
+            &["--save wheelset_1.csv", "the input"],
+        ),
+        (
+            &["run", s, "--json", "hard.toml"],
+            &["--json hard.toml", "by a link or another name"],
+        ),
+        (
+            &["run", s, "--save", "link.toml"],
+            &["--save link.toml", "the input"],
+        ),
+        (
+            &["contact", "--wheel", "w.csv", "--csv", "hard_w.csv"],
+            &["--csv hard_w.csv", "by a link"],
+        ),
+        (&["track", s, "--csv", "sc.toml"], &["--csv sc.toml", "the input"]),
+        (
+            &["track", s, "--save", "wheelset_1.csv"],
+            &["--save wheelset_1.csv", "the input"],
+        ),
+        (
+            &["study", "st.toml", "--save", "st.toml"],
+            &["--save st.toml", "the input"],
+        ),
+        (
+            &["study", "st.toml", "--save", "sc.toml"],
+            &["--save sc.toml", "the input"],
+        ),
+        (
+            &["study", "st.toml", "--save", "w.csv"],
+            &["--save w.csv", "the input"],
+        ),
+        (
+            &[
+                "study", "slurm", "st.toml", "--shards", "2", "--script", "st.toml",
+            ],
+            &["--script st.toml", "the input"],
+        ),
+        (
+            &["study", "merge", "st-out", "--save", "st-out/results.csv"],
+            &["--save and --out both name", "results.csv"],
+        ),
+        (
+            &["run", s, "--json", "o.json", "--save", "./o.json"],
+            &["--save and --json both name"],
+        ),
+    ];
+    for (args, needles) in routes {
+        rejects(args, &dir, 30, needles);
+        assert_eq!(snapshot(&dir), before, "after `kecsim {}`", args.join(" "));
+    }
+    assert_eq!(
+        std::fs::read_dir(dir.join("st-out")).unwrap().count(),
+        0,
+        "nothing written in the study's directory"
+    );
+}
+
+/// Issue 35, item 1: a second run on an output another run is writing refuses at once, naming the
+/// first's pid; the first finishes with its output whole; no lock or part file is left.
+#[test]
+fn a_second_run_on_the_same_output_refuses_and_the_first_is_kept() {
+    let dir = tmpdir("rel-lock");
+    let sc = scenario(&dir, "sc.toml", &[("duration_s = 0.5", "duration_s = 1.0")]);
+    let s = sc.to_str().unwrap();
+    // Paced: the first holds its outputs for at least 2 s.
+    let first = spawn(
+        &[
+            "run", s, "--json", "o.json", "--csv", "out", "--save", "a.rrd", "--pace", "0.5",
+        ],
+        &dir,
+        &[],
+    );
+    let pid = first.id();
+    let lock = dir.join(".o.json.kecsim-lock");
+    let t = Instant::now();
+    while !std::fs::read_to_string(&lock).is_ok_and(|p| p == pid.to_string()) {
+        assert!(
+            t.elapsed() < Duration::from_secs(HANG_S),
+            "the first run never took its lock"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    for args in [
+        &["run", s, "--json", "o.json", "--save", "b.rrd"][..],
+        &["run", s, "--csv", "out", "--save", "c.rrd"][..],
+        &["run", s, "--save", "a.rrd"][..],
+    ] {
+        let second = run(args, &dir, 30);
+        assert!(
+            !second.ok && second.stderr.contains(&format!("another kecsim run (pid {pid})")),
+            "`kecsim {}`: {}",
+            args.join(" "),
+            second.stderr
+        );
+    }
+    let first = finish(first, Duration::from_secs(HANG_S * 4), "the first run");
+    assert!(first.ok, "{}", first.stderr);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("o.json")).unwrap()).unwrap();
+    assert_eq!(json["outcome"], "completed", "{json}");
+    let csv = std::fs::read_to_string(dir.join("out/wheelset_1.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 102, "header and 101 samples");
+    common::rerun_verify(&dir.join("a.rrd"));
+    let hidden: Vec<_> = [dir.clone(), dir.join("out")]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(d).unwrap())
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(hidden.is_empty(), "left behind: {hidden:?}");
+    assert!(!dir.join("b.rrd").exists() && !dir.join("c.rrd").exists());
 }

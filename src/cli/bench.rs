@@ -11,7 +11,7 @@ use kecsim::dynamics::integrator::Method;
 use kecsim::inspect;
 use kecsim::scenario::{Scenario, DEFAULT_SCENARIO};
 
-use super::{check_sink, SinkArgs};
+use super::SinkArgs;
 
 #[derive(Args)]
 pub(super) struct BenchArgs {
@@ -235,7 +235,6 @@ fn scaling(a: BenchArgs) -> Result<()> {
 fn precision(a: BenchArgs) -> Result<()> {
     super::check_duration(a.duration)?;
     let sink = a.sink.sink();
-    check_sink(&sink)?;
     let (scene, default_window) = match &a.scenario {
         Some(path) => {
             let origin = path.display().to_string();
@@ -248,6 +247,9 @@ fn precision(a: BenchArgs) -> Result<()> {
             (scene, Some(MS_PRECISION_WINDOW_S))
         }
     };
+    let mut inputs: Vec<&Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
+    inputs.extend(a.scenario.as_deref());
+    let _outputs = super::guard(&inputs, &[], Some(&sink))?;
     let mut settings = PrecisionSettings {
         duration_s: a.duration.or(default_window),
         ..PrecisionSettings::default()

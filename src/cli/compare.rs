@@ -11,7 +11,7 @@ use kecsim::contact::ContactModelSpec;
 use kecsim::inspect;
 use kecsim::scenario::Scenario;
 
-use super::{check_sink, SinkArgs};
+use super::SinkArgs;
 
 #[derive(Args)]
 pub(super) struct CompareArgs {
@@ -39,10 +39,12 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
     };
     super::check_duration(a.duration)?;
     let sink = a.sink.sink();
-    check_sink(&sink)?;
     let origin = a.scenario.display().to_string();
     let mut scene =
         Scenario::read(&a.scenario)?.compile(&origin, a.scenario.parent().unwrap_or(Path::new(".")))?;
+    let mut inputs: Vec<&Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
+    inputs.push(&a.scenario);
+    let _outputs = super::guard(&inputs, &[], Some(&sink))?;
     scene.table_cache = super::table_cache();
     anyhow::ensure!(
         scene.simulation.is_some(),

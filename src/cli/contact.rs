@@ -11,7 +11,7 @@ use kecsim::contact::lookup::LookupTable2;
 use kecsim::contact::report::ContactReport;
 use kecsim::inspect;
 
-use super::{check_pair_outputs, positive_mm, title, PairArgs, SinkArgs, TableArgs};
+use super::{guard_pair, positive_mm, title, PairArgs, SinkArgs, TableArgs};
 
 #[derive(Args)]
 pub(super) struct ContactArgs {
@@ -46,7 +46,7 @@ pub(super) fn run(a: ContactArgs) -> Result<()> {
         sink,
     } = a;
     let sink = sink.sink();
-    check_pair_outputs(
+    let _outputs = guard_pair(
         &pair,
         &[("--csv", csv.as_deref()), ("--table2-csv", table2_csv.as_deref())],
         &sink,

@@ -9,7 +9,7 @@ use kecsim::contact::forces::sweep::{self, SweepSettings};
 use kecsim::contact::forces::{ContactPatch, CreepModel, KalkerTable};
 use kecsim::inspect;
 
-use super::{check_distinct, check_output_file, check_sink, positive_mm, sink_file, SinkArgs};
+use super::{positive_mm, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct CreepArgs {
@@ -66,11 +66,7 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         sink,
     } = a;
     let sink = sink.sink();
-    if let Some(path) = &csv {
-        check_output_file("--csv", path)?;
-    }
-    check_distinct(&[("--csv", csv.as_deref()), ("--save", sink_file(&sink))], &[])?;
-    check_sink(&sink)?;
+    let _outputs = super::guard(&[], &[("--csv", csv.as_deref())], Some(&sink))?;
     anyhow::ensure!(
         normal_force_n.is_finite() && normal_force_n > 0.0,
         "--normal-force-n {normal_force_n}: expected a positive force in N (a lifted wheel has no creep forces)"

@@ -14,7 +14,7 @@ use kecsim::profile::placement::{Inclination, WheelRailPair, WheelsetGeometry};
 use kecsim::profile::{Profile, ProfileKind};
 use kecsim::track::TrackGauge;
 
-use super::{check_distinct, check_output_file, check_sink, positive_mm, SinkArgs};
+use super::{positive_mm, SinkArgs};
 
 /// The MS vehicle's stand-in wheel's target (the default).
 pub(super) const MS_STANDIN_TARGET: &str = include_str!("../../assets/designs/ms-standin.toml");
@@ -82,17 +82,9 @@ pub(super) fn run(a: DesignArgs) -> Result<()> {
         .csv
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{}.csv", target.name)));
-    let inputs = [
-        a.target.as_deref(),
-        Some(Path::new(&rail_spec)),
-        Some(Path::new(&a.reference)),
-    ];
-    check_distinct(
-        &[("--csv", Some(&csv)), ("--save", super::sink_file(&sink))],
-        &inputs,
-    )?;
-    check_output_file("--csv", &csv)?;
-    check_sink(&sink)?;
+    let mut inputs = vec![Path::new(&rail_spec), Path::new(&a.reference)];
+    inputs.extend(a.target.as_deref());
+    let _outputs = super::guard(&inputs, &[("--csv", Some(&csv))], Some(&sink))?;
     let y_check = positive_mm("--y-check", a.y_check)?;
     let rail = Profile::resolve(&rail_spec, ProfileKind::Rail)?;
     let reference = Profile::resolve(&a.reference, ProfileKind::Wheel)?;

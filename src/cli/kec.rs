@@ -11,7 +11,7 @@ use kecsim::contact::lookup::{LookupTable1, LookupTable2};
 use kecsim::contact::report::{kec_error_markdown, kec_irregularity_errors, kec_summary};
 use kecsim::inspect;
 
-use super::{check_pair_outputs, title, PairArgs, SinkArgs, TableArgs};
+use super::{guard_pair, title, PairArgs, SinkArgs, TableArgs};
 
 #[derive(Args)]
 pub(super) struct KecArgs {
@@ -39,7 +39,7 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
         sink,
     } = a;
     let sink = sink.sink();
-    check_pair_outputs(&pair, &[("--csv", csv.as_deref())], &sink)?;
+    let _outputs = guard_pair(&pair, &[("--csv", csv.as_deref())], &sink)?;
     let pair = pair.pair()?;
     let title = title("kec", &pair);
     let l_w = pair.wheelset.l_w();

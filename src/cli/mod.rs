@@ -23,6 +23,7 @@ use clap::{Args, Parser, Subcommand};
 use kecsim::contact::lookup::TableSettings;
 use kecsim::contact::ContactModelSpec;
 use kecsim::dynamics::{RunPool, Threads};
+use kecsim::files::OutputGuard;
 use kecsim::inspect::{self, Sink};
 use kecsim::profile::placement::{Inclination, WheelRailPair, WheelsetGeometry};
 use kecsim::profile::{Profile, ProfileKind};
@@ -338,73 +339,22 @@ fn print_pair(pair: &WheelRailPair) {
     );
 }
 
-/// Checks, before any work, that `path` can be written as an output file (`flag` names the
-/// option): its directory exists and takes a new file, or the file exists and is writable. A file
-/// that did not exist is not left behind.
-fn check_output_file(flag: &str, path: &Path) -> Result<()> {
-    anyhow::ensure!(
-        !path.is_dir(),
-        "{flag} {}: is a directory; expected a file name",
-        path.display()
-    );
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    anyhow::ensure!(
-        dir.is_dir(),
-        "{flag} {}: the directory {} does not exist",
-        path.display(),
-        dir.display()
-    );
-    let existed = path.exists();
-    std::fs::OpenOptions::new()
-        .append(true)
-        .create(true)
-        .open(path)
-        .with_context(|| format!("{flag} {}: cannot write there", path.display()))?;
-    if !existed {
-        std::fs::remove_file(path).ok();
-    }
-    Ok(())
-}
-
-/// Checks, before any work, that the outputs (option, path) are distinct from each other and from
-/// the inputs: one file for two outputs loses one of them, an output on an input overwrites it.
-fn check_distinct(outputs: &[(&str, Option<&Path>)], inputs: &[Option<&Path>]) -> Result<()> {
-    // The same file by two spellings: the canonical directory and the file name.
-    let key = |p: &Path| -> PathBuf {
-        let dir = match p.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        let dir = std::fs::canonicalize(&dir).unwrap_or(dir);
-        match p.file_name() {
-            Some(n) => dir.join(n),
-            None => dir,
-        }
-    };
-    let outs: Vec<(&str, &Path, PathBuf)> = outputs
-        .iter()
-        .filter_map(|(f, p)| p.map(|p| (*f, p, key(p))))
-        .collect();
-    for (i, (fa, pa, ka)) in outs.iter().enumerate() {
-        for (fb, _, kb) in &outs[i + 1..] {
-            anyhow::ensure!(
-                ka != kb,
-                "{fa} and {fb} name the same path {}: one output would overwrite the other",
-                pa.display()
-            );
-        }
-        for input in inputs.iter().flatten() {
-            anyhow::ensure!(
-                *ka != key(input),
-                "{fa} {}: this is an input of the command; writing it would overwrite it",
-                pa.display()
-            );
+/// Every file the command writes, checked before any work by [`OutputGuard`]: none is a file the
+/// command reads (`inputs`: by any name — a hard link, a symlink, another spelling), none is
+/// another output (the sink's file included), each can be written and is not being written by
+/// another run. The guard holds the outputs' locks: keep it until the command ends.
+fn guard(inputs: &[&Path], outputs: &[(&str, Option<&Path>)], sink: Option<&Sink>) -> Result<OutputGuard> {
+    let mut g = OutputGuard::new();
+    g.inputs(inputs);
+    for (what, p) in outputs {
+        if let Some(p) = p {
+            g.output(what, p)?;
         }
     }
-    Ok(())
+    if let Some(Sink::Save(p)) = sink {
+        g.output("--save", p)?;
+    }
+    Ok(g)
 }
 
 /// Checks, before any work, that files can be written into the directory `dir` (created if
@@ -425,27 +375,14 @@ fn check_output_dir(flag: &str, dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The outputs of a command on a pair (`--csv`-like options and the sink's file), checked before
-/// any work: writable, distinct from each other and from the profile files read.
-fn check_pair_outputs(pair: &PairArgs, outputs: &[(&str, Option<&Path>)], sink: &Sink) -> Result<()> {
-    let mut all = outputs.to_vec();
-    all.push(("--save", sink_file(sink)));
-    let inputs = [Some(Path::new(&pair.wheel)), Some(Path::new(&pair.rail))];
-    check_distinct(&all, &inputs)?;
-    for (flag, path) in outputs {
-        if let Some(p) = path {
-            check_output_file(flag, p)?;
-        }
-    }
-    check_sink(sink)
-}
-
-/// The file the sink writes, if it writes one.
-fn sink_file(sink: &Sink) -> Option<&Path> {
-    match sink {
-        Sink::Save(p) => Some(p.as_path()),
-        _ => None,
-    }
+/// The outputs of a command on a pair (`--csv`-like options and the sink's file), guarded as
+/// [`guard`] does against the profile files read.
+fn guard_pair(pair: &PairArgs, outputs: &[(&str, Option<&Path>)], sink: &Sink) -> Result<OutputGuard> {
+    guard(
+        &[Path::new(&pair.wheel), Path::new(&pair.rail)],
+        outputs,
+        Some(sink),
+    )
 }
 
 /// `--duration S` (compare, bench precision): a positive simulated time, at most 1e5 s.
@@ -457,14 +394,6 @@ fn check_duration(d: Option<f64>) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// The sink's own output file, checked as [`check_output_file`] does.
-fn check_sink(sink: &Sink) -> Result<()> {
-    match sink {
-        Sink::Save(p) => check_output_file("--save", p),
-        _ => Ok(()),
-    }
 }
 
 /// A positive length option in mm, converted to m.

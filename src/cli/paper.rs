@@ -3,14 +3,14 @@
 //! tables, its Fig. 14–19 recorded in one recording laid out as the paper's, and its Tab. 7 and
 //! Fig. 18's summary printed beside the paper's numbers.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::Args;
 
 use kecsim::inspect;
 
-use super::{check_distinct, check_sink, sink_file, SinkArgs};
+use super::SinkArgs;
 
 #[derive(Args)]
 pub(super) struct PaperArgs {
@@ -30,10 +30,11 @@ pub(super) struct PaperArgs {
 pub(super) fn run(a: PaperArgs) -> Result<()> {
     super::check_duration(a.duration)?;
     let sink = a.sink.sink();
-    check_distinct(&[("--save", sink_file(&sink))], &[a.scenario.as_deref()])?;
-    check_sink(&sink)?;
     let (parsed, origin, base) = super::read_scenario(a.scenario.as_deref())?;
     let mut scene = parsed.compile(&origin, &base)?;
+    let mut inputs: Vec<&Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
+    inputs.extend(a.scenario.as_deref());
+    let _outputs = super::guard(&inputs, &[], Some(&sink))?;
     scene.table_cache = super::table_cache();
     for w in &scene.warnings {
         eprintln!("kecsim: warning: {w}");

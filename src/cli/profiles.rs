@@ -5,7 +5,7 @@ use clap::Args;
 
 use kecsim::inspect;
 
-use super::{check_pair_outputs, print_pair, PairArgs, SinkArgs};
+use super::{guard_pair, print_pair, PairArgs, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct ProfilesArgs {
@@ -18,7 +18,7 @@ pub(super) struct ProfilesArgs {
 pub(super) fn run(a: ProfilesArgs) -> Result<()> {
     let ProfilesArgs { pair, sink } = a;
     let sink = sink.sink();
-    check_pair_outputs(&pair, &[], &sink)?;
+    let _outputs = guard_pair(&pair, &[], &sink)?;
     let pair = pair.pair()?;
     let delivered = {
         // The stream lives in this scope: returning (even with an error) drops it and writes the footer.

@@ -19,10 +19,7 @@ use kecsim::inspect::{self, run::LiveRecorder};
 use kecsim::scenario::{RunOptions, Scene};
 
 use super::progress::{Pace, Progress};
-use super::{
-    check_distinct, check_output_dir, check_output_file, check_sink, contact_model_names, print_pair,
-    sink_file, SinkArgs,
-};
+use super::{check_output_dir, contact_model_names, print_pair, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct RunArgs {
@@ -82,6 +79,9 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
     let summary = kec_summary(&format!("kecsim run: {}", scene.name), &geom, &table, &model)
         .map_err(anyhow::Error::msg)?;
     let sink = a.sink.sink();
+    let mut inputs: Vec<&std::path::Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
+    inputs.extend(a.scenario.as_deref());
+    let _outputs = super::guard(&inputs, &[], Some(&sink))?;
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
         inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
@@ -125,23 +125,25 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         eprintln!("\nkecsim: interrupt: stopping at the next step and writing what was recorded");
     })
     .ok();
-    // Every output before any work: a run must not be lost to an unwritable path at its end.
-    if let Some(path) = &a.json {
-        check_output_file("--json", path)?;
-    }
+    // Every output before any work: a run must not be lost to an unwritable path at its end, nor
+    // write over a file it reads (the scenario, the profile and irregularity files it names).
     let sink = a.sink.sink();
-    check_distinct(
-        &[
-            ("--json", a.json.as_deref()),
-            ("--csv", a.csv.as_deref()),
-            ("--save", sink_file(&sink)),
-        ],
-        &[a.scenario.as_deref()],
-    )?;
     if let Some(dir) = &a.csv {
         check_output_dir("--csv", dir)?;
     }
-    check_sink(&sink)?;
+    let csv_files: Vec<PathBuf> = match (&a.csv, &scene.simulation) {
+        (Some(dir), Some((_, vehicle))) => vehicle
+            .wheelset_names()
+            .iter()
+            .map(|n| dir.join(format!("{n}.csv")))
+            .collect(),
+        _ => Vec::new(),
+    };
+    let mut outputs = vec![("--json", a.json.as_deref())];
+    outputs.extend(csv_files.iter().map(|p| ("--csv", Some(p.as_path()))));
+    let mut inputs: Vec<&std::path::Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
+    inputs.extend(a.scenario.as_deref());
+    let _outputs = super::guard(&inputs, &outputs, Some(&sink))?;
     let built = scene.build_run(&RunOptions {
         contact: a.contact.clone(),
         speed_m_s: a.speed,
@@ -208,7 +210,8 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         let mut summary = summary.clone();
         summary.warnings = scene.warnings.iter().chain(&built.notes).cloned().collect();
         let text = serde_json::to_string_pretty(&summary)?;
-        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        kecsim::files::write_atomic(path, text.as_bytes())
+            .with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {}", path.display());
     }
     if let Ok(line) = &delivered {

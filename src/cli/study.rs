@@ -15,7 +15,7 @@ use kecsim::inspect::{self, Sink};
 use kecsim::study::run::results_markdown;
 use kecsim::study::{merge, run_study, CaseResult, Study, StudyOptions};
 
-use super::{check_sink, SinkArgs};
+use super::SinkArgs;
 
 #[derive(Args)]
 #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
@@ -172,9 +172,17 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
     let out = a.out.clone().unwrap_or_else(|| default_out(path));
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create --out {}", out.display()))?;
     let sink = study_sink(&a.sink, &out);
-    if shard.is_none() {
-        check_sink(&sink)?;
-    }
+    // A shard writes only its cases; the whole study also the table and the recording.
+    // (Shards run at once in one directory by design: each writes its own cases.)
+    let _outputs = if shard.is_none() {
+        let inputs = study.input_files();
+        let inputs: Vec<&Path> = inputs.iter().map(|p| p.as_path()).collect();
+        let mut outputs = merge_outputs(&out).to_vec();
+        outputs.push(out.join("study.json"));
+        Some(super::guard(&inputs, &named(&outputs), Some(&sink))?)
+    } else {
+        None
+    };
     println!(
         "study: {} ({}): {} cases ({}), {} axes, {} extracts; id {}",
         study.name,
@@ -314,9 +322,21 @@ fn finish(out: &Path, sink: &Sink) -> Result<()> {
     Ok(())
 }
 
+/// The files a merge writes in the study's directory (the sink's apart), guarded against the
+/// inputs and the sink's file (`--save DIR/results.csv` would replace the table).
+fn merge_outputs(dir: &Path) -> [PathBuf; 2] {
+    [dir.join("results.csv"), dir.join("critical_speeds.csv")]
+}
+
+/// [`merge_outputs`] as the guard takes them.
+fn named(files: &[PathBuf]) -> Vec<(&'static str, Option<&Path>)> {
+    files.iter().map(|p| ("--out", Some(p.as_path()))).collect()
+}
+
 fn merge_dir(dir: &Path, sink: &SinkArgs) -> Result<()> {
     let sink = study_sink(sink, dir);
-    check_sink(&sink)?;
+    let manifest = dir.join("study.json");
+    let _outputs = super::guard(&[&manifest], &named(&merge_outputs(dir)), Some(&sink))?;
     finish(dir, &sink)
 }
 
@@ -424,10 +444,14 @@ fn slurm(
         study = q(&study),
         outq = q(&out),
     );
+    let inputs = s.input_files();
+    let inputs: Vec<&Path> = inputs.iter().map(|p| p.as_path()).collect();
+    let _outputs = super::guard(&inputs, &[("--script", script.as_deref())], None)?;
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     match script {
         Some(p) => {
-            std::fs::write(&p, text).with_context(|| format!("cannot write {}", p.display()))?;
+            kecsim::files::write_atomic(&p, text.as_bytes())
+                .with_context(|| format!("cannot write {}", p.display()))?;
             println!(
                 "wrote {} (sbatch {}: {shards} shards of {} cases)",
                 p.display(),

@@ -7,7 +7,7 @@ use clap::Args;
 
 use kecsim::inspect;
 
-use super::{check_distinct, check_output_file, check_sink, sink_file, SinkArgs};
+use super::SinkArgs;
 
 #[derive(Args)]
 pub(super) struct TrackArgs {
@@ -32,20 +32,16 @@ pub(super) fn run(a: TrackArgs) -> Result<()> {
         sink,
     } = a;
     let sink = sink.sink();
-    check_sink(&sink)?;
-    check_distinct(
-        &[("--csv", csv.as_deref()), ("--save", sink_file(&sink))],
-        &[file.as_deref()],
-    )?;
-    if let Some(path) = &csv {
-        check_output_file("--csv", path)?;
-    }
     let t = std::time::Instant::now();
     let track = match &file {
         Some(path) => kecsim::track::file::read_track(path)?,
         None => kecsim::track::file::tab6()?,
     };
     let build_s = t.elapsed().as_secs_f64();
+    // The track file and the irregularity file it names: read, never written.
+    let mut inputs: Vec<&std::path::Path> = track.source_files.iter().map(|p| p.as_path()).collect();
+    inputs.extend(file.as_deref());
+    let _outputs = super::guard(&inputs, &[("--csv", csv.as_deref())], Some(&sink))?;
     let samples = kecsim::track::report::sample(&track, step)?;
     let summary = kecsim::track::report::summary_markdown(&track, &samples);
     let delivered = {

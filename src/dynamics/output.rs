@@ -12,9 +12,9 @@ use std::sync::LazyLock;
 use serde::Serialize;
 
 use super::safety::Safety;
-use crate::files::AtomicFile;
 use super::sample::{Csv, Quantity, Sample, Unit, QUANTITIES, WHEELS};
 use super::system::BodySample;
+use crate::files::AtomicFile;
 
 /// The run summary (`--json`; the keys are a documented interface).
 #[derive(Debug, Clone, Serialize)]
@@ -315,7 +315,9 @@ impl CsvWriter {
 impl RunObserver for CsvWriter {
     fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
         for ((path, w), s) in self.writers.iter_mut().zip(sample.wheelsets) {
-            let w = w.as_mut().ok_or_else(|| format!("{}: written after its end", path.display()))?;
+            let w = w
+                .as_mut()
+                .ok_or_else(|| format!("{}: written after its end", path.display()))?;
             write_row(w, s).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
         Ok(())

@@ -413,7 +413,7 @@ pub fn build_vehicle(
 ) -> Result<Box<dyn VehicleModel>, DynamicsError> {
     Ok(match spec {
         VehicleSpec::WheelsetOnFrame(w) => Box::new(SingleWheelset {
-            name: "wheelset_1".to_string(),
+            name: crate::vehicle::spec::SINGLE_WHEELSET_NAME.to_string(),
             inertia: WheelsetInertia {
                 mass_kg: w.wheelset.mass_kg,
                 inertia_kg_m2: w.wheelset.inertia_kg_m2,

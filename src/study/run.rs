@@ -84,9 +84,7 @@ fn io(path: &Path, e: impl std::fmt::Display) -> StudyError {
 
 /// Writes `text` to `path` through a temporary file and a rename (a reader never sees half).
 fn write_atomic(path: &Path, text: &str) -> Result<(), StudyError> {
-    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-    std::fs::write(&tmp, text).map_err(|e| io(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| io(path, e))
+    crate::files::write_atomic(path, text.as_bytes()).map_err(|e| io(path, e))
 }
 
 /// Reads `study.json` of `out` (None where there is none).

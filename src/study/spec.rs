@@ -193,6 +193,18 @@ pub struct Study {
 }
 
 impl Study {
+    /// The files the study reads: itself, its base scenario and the files the base names (profile
+    /// files, a measured irregularity file) — inputs no output of the study may overwrite.
+    pub fn input_files(&self) -> Vec<PathBuf> {
+        let mut files = vec![self.path.clone(), self.scenario_path.clone()];
+        let base = self.scenario_path.parent().unwrap_or(Path::new("."));
+        let origin = self.scenario_path.display().to_string();
+        if let Ok(scene) = Scenario::read(&self.scenario_path).and_then(|s| s.compile(&origin, base)) {
+            files.extend(scene.inputs);
+        }
+        files
+    }
+
     /// Reads, checks and expands a study file.
     pub fn read(path: &Path) -> Result<Study, StudyError> {
         let origin = path.display().to_string();

@@ -75,7 +75,19 @@ pub struct TieSpec {
     pub half_spacing_m: f64,
 }
 
+/// The name of the one wheelset of a [`VehicleSpec::WheelsetOnFrame`] (its CSV: `NAME.csv`).
+pub const SINGLE_WHEELSET_NAME: &str = "wheelset_1";
+
 impl VehicleSpec {
+    /// The wheelsets' names in output order (one CSV each in `kecsim run --csv DIR`), known
+    /// before the model is built.
+    pub fn wheelset_names(&self) -> Vec<String> {
+        match self {
+            VehicleSpec::WheelsetOnFrame(_) => vec![SINGLE_WHEELSET_NAME.to_string()],
+            VehicleSpec::Multibody(m) => m.wheelsets.iter().map(|w| w.name.clone()).collect(),
+        }
+    }
+
     /// The rearmost body's nominal position along the vehicle (≤ 0; the single wheelset: 0), m.
     pub fn rear_offset_m(&self) -> f64 {
         self.extent_m().0
