@@ -24,6 +24,12 @@ pub const MAX_TABLE_NODES: f64 = 2e5;
 /// Most output rows of a run, samples × wheelsets (each ~250 B kept for the summary: 4e6 ≈ 1 GB).
 pub const MAX_RUN_SAMPLES: f64 = 4e6;
 
+/// Most rigid bodies, wheelsets or joints in a vehicle table (a ten-car train: ~30 bodies, 40
+/// wheelsets).
+pub const MAX_VEHICLE_BODIES: f64 = 1e3;
+/// Most force elements in a vehicle table (a ten-car train: a few hundred).
+pub const MAX_VEHICLE_ELEMENTS: f64 = 1e4;
+
 /// Largest input file read (profiles, scenarios, tracks, irregularity and table CSVs), bytes.
 pub const MAX_INPUT_FILE_BYTES: u64 = 256 << 20;
 

@@ -1081,3 +1081,176 @@ fn a_second_run_on_the_same_output_refuses_and_the_first_is_kept() {
     assert!(hidden.is_empty(), "left behind: {hidden:?}");
     assert!(!dir.join("b.rrd").exists() && !dir.join("c.rrd").exists());
 }
+
+/// Issue 35, item 2: two signals 20 ms apart during the preprocessing (the tables built anew)
+/// stop the run at its start, and the JSON, the CSV and the recording are still written; the
+/// command reports the interrupt in its exit status.
+#[test]
+fn any_number_of_signals_keeps_the_outputs() {
+    let dir = tmpdir("rel-signals");
+    let cache = dir.join("cache");
+    let child = spawn(
+        &[
+            "--no-cache",
+            "run",
+            "--json",
+            "run.json",
+            "--csv",
+            "csv",
+            "--save",
+            "run.rrd",
+        ],
+        &dir,
+        &[("KECSIM_CACHE_DIR", cache.to_str().unwrap())],
+    );
+    // The lock of an output is taken after the signal handler is set, before the preprocessing.
+    let lock = dir.join(".run.json.kecsim-lock");
+    let t = Instant::now();
+    while !lock.exists() {
+        assert!(
+            t.elapsed() < Duration::from_secs(HANG_S),
+            "the run never took its lock"
+        );
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let pid = child.id().to_string();
+    for _ in 0..2 {
+        assert!(Command::new("kill")
+            .args(["-TERM", &pid])
+            .status()
+            .unwrap()
+            .success());
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = finish(child, Duration::from_secs(HANG_S * 2), "run (two signals)");
+    assert!(!out.ok, "an interrupted run reports it in its exit status");
+    assert!(out.stderr.contains("already stopping"), "{}", out.stderr);
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(j["stopped"], "interrupted", "{j}");
+    let rows = std::fs::read_to_string(dir.join("csv/w1.csv"))
+        .unwrap()
+        .lines()
+        .count()
+        - 1;
+    assert_eq!(
+        rows,
+        j["samples"].as_u64().unwrap() as usize,
+        "CSV rows vs JSON samples"
+    );
+    common::rerun_verify(&dir.join("run.rrd"));
+}
+
+/// The bogie scene of the assets with `edits` (each replaced once), written to `dir/name`.
+fn bogie_scene(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let mut text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/bogie_tab6_curve.toml"),
+    )
+    .unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from} not in the bogie scene");
+        text = text.replacen(from, to, 1);
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Issue 35, item 4: a unit mistake the validation cannot refuse — a bogie of 1 kg and
+/// 0.001 kg m² (g typed as kg; before: 912 000 steps for 0.025 s) — grinds at collapsed steps;
+/// the run ends within the hang deadline with the diagnosis (the time, the state that held the
+/// steps, the likely cause), and the CSV and the JSON keep what it computed.
+#[test]
+fn a_grinding_run_ends_with_a_step_collapse_diagnosis() {
+    let dir = tmpdir("rel-grind");
+    let sc = bogie_scene(
+        &dir,
+        "light.toml",
+        &[
+            ("mass_kg = 2615.0", "mass_kg = 1.0"),
+            (
+                "inertia_kg_m2 = [1722.0, 1476.0, 3067.0]",
+                "inertia_kg_m2 = [0.001, 0.001, 0.001]",
+            ),
+        ],
+    );
+    let out = run(
+        &[
+            "run",
+            sc.to_str().unwrap(),
+            "--json",
+            "r.json",
+            "--csv",
+            "csv",
+            "--save",
+            "r.rrd",
+        ],
+        &dir,
+        HANG_S,
+    );
+    assert!(!out.ok, "{}", out.stdout);
+    assert!(
+        out.stderr.contains("step size collapsed at t = ")
+            && out.stderr.contains("limited by bogie.")
+            && out.stderr.contains("unit mistake"),
+        "{}",
+        out.stderr
+    );
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("r.json")).unwrap()).unwrap();
+    assert!(
+        j["error"].as_str().unwrap().contains("step size collapsed"),
+        "{j}"
+    );
+    let rows = std::fs::read_to_string(dir.join("csv/wheelset_1.csv"))
+        .unwrap()
+        .lines()
+        .count()
+        - 1;
+    assert_eq!(
+        rows,
+        j["samples"].as_u64().unwrap() as usize,
+        "CSV rows vs JSON samples"
+    );
+    common::rerun_verify(&dir.join("r.rrd"));
+}
+
+/// Issue 35, items 3 and 4: a primary bushing at mm typed as m (before: a run without end) and a
+/// vehicle table of 20 000 force elements (before: no limit on their count) are refused before any
+/// work, each naming its key and what is wrong.
+#[test]
+fn unit_mistakes_and_absurd_counts_in_a_vehicle_are_refused() {
+    let dir = tmpdir("rel-vehicle");
+    let far = bogie_scene(
+        &dir,
+        "far.toml",
+        &[("at_m = [1.28, 1.0, 0.46]", "at_m = [1280, 1000, 460]")],
+    );
+    rejects(
+        &["run", far.to_str().unwrap()],
+        &dir,
+        30,
+        &[
+            "far.toml",
+            "vehicle.elements[primary_1_left].at_m",
+            "farther than the vehicle is long",
+            "mm given as m",
+        ],
+    );
+    let mut many = String::new();
+    for k in 0..20_000 {
+        many.push_str(&format!(
+            "\n[[vehicle.elements]]\ntype = \"bushing\"\nname = \"extra_{k}\"\nbodies = [\"track\", \"bogie\"]\nat_m = [0.0, 1.0, 0.8275]\nstiffness = [1.0, 1.0, 0.0, 0.0, 0.0, 0.0]\n"
+        ));
+    }
+    let crowded = bogie_scene(&dir, "crowded.toml", &[]);
+    let mut text = std::fs::read_to_string(&crowded).unwrap();
+    text.push_str(&many);
+    std::fs::write(&crowded, text).unwrap();
+    rejects(
+        &["run", crowded.to_str().unwrap()],
+        &dir,
+        30,
+        &["vehicle.elements: 20", "limit", "--no-limits"],
+    );
+}

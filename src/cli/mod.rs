@@ -396,6 +396,24 @@ fn check_duration(d: Option<f64>) -> Result<()> {
     Ok(())
 }
 
+/// Ctrl-C and SIGTERM request `cancel` and say `what` happens now. However many come, none ends
+/// the process: the command stops where it checks the request and writes what it recorded (the
+/// JSON included). Only SIGKILL ends it at once, losing what was not yet written.
+fn stop_on_signals(cancel: &kecsim::dynamics::CancelToken, what: &'static str) {
+    let request = cancel.clone();
+    ctrlc::set_handler(move || {
+        if request.request() {
+            eprintln!(
+                "\nkecsim: already stopping; writing what was recorded (`kill -KILL {}` ends at once and loses it)",
+                std::process::id()
+            );
+        } else {
+            eprintln!("\nkecsim: interrupt: {what}");
+        }
+    })
+    .ok();
+}
+
 /// A positive length option in mm, converted to m.
 fn positive_mm(name: &str, v: f64) -> Result<f64> {
     anyhow::ensure!(

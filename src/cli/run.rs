@@ -31,7 +31,8 @@ pub(super) struct RunArgs {
     /// Initial forward speed, m/s, overriding the scenario's.
     #[arg(long, value_name = "M_S")]
     speed: Option<f64>,
-    /// Write one CSV per wheelset into this directory (as the run goes).
+    /// Write one CSV per wheelset into this directory (as the run goes, into .NAME.csv.part-PID,
+    /// renamed to NAME.csv when the run ends).
     #[arg(long, value_name = "DIR")]
     csv: Option<PathBuf>,
     /// Write the run summary as JSON.
@@ -113,18 +114,9 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         );
     }
     // Ctrl-C / SIGTERM from here on: the run stops at its next step (or at once, if it comes
-    // during the preprocessing) and everything up to it is written; a second Ctrl-C ends the
-    // process at once.
+    // during the preprocessing) and everything up to it is written, however many come.
     let cancel = CancelToken::new();
-    let request = cancel.clone();
-    ctrlc::set_handler(move || {
-        if request.request() {
-            eprintln!("\nkecsim: interrupted twice; exiting without finishing the outputs");
-            std::process::exit(130);
-        }
-        eprintln!("\nkecsim: interrupt: stopping at the next step and writing what was recorded");
-    })
-    .ok();
+    super::stop_on_signals(&cancel, "stopping at the next step and writing what was recorded");
     // Every output before any work: a run must not be lost to an unwritable path at its end, nor
     // write over a file it reads (the scenario, the profile and irregularity files it names).
     let sink = a.sink.sink();

@@ -202,16 +202,10 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
     }
     // Ctrl-C: the running cases stop at their next step (not marked finished), no new one starts.
     let cancel = CancelToken::new();
-    let request = cancel.clone();
-    ctrlc::set_handler(move || {
-        if request.request() {
-            std::process::exit(130);
-        }
-        eprintln!(
-            "\nkecsim: interrupt: stopping the running cases; finished ones are kept (a rerun skips them)"
-        );
-    })
-    .ok();
+    super::stop_on_signals(
+        &cancel,
+        "stopping the running cases; finished ones are kept (a rerun skips them)",
+    );
     let assigned = study
         .cases
         .iter()

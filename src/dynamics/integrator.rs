@@ -213,6 +213,18 @@ pub struct Settings {
     /// A stop asked for from outside (the binary's Ctrl-C): checked after every step, the
     /// integration then ends there ([`Completion::Stopped`]). Default: a fresh token, never asked.
     pub cancel: CancelToken,
+    /// Ends an integration whose step stays collapsed ([`IntegrationError::Stalled`]); None: never.
+    pub stall: Option<StallLimit>,
+}
+
+/// A collapsed step size: `steps` accepted steps in a row, each shorter than `h_below`. A motion
+/// far faster than the model's (a unit mistake: a mass in g, a position in mm, a stiffness in
+/// N/mm typed as N/m) grinds on at such steps for hours; a flange impact or a landing takes a
+/// few hundred short steps and recovers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StallLimit {
+    pub h_below: f64,
+    pub steps: usize,
 }
 
 impl Settings {
@@ -229,8 +241,17 @@ impl Settings {
             jacobian_max_age: 25,
             bdf_max_order: 5,
             cancel: CancelToken::default(),
+            stall: None,
         }
     }
+}
+
+/// The current run of collapsed steps ([`StallLimit`]): how many, from when, and how often each
+/// state's error held them.
+struct StallRun {
+    steps: usize,
+    from: f64,
+    limiting: Vec<usize>,
 }
 
 /// Why an integration failed; `E` is the system's error.
@@ -248,6 +269,16 @@ pub enum IntegrationError<E> {
     NonFinite { t: f64 },
     #[error("more than {0} steps")]
     MaxSteps(usize),
+    /// [`StallLimit`]: the step stayed below `h_below` for `steps` accepted steps in a row, which
+    /// advanced the time by `span_s`; `limiting`: the state whose error held most of them.
+    #[error("step size collapsed at t = {t:.6} s: {steps} steps in a row shorter than {h_below:.1e} s ({span_s:.2e} s simulated by them)")]
+    Stalled {
+        t: f64,
+        h_below: f64,
+        steps: usize,
+        span_s: f64,
+        limiting: Option<usize>,
+    },
     #[error("singular iteration matrix (1/(hγ) I − J) at t = {t:.6} s")]
     Singular { t: f64 },
     #[error("invalid integrator settings: {0}")]
@@ -394,6 +425,11 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
         limiting: vec![[0, 0]; n],
         ..Stats::default()
     };
+    let mut stall = StallRun {
+        steps: 0,
+        from: t0,
+        limiting: vec![0; if settings.stall.is_some() { n } else { 0 }],
+    };
     let model = |t: f64| move |error: S::Error| IntegrationError::Model { t, error };
     let out_err = |t: f64| move |error: S::Error| IntegrationError::Output { t, error };
     let mut x = x0.to_vec();
@@ -519,8 +555,33 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             next_out = t0 + out_index as f64 * dt_out;
         }
         stats.accepted += 1;
-        if let Some(i) = stepper.limiting.take() {
+        let limiting = stepper.limiting.take();
+        if let Some(i) = limiting {
             stats.limiting[i][0] += 1;
+        }
+        if let Some(limit) = settings.stall {
+            if h < limit.h_below && !last {
+                if stall.steps == 0 {
+                    stall.from = t;
+                    stall.limiting.iter_mut().for_each(|c| *c = 0);
+                }
+                stall.steps += 1;
+                if let Some(i) = limiting {
+                    stall.limiting[i] += 1;
+                }
+                if stall.steps >= limit.steps {
+                    let most = (0..n).max_by_key(|&i| (stall.limiting[i], std::cmp::Reverse(i)));
+                    return Err(IntegrationError::Stalled {
+                        t: t1,
+                        h_below: limit.h_below,
+                        steps: stall.steps,
+                        span_s: t1 - stall.from,
+                        limiting: most.filter(|&i| stall.limiting[i] > 0),
+                    });
+                }
+            } else {
+                stall.steps = 0;
+            }
         }
         let q = stepper.error_order();
         stepper.accepted(settings.jacobian_max_age);

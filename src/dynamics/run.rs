@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use thiserror::Error;
 
-use super::integrator::{integrate_into, Completion, Flow, IntegrationError, Settings, Stats};
+use super::integrator::{integrate_into, Completion, Flow, IntegrationError, Settings, StallLimit, Stats};
 use super::output::{ObserverError, OutputSample, RunObserver, RunStart, RunSummary};
 use super::sample::Sample;
 use super::system::{
@@ -106,7 +106,26 @@ pub enum RunFailure {
     Integration(#[from] IntegrationError<DynamicsError>),
     #[error("output: {0}")]
     Observer(ObserverError),
+    /// The step size stayed collapsed ([`STALL_STEPS`] steps in a row shorter than
+    /// [`STALL_FRACTION`] of the sampling interval): the run is ended with a diagnosis instead of
+    /// grinding on; `state` names the state whose error held most of those steps.
+    #[error("step size collapsed at t = {t:.6} s, limited by {state}: {steps} steps in a row shorter than {h_below:.1e} s (1e-5 of the sampling interval) advanced the run by only {span_s:.2e} s. A motion this fast is not a railway vehicle's: look for a unit mistake at what {state} belongs to (a mass or inertia in g or g mm², a position in mm given as m, a stiffness far from the vehicle's), or a body held by nothing")]
+    StepCollapse {
+        t: f64,
+        h_below: f64,
+        steps: usize,
+        span_s: f64,
+        state: String,
+    },
 }
+
+/// [`RunFailure::StepCollapse`]: accepted steps in a row, each shorter than [`STALL_FRACTION`] of
+/// the sampling interval, that end a run. A flange impact or a landing takes a few hundred such
+/// steps at most; a grinding run makes these in seconds of wall time (a bogie of 1 kg: ~30 µs
+/// per step).
+pub const STALL_STEPS: usize = 10_000;
+/// [`STALL_STEPS`]' step size, as a fraction of the sampling interval (1/record_rate_hz).
+pub const STALL_FRACTION: f64 = 1e-5;
 
 impl RunFailure {
     /// The derailment that ended the run, if that is what did (the wheelset's name): a flange
@@ -397,6 +416,12 @@ fn run_here(
     let body_names = vehicle.body_names();
     let r0 = vehicle.nominal_radius();
     let mut integrator = settings.integrator.clone();
+    if integrator.stall.is_none() {
+        integrator.stall = Some(StallLimit {
+            h_below: STALL_FRACTION / settings.record_rate_hz,
+            steps: STALL_STEPS,
+        });
+    }
     if vehicle.contact().history_dependent() {
         integrator.jacobian_max_age = 1;
     }
@@ -518,8 +543,28 @@ fn run_here(
         ..
     } = recorder;
     let wall_s = t_run.elapsed().as_secs_f64();
+    let state_names = vehicle.state_names();
     let end = match (result, observer_error, stop) {
         (_, Some(e), _) => RunEnd::Failed(RunFailure::Observer(e)),
+        (
+            Err(IntegrationError::Stalled {
+                t,
+                h_below,
+                steps,
+                span_s,
+                limiting,
+            }),
+            None,
+            _,
+        ) => RunEnd::Failed(RunFailure::StepCollapse {
+            t,
+            h_below,
+            steps,
+            span_s,
+            state: limiting
+                .map(|i| state_names.get(i).cloned().unwrap_or_else(|| format!("x[{i}]")))
+                .unwrap_or_else(|| "no single state".to_string()),
+        }),
         (Err(e), None, _) => RunEnd::Failed(RunFailure::Integration(e)),
         (Ok(_), None, Some(s)) => RunEnd::Stopped(s),
         // Interrupted between two output times (the integrator ends at its step).
@@ -530,7 +575,6 @@ fn run_here(
     };
     let landings = std::mem::take(&mut sys.data.landings);
     let mut summary = summarise(settings, labels, &wheelsets, wall_s, &stats, &end, &landings);
-    let state_names = vehicle.state_names();
     summary.step_limiting = stats.limiting_states(STEP_LIMITING_SHOWN, |i| {
         state_names.get(i).cloned().unwrap_or_else(|| format!("x[{i}]"))
     });

@@ -250,10 +250,27 @@ impl Scenario {
         let simulation = match (&self.simulation, &self.vehicle) {
             (Some(sim), Some(veh)) => {
                 problems.extend(sim.problems().iter().map(|p| locate_key(origin, &self.source, p)));
+                // Counts read from the file, held to the limits before anything is built.
+                for (table, n) in veh.table_counts() {
+                    let limit = if table == "elements" {
+                        crate::limits::MAX_VEHICLE_ELEMENTS
+                    } else {
+                        crate::limits::MAX_VEHICLE_BODIES
+                    };
+                    if let Err(e) = crate::limits::check(
+                        &format!("vehicle.{table}: {n} entries"),
+                        n as f64,
+                        limit,
+                        "a whole train has tens of bodies and hundreds of elements",
+                    ) {
+                        problems.push(e);
+                    }
+                }
                 problems.extend(
                     veh.problems()
                         .into_iter()
                         .chain(veh.spacing_problems(self.wheelset.nominal_radius_m))
+                        .chain(veh.far_attachments(self.wheelset.nominal_radius_m))
                         .map(|p| locate(origin, &self.source, &p)),
                 );
                 warnings.extend(

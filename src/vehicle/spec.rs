@@ -121,6 +121,84 @@ impl VehicleSpec {
         }
     }
 
+    /// The tables' entry counts read from the file: `bodies`, `wheelsets`, `elements`, `joints`
+    /// (held to the limits by the scenario, [`crate::scenario`]).
+    pub fn table_counts(&self) -> [(&'static str, usize); 4] {
+        match self {
+            VehicleSpec::WheelsetOnFrame(_) => {
+                [("bodies", 0), ("wheelsets", 1), ("elements", 0), ("joints", 0)]
+            }
+            VehicleSpec::Multibody(m) => [
+                ("bodies", m.bodies.len()),
+                ("wheelsets", m.wheelsets.len()),
+                ("elements", m.elements.len()),
+                ("joints", m.joints.len()),
+            ],
+        }
+    }
+
+    /// Attachment points (elements' and joints') farther from a body they attach to than the
+    /// vehicle is long, plus [`ATTACHMENT_MARGIN_M`] (its width and height): a position in mm
+    /// typed as m, or a point meant for another body. Refused: such an element makes a lever
+    /// hundreds of times the vehicle's size, and the run grinds at collapsed steps.
+    pub fn far_attachments(&self, r0: f64) -> Vec<String> {
+        let VehicleSpec::Multibody(m) = self else {
+            return Vec::new();
+        };
+        let (rear, front) = self.extent_m();
+        let reach = front - rear + ATTACHMENT_MARGIN_M;
+        let centre = |name: &str| -> Option<Vector3<f64>> {
+            match m.lookup(name)? {
+                BodyRef::Track => None,
+                BodyRef::Body(i) => Some(nominal_centre(m, r0, i)),
+            }
+        };
+        let mut p = Vec::new();
+        let mut check = |key: String, point: &[f64; 3], body: &str| {
+            let Some(c) = centre(body) else { return };
+            let d = (Vector3::from(*point) - c).norm();
+            if d.is_finite() && d > reach {
+                p.push(format!(
+                    "{key} = {point:?}: {d:.1} m from the centre of \"{body}\", farther than the vehicle is long ({:.1} m) — a position in mm given as m, or a point of another body?",
+                    front - rear
+                ));
+            }
+        };
+        for e in &m.elements {
+            match e {
+                ElementSpec::Bushing {
+                    name, bodies, at_m, ..
+                }
+                | ElementSpec::Rotational {
+                    name, bodies, at_m, ..
+                } => {
+                    for b in bodies {
+                        check(format!("vehicle.elements[{name}].at_m"), at_m, b);
+                    }
+                }
+                ElementSpec::Axial {
+                    name,
+                    bodies,
+                    from_m,
+                    to_m,
+                    ..
+                } => {
+                    check(format!("vehicle.elements[{name}].from_m"), from_m, &bodies[0]);
+                    check(format!("vehicle.elements[{name}].to_m"), to_m, &bodies[1]);
+                }
+                ElementSpec::CarriedMass { name, body, at_m, .. } => {
+                    check(format!("vehicle.elements[{name}].at_m"), at_m, body);
+                }
+            }
+        }
+        for j in &m.joints {
+            for b in &j.bodies {
+                check(format!("vehicle.joints[{}].at_m", j.name), &j.at_m, b);
+            }
+        }
+        p
+    }
+
     /// Wheelsets closer to each other than their wheels' diameter (2 r0): two wheelsets at one
     /// position, or wheels that would overlap.
     pub fn spacing_problems(&self, r0: f64) -> Vec<String> {
@@ -439,6 +517,10 @@ fn inertia_problem(key: &str, i: &[f64; 3]) -> Option<String> {
         )
     })
 }
+
+/// How far beyond the vehicle's length an attachment point may lie from its body's centre, m
+/// ([`VehicleSpec::far_attachments`]): a body's half-width and height, and a coupler's reach.
+pub const ATTACHMENT_MARGIN_M: f64 = 5.0;
 
 /// A problem found in the vehicle table.
 pub type VehicleProblem = String;
