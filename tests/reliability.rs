@@ -1254,3 +1254,130 @@ fn unit_mistakes_and_absurd_counts_in_a_vehicle_are_refused() {
         &["vehicle.elements: 20", "limit", "--no-limits"],
     );
 }
+
+/// Issue 35, item 6: inputs that used to run silently although absurd are refused, or run with a
+/// warning, each naming the key and the physical reason.
+#[test]
+fn absurd_inputs_are_refused_or_warned_with_the_reason() {
+    let dir = tmpdir("rel-absurd");
+    let straight = "horizontal = [\n  { type = \"straight\", from_m = 0.0, to_m = 1000.0 },\n]";
+    let refused: &[(&str, &[(&str, &str)], &[&str])] = &[
+        ("nolines.toml", &[(straight, "horizontal = []")], &["[track.irregularities] needs a track line", "ignored"]),
+        (
+            "order.toml",
+            &[("record_rate_hz = 100.0", "record_rate_hz = 100.0\n\n[simulation.integrator]\nmethod = \"ros34pw2\"\nmax_order = 3")],
+            &["max_order = 3", "only method = \"bdf\""],
+        ),
+        (
+            "stiff.toml",
+            &[("[vehicle]", "[contact_forces]\nyoung_modulus_pa = 2.1e14\n\n[vehicle]")],
+            &["young_modulus_pa = 210000000000000", "no engineering material"],
+        ),
+        (
+            "cant.toml",
+            &[(straight, "horizontal = [\n  { type = \"curve\", from_m = 0.0, to_m = 1000.0, radius_m = 500.0, cant_rad = 0.2 },\n]")],
+            &["cant [0.2, 0.2] rad", "service cants"],
+        ),
+        (
+            "twist.toml",
+            &[(
+                straight,
+                "horizontal = [\n  { type = \"straight\", from_m = 0.0, to_m = 100.0 },\n  { type = \"transition\", from_m = 100.0, to_m = 100.001, end_radius_m = 500.0, end_cant_rad = 0.076 },\n  { type = \"curve\", from_m = 100.001, to_m = 1000.0, radius_m = 500.0, cant_rad = 0.076 },\n]",
+            )],
+            &["a twist of", "transition too short"],
+        ),
+        (
+            "band.toml",
+            &[("wavelength_min_m = 3.0\nwavelength_max_m = 80.0", "wavelength_min_m = 1000.0\nwavelength_max_m = 80000.0")],
+            &["wavelength_min_m = 1000", "no wavelength of the band fits"],
+        ),
+    ];
+    for (name, edits, needles) in refused {
+        let sc = scenario(&dir, name, edits);
+        rejects(&["run", sc.to_str().unwrap()], &dir, 30, needles);
+    }
+    // Contradicting column sets in a measured irregularity file.
+    std::fs::write(
+        dir.join("irr.csv"),
+        "s_m,al_mm,vp_mm,gv_mm,cl_mm,y_left_mm,z_left_mm,y_right_mm,z_right_mm\n\
+         0,0,0,0,0,0,0,0,0\n300,1.0,0,0,0,0,0,0,0\n600,0,0,0,0,0,0,0,0\n1000,0,0,0,0,0,0,0,0\n",
+    )
+    .unwrap();
+    let sc = scenario(
+        &dir,
+        "irr.toml",
+        &[(
+            "psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0",
+            "file = \"irr.csv\"",
+        )],
+    );
+    rejects(
+        &["run", sc.to_str().unwrap()],
+        &dir,
+        30,
+        &["irr.csv:3", "al_mm = 1.000000 mm contradicts"],
+    );
+    // A seeds axis over a scene whose track generates nothing: N identical "realisations".
+    scenario(&dir, "flat.toml", &[("[track.irregularities]\npsd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0\n", "")]);
+    std::fs::write(
+        dir.join("seeds.toml"),
+        "schema_version = 1\nname = \"seeds\"\nscenario = \"flat.toml\"\nextract = [\"max_abs_y_mm\"]\n\
+         [[axis]]\nkey = \"track.irregularities.seed\"\nseeds = 4\n",
+    )
+    .unwrap();
+    rejects(
+        &["study", "seeds.toml"],
+        &dir,
+        30,
+        &["seeds.toml", "every case would be the same run"],
+    );
+    // Doubtful: run with a warning. (`--pace 1e-9`, refused after the scenario's warnings are
+    // printed, ends each command before its run.)
+    let warned: &[(&str, PathBuf, &[&str])] = &[
+        (
+            "friction",
+            scenario(
+                &dir,
+                "mu0.toml",
+                &[("[vehicle]", "[contact_forces]\nfriction = 0.0\n\n[vehicle]")],
+            ),
+            &["warning", "friction = 0", "only the flanges"],
+        ),
+        (
+            "sparse samples",
+            scenario(
+                &dir,
+                "sparse.toml",
+                &[("record_rate_hz = 100.0", "record_rate_hz = 0.1")],
+            ),
+            &[
+                "warning",
+                "record_rate_hz = 0.1",
+                "200.00 m apart",
+                "40 Hz or more",
+            ],
+        ),
+        (
+            "soft primary",
+            bogie_scene(
+                &dir,
+                "soft.toml",
+                &[("stiffness = [31.391e6, 3.884e6", "stiffness = [31.391, 3.884e6")],
+            ),
+            &[
+                "warning",
+                "primary_1_left",
+                "stiffness 3.1391e1 below",
+                "typed as N/m",
+            ],
+        ),
+    ];
+    for (what, sc, needles) in warned {
+        let out = run(&["run", sc.to_str().unwrap(), "--pace", "1e-9"], &dir, 30);
+        assert!(
+            needles.iter().all(|n| out.stderr.contains(n)),
+            "{what}: {}",
+            out.stderr
+        );
+    }
+}

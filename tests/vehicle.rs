@@ -1239,7 +1239,7 @@ fn ms_vehicle_flanging_mode_holds_bdf_at_its_stability_boundary() {
     }
     // The step through the curve: BDF up to order 5 against BDF2, same tolerance.
     let curve_steps = |max_order: usize| {
-        let edit = move |s: &mut kecsim::scenario::SimulationSpec| s.integrator.max_order = max_order;
+        let edit = move |s: &mut kecsim::scenario::SimulationSpec| s.integrator.max_order = Some(max_order);
         run(to, &edit).0 - run(from, &edit).0
     };
     let (bdf5, bdf2) = (curve_steps(5), curve_steps(2));

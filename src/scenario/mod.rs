@@ -193,6 +193,29 @@ impl Scenario {
                 self.schema_version
             ));
         }
+        if self.track.horizontal.is_empty() {
+            // Without sections the wheelset runs on ideal straight rails: a table of the track
+            // that needs a line would be ignored.
+            for (table, given, written) in [
+                (
+                    "[track.irregularities]",
+                    self.track.irregularities.is_some(),
+                    "irregularities",
+                ),
+                (
+                    "[track.lateral_flexibility]",
+                    self.track.lateral_flexibility.is_some(),
+                    "lateral_flexibility",
+                ),
+            ] {
+                if given {
+                    let at = self.source.find(written).map_or(String::new(), |o| {
+                        format!("{origin}:{}: ", crate::track::file::line_of(&self.source, o))
+                    });
+                    problems.push(format!("{at}{table} needs a track line: give [track] its horizontal sections (without them the wheelset runs on ideal straight rails, and the table would be ignored)"));
+                }
+            }
+        }
         let mut positive = |name: &str, v: f64, lo: f64, hi: f64| {
             if !(v.is_finite() && v >= lo && v <= hi) {
                 problems.push(locate_key(
@@ -238,7 +261,14 @@ impl Scenario {
             poisson: cf.poisson_ratio,
         };
         let contact_forces = match ContactForceSettings::new(cf.creep, cf.friction, material) {
-            Ok(s) => Some(s),
+            Ok(s) => {
+                warnings.extend(
+                    s.doubtful()
+                        .iter()
+                        .map(|w| locate_key(origin, &self.source, &format!("contact_forces: {w}"))),
+                );
+                Some(s)
+            }
             Err(p) => {
                 problems.extend(
                     p.into_iter()
@@ -250,6 +280,7 @@ impl Scenario {
         let simulation = match (&self.simulation, &self.vehicle) {
             (Some(sim), Some(veh)) => {
                 problems.extend(sim.problems().iter().map(|p| locate_key(origin, &self.source, p)));
+                warnings.extend(sim.doubtful().iter().map(|p| locate_key(origin, &self.source, p)));
                 // Counts read from the file, held to the limits before anything is built.
                 for (table, n) in veh.table_counts() {
                     let limit = if table == "elements" {

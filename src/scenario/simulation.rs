@@ -84,9 +84,10 @@ pub struct IntegratorSpec {
     /// ros34pw2: accepted steps one Jacobian serves before it is evaluated again.
     #[serde(default = "default_jacobian_max_age")]
     pub jacobian_max_age: usize,
-    /// bdf: the highest order (1–5).
-    #[serde(default = "default_max_order")]
-    pub max_order: usize,
+    /// bdf: the highest order (1–5; default 5). Given with another method, which has no order to
+    /// limit, it is refused.
+    #[serde(default)]
+    pub max_order: Option<usize>,
 }
 
 impl IntegratorSpec {
@@ -94,7 +95,7 @@ impl IntegratorSpec {
     pub fn settings(&self) -> Settings {
         let mut s = Settings::new(self.method, self.rtol, self.atol);
         s.jacobian_max_age = self.jacobian_max_age;
-        s.bdf_max_order = self.max_order;
+        s.bdf_max_order = self.max_order.unwrap_or(DEFAULT_BDF_MAX_ORDER);
         s
     }
 }
@@ -111,9 +112,12 @@ fn default_atol() -> f64 {
 fn default_jacobian_max_age() -> usize {
     25
 }
-fn default_max_order() -> usize {
-    5
-}
+/// Output samples farther apart along the track than this are doubtful, m: the safety figures'
+/// 2 m sliding means need at least four samples per mean.
+pub const MAX_SAMPLE_SPACING_M: f64 = 0.5;
+
+/// BDF's highest order where `max_order` is not given.
+const DEFAULT_BDF_MAX_ORDER: usize = 5;
 
 impl Default for IntegratorSpec {
     fn default() -> Self {
@@ -122,7 +126,7 @@ impl Default for IntegratorSpec {
             rtol: default_rtol(),
             atol: default_atol(),
             jacobian_max_age: default_jacobian_max_age(),
-            max_order: default_max_order(),
+            max_order: None,
         }
     }
 }
@@ -212,6 +216,26 @@ impl SimulationSpec {
         }
     }
 
+    /// Physically doubtful but possible values (warnings, each naming its key): output samples
+    /// too far apart along the track for the safety figures, whose 2 m sliding means (EN 14363)
+    /// need several samples per 2 m.
+    pub fn doubtful(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        let v_max = self
+            .speed_m_s
+            .max(self.speed_m_s + self.speed_ramp_m_s2 * self.duration_s)
+            .max(0.0);
+        let spacing = v_max / self.record_rate_hz;
+        if spacing.is_finite() && spacing > MAX_SAMPLE_SPACING_M {
+            w.push(format!(
+                "simulation.record_rate_hz = {}: samples {spacing:.2} m apart at {v_max} m/s, so the maxima and the 2 m sliding means of the safety figures come from a few samples; {:.0} Hz or more gives them ≤ {MAX_SAMPLE_SPACING_M} m apart",
+                self.record_rate_hz,
+                (v_max / MAX_SAMPLE_SPACING_M).ceil()
+            ));
+        }
+        w
+    }
+
     /// Problems with the values (empty when valid).
     pub fn problems(&self) -> Vec<String> {
         let mut p = Vec::new();
@@ -234,7 +258,16 @@ impl SimulationSpec {
             1.0,
             1e6,
         );
-        check("integrator.max_order", self.integrator.max_order as f64, 1.0, 5.0);
+        let mut late = Vec::new();
+        if let Some(o) = self.integrator.max_order {
+            check("integrator.max_order", o as f64, 1.0, 5.0);
+            if self.integrator.method != Method::Bdf {
+                late.push(format!(
+                    "simulation.integrator.max_order = {o}: only method = \"bdf\" has an order to limit; method = \"{}\" would ignore it",
+                    self.integrator.method.name()
+                ));
+            }
+        }
         if let Some(a) = self.kec_two_point_approach_m {
             check("kec_two_point_approach_m", a, 0.0, 1e-3);
         }
@@ -256,6 +289,7 @@ impl SimulationSpec {
             Ok(c) => p.extend(c.problems()),
             Err(e) => p.push(e.to_string()),
         }
+        p.extend(late);
         p
     }
 

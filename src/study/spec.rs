@@ -363,6 +363,26 @@ impl Study {
                 }
             }
             check_axis(&base, &key, &values, &scenario_origin).map_err(here)?;
+            if a.seeds.is_some() {
+                // Realisations of the generated irregularities: a seed nothing reads would give
+                // the same run N times, presented as N realisations.
+                let generated = base
+                    .get("track")
+                    .and_then(|t| t.get("irregularities"))
+                    .and_then(|i| i.get("psd"))
+                    .is_some()
+                    && base
+                        .get("track")
+                        .and_then(|t| t.get("horizontal"))
+                        .and_then(|h| h.as_array())
+                        .is_some_and(|h| !h.is_empty());
+                if key != "track.irregularities.seed" || !generated {
+                    return Err(here(format!(
+                        "seeds = N draws realisations of the generated track irregularities: its key is track.irregularities.seed, and the base scenario ({scenario_origin}) must generate them ([track] sections and [track.irregularities] psd = \"…\"){}",
+                        if generated { "" } else { "; it does not, so every case would be the same run" }
+                    )));
+                }
+            }
             axes.push(Axis {
                 key,
                 values,

@@ -479,7 +479,26 @@ impl TrackSpec {
         };
         let irregularities = match plan {
             None => None,
-            Some(IrrPlan::Generate(g)) => Some(Irregularities::generate(&g, a, b)?.0),
+            Some(IrrPlan::Generate(g)) => {
+                // A band whose shortest wavelength does not fit on the line generates no
+                // irregularity the vehicle feels as one (a length in km typed as m?).
+                if g.wavelength_min_m >= b - a {
+                    let offset = self.irregularities.as_ref().map_or(0, |s| s.span().start);
+                    loc.at(
+                        offset,
+                        format!(
+                            "track.irregularities.wavelength_min_m = {}: not shorter than the track ({} m), so no wavelength of the band fits on it (the standard band is 3–25 m or 3–70 m)",
+                            g.wavelength_min_m,
+                            b - a
+                        ),
+                    );
+                    return Err(TrackError::Invalid {
+                        path: origin.to_string(),
+                        problems: loc.problems,
+                    });
+                }
+                Some(Irregularities::generate(&g, a, b)?.0)
+            }
             Some(IrrPlan::File(path)) => {
                 let irr = measured::read_csv(&path)?;
                 let (fa, fb) = irr.range();

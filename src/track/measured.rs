@@ -65,9 +65,9 @@ pub fn parse_csv(text: &str, origin: &str) -> Result<Irregularities, TrackError>
     let comb: Vec<Option<usize>> = COMBINATION_COLUMNS.iter().map(|c| find(c)).collect();
     let rail: Vec<Option<usize>> = RAIL_COLUMNS.iter().map(|c| find(c)).collect();
     let (cols, rails) = if comb.iter().all(Option::is_some) {
-        (comb, false)
+        (comb.clone(), false)
     } else if rail.iter().all(Option::is_some) {
-        (rail, true)
+        (rail.clone(), true)
     } else {
         let missing: Vec<&str> = COMBINATION_COLUMNS
             .iter()
@@ -91,6 +91,10 @@ pub fn parse_csv(text: &str, origin: &str) -> Result<Irregularities, TrackError>
         return Err(at(origin, header_line, "missing column s_m"));
     };
     let cols: Vec<usize> = cols.into_iter().flatten().collect();
+    // Both sets given (as `kecsim track --csv` writes them): the combinations are read, and the
+    // rails' displacements must say the same, row by row.
+    let both: Option<Vec<usize>> =
+        (!rails && rail.iter().all(Option::is_some)).then(|| rail.iter().flatten().copied().collect());
     let mut s = Vec::new();
     let mut values: Vec<[f64; 4]> = Vec::new();
     let mut last_line = header_line;
@@ -153,6 +157,35 @@ pub fn parse_csv(text: &str, origin: &str) -> Result<Irregularities, TrackError>
             };
             let (al, vp, gv, cl) = o.combinations();
             v = [al, vp, gv, cl];
+        }
+        if let Some(rc) = &both {
+            let mut r = [0.0; 4];
+            for c in 0..4 {
+                r[c] = cell(rc[c], RAIL_COLUMNS[c])? * 1e-3;
+            }
+            let o = RailOffsets {
+                y_left: r[0],
+                z_left: r[1],
+                y_right: r[2],
+                z_right: r[3],
+            };
+            let (al, vp, gv, cl) = o.combinations();
+            for (c, from_rails) in [al, vp, gv, cl].into_iter().enumerate() {
+                // 1 µm: the files kecsim writes carry 1e-9 mm.
+                if (from_rails - v[c]).abs() > 1e-6 {
+                    return Err(at(
+                        origin,
+                        line,
+                        format!(
+                            "column {} = {:.6} mm contradicts the rails' columns ({} from {}): give one set, or both consistent",
+                            COMBINATION_COLUMNS[c],
+                            v[c] * 1e3,
+                            format_args!("{:.6} mm", from_rails * 1e3),
+                            RAIL_COLUMNS.join(", ")
+                        ),
+                    ));
+                }
+            }
         }
         s.push(sv);
         values.push(v);

@@ -159,6 +159,13 @@ fn differ(a: f64, b: f64) -> bool {
     (a - b).abs() > JOIN_TOL * a.abs().max(b.abs()).max(1e-6)
 }
 
+/// The largest cant accepted, rad (225 mm on standard gauge; service cants stay within 180–200
+/// mm).
+pub const MAX_CANT_RAD: f64 = 0.15;
+/// The largest cant gradient (twist) of a section accepted, rad/m (15 mm per metre on standard
+/// gauge; EN 13803 limits the cant gradient to a few mm/m).
+pub const MAX_TWIST_RAD_PER_M: f64 = 0.01;
+
 /// The ends of consecutive sections: gaps, overlaps, lengths. Returns (section index, problem).
 fn check_ranges(ranges: &[(f64, f64)], what: &str, problems: &mut Vec<(usize, String)>) {
     if ranges.is_empty() {
@@ -223,12 +230,23 @@ pub fn check_horizontal(sections: &[HorizontalSection]) -> Vec<(usize, String)> 
             ));
             continue;
         }
-        if s.cant_rad.iter().any(|c| c.abs() > 0.2) {
+        if s.cant_rad.iter().any(|c| c.abs() > MAX_CANT_RAD) {
             problems.push((
                 i,
                 format!(
-                    "cant {:?} rad: beyond ±0.2 rad (the small-angle Eq. 2 does not hold)",
+                    "cant {:?} rad: beyond ±{MAX_CANT_RAD} rad (225 mm on standard gauge; service cants stay within 180–200 mm, 0.12–0.13 rad)",
                     s.cant_rad
+                ),
+            ));
+        }
+        let length = s.to_m - s.from_m;
+        let twist = (s.cant_rad[1] - s.cant_rad[0]).abs() / length;
+        if length > 0.0 && twist > MAX_TWIST_RAD_PER_M {
+            problems.push((
+                i,
+                format!(
+                    "cant from {} to {} rad over {length:.4} m: a twist of {twist:.3e} rad/m, beyond {MAX_TWIST_RAD_PER_M} rad/m (15 mm per metre on standard gauge; track standards allow about 2–3 mm/m): a transition too short, or its length in km?",
+                    s.cant_rad[0], s.cant_rad[1]
                 ),
             ));
         }

@@ -456,6 +456,9 @@ pub enum ElementSpec {
 /// Stiffness above which an element is doubtful, N/m or N m/rad (a wheel–rail contact is ~1e9 N/m;
 /// rail vehicles' suspensions stay below 1e8).
 const DOUBTFUL_STIFFNESS: f64 = 1e10;
+/// Stiffness below which a non-zero element stiffness is doubtful, N/m or N m/rad (a unit
+/// mistake: 31 N/m for 31 kN/mm).
+const DOUBTFUL_SOFT_STIFFNESS: f64 = 1e3;
 /// Damping above which an element is doubtful, N s/m or N m s/rad.
 const DOUBTFUL_DAMPING: f64 = 1e8;
 /// Carried mass above which it is doubtful, kg.
@@ -496,6 +499,15 @@ fn element_doubts(e: &ElementSpec) -> Vec<String> {
     if let Some(v) = k.iter().copied().find(|v| *v > DOUBTFUL_STIFFNESS) {
         w.push(format!(
             "vehicle.elements[{name}]: stiffness {v:e} above {DOUBTFUL_STIFFNESS:e} (stiffer than the wheel–rail contact; a unit mistake?)"
+        ));
+    }
+    if let Some(v) = k
+        .iter()
+        .copied()
+        .find(|v| *v > 0.0 && *v < DOUBTFUL_SOFT_STIFFNESS)
+    {
+        w.push(format!(
+            "vehicle.elements[{name}]: stiffness {v:e} below {DOUBTFUL_SOFT_STIFFNESS:e} (softer than any rail vehicle's suspension, whose springs are 1e4–1e8; kN/m or kN/mm typed as N/m?)"
         ));
     }
     if let Some(v) = c.iter().copied().find(|v| *v > DOUBTFUL_DAMPING) {

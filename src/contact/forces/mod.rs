@@ -168,6 +168,27 @@ pub struct ContactForceSettings {
 }
 
 impl ContactForceSettings {
+    /// Physically doubtful but possible values (warnings, each naming its key): no friction at
+    /// all, a friction beyond dry steel on steel, an elastic modulus far from steel's.
+    pub fn doubtful(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        if self.friction == 0.0 {
+            w.push("friction = 0: no creep forces at all — the wheelsets are neither steered nor braked by their rails, only the flanges' normal forces guide them (wet or leaf-covered rails still give μ ≈ 0.05)".to_string());
+        } else if self.friction > 0.6 {
+            w.push(format!(
+                "friction = {}: above dry steel on steel (≈ 0.4–0.6)",
+                self.friction
+            ));
+        }
+        let e = self.material.young_pa;
+        if !(5e10..=5e11).contains(&e) {
+            w.push(format!(
+                "young_modulus_pa = {e:e}: far from steel's 2.1e11 Pa (wheels and rails are steel; a unit mistake?)"
+            ));
+        }
+        w
+    }
+
     /// Validated settings; every problem is listed.
     pub fn new(model: CreepModel, friction: f64, material: Material) -> Result<Self, Vec<String>> {
         let mut p = model.problems();
@@ -176,9 +197,9 @@ impl ContactForceSettings {
                 "friction = {friction}: expected 0 ..= 1.5 (0: no creep forces)"
             ));
         }
-        if !(material.young_pa.is_finite() && material.young_pa > 1e9) {
+        if !(material.young_pa.is_finite() && material.young_pa > 1e9 && material.young_pa <= 1e12) {
             p.push(format!(
-                "young_modulus_pa = {}: expected > 1e9",
+                "young_modulus_pa = {}: expected 1e9 < E ≤ 1e12 Pa (steel: 2.1e11; no engineering material is stiffer than 1e12 — a unit mistake?)",
                 material.young_pa
             ));
         }
