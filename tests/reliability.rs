@@ -1354,7 +1354,7 @@ fn absurd_inputs_are_refused_or_warned_with_the_reason() {
                 "warning",
                 "record_rate_hz = 0.1",
                 "200.00 m apart",
-                "40 Hz or more",
+                "20 Hz or more",
             ],
         ),
         (
@@ -1380,4 +1380,45 @@ fn absurd_inputs_are_refused_or_warned_with_the_reason() {
             out.stderr
         );
     }
+}
+
+/// Issue 35, item 7: a wrong array length inside the tagged `[vehicle]` table is reported at its
+/// own line with its key (before: at the `[vehicle]` line, without the key); a wheelset placed
+/// outside its bogie is refused at the element that holds it (before: a "wheel lift" at run time).
+#[test]
+fn vehicle_mistakes_are_reported_at_their_key() {
+    let dir = tmpdir("rel-vehicle-keys");
+    let sc = scenario(
+        &dir,
+        "arr.toml",
+        &[(
+            "inertia_kg_m2 = [1120.0, 112.0, 1120.0]",
+            "inertia_kg_m2 = [1120.0, 112.0]",
+        )],
+    );
+    let line = 1 + std::fs::read_to_string(&sc)
+        .unwrap()
+        .lines()
+        .position(|l| l.contains("[1120.0, 112.0]"))
+        .unwrap();
+    rejects(
+        &["run", sc.to_str().unwrap()],
+        &dir,
+        30,
+        &[&format!(
+            "line {line}: inertia_kg_m2 = [1120.0, 112.0]: 2 entries, expected 3"
+        )],
+    );
+    let out = bogie_scene(&dir, "outside.toml", &[("x_m = 1.28", "x_m = 9.28")]);
+    rejects(
+        &["run", out.to_str().unwrap()],
+        &dir,
+        30,
+        &[
+            "outside.toml",
+            "primary_1_left].at_m",
+            "wheelset \"wheelset_1\" (x_m = 9.28)",
+            "outside its bogie",
+        ],
+    );
 }

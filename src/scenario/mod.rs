@@ -400,6 +400,9 @@ fn relocate(text: &str, at: usize, message: &str) -> Option<String> {
     if !header.starts_with('[') {
         return None;
     }
+    if let Some(found) = wrong_length(text, at, message) {
+        return Some(found);
+    }
     let token = message
         .split('`')
         .nth(1)
@@ -420,6 +423,43 @@ fn relocate(text: &str, at: usize, message: &str) -> Option<String> {
                 message.trim_end(),
                 line.trim()
             ));
+        }
+        offset += line.len();
+    }
+    None
+}
+
+/// "invalid length N, expected an array of length M" inside a tagged table (whose error spans the
+/// whole table): the first one-line array of N entries from `at` on, with its line and key.
+fn wrong_length(text: &str, at: usize, message: &str) -> Option<String> {
+    let n: usize = message
+        .strip_prefix("invalid length ")?
+        .split(',')
+        .next()?
+        .trim()
+        .parse()
+        .ok()?;
+    let mut offset = at;
+    for line in text[at..].split_inclusive('\n') {
+        let body = line.split('#').next().unwrap_or("");
+        if let Some((key, value)) = body.split_once('=') {
+            let v = value.trim();
+            if let Some(inner) = v.strip_prefix('[').and_then(|v| v.strip_suffix(']')) {
+                let entries = inner.split(',').filter(|e| !e.trim().is_empty()).count();
+                if entries == n && !inner.contains('[') && !inner.contains('{') {
+                    return Some(format!(
+                        "line {}: {} = [{}]: {} entries, expected {}",
+                        crate::track::file::line_of(text, offset),
+                        key.trim(),
+                        inner.trim(),
+                        n,
+                        message
+                            .rsplit("length ")
+                            .next()
+                            .map_or(String::from("another number"), |m| m.trim().to_string())
+                    ));
+                }
+            }
         }
         offset += line.len();
     }

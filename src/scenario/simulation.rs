@@ -113,8 +113,8 @@ fn default_jacobian_max_age() -> usize {
     25
 }
 /// Output samples farther apart along the track than this are doubtful, m: the safety figures'
-/// 2 m sliding means need at least four samples per mean.
-pub const MAX_SAMPLE_SPACING_M: f64 = 0.5;
+/// 2 m sliding means need at least two samples per mean.
+pub const MAX_SAMPLE_SPACING_M: f64 = 1.0;
 
 /// BDF's highest order where `max_order` is not given.
 const DEFAULT_BDF_MAX_ORDER: usize = 5;

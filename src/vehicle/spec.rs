@@ -147,17 +147,23 @@ impl VehicleSpec {
         };
         let (rear, front) = self.extent_m();
         let reach = front - rear + ATTACHMENT_MARGIN_M;
-        let centre = |name: &str| -> Option<Vector3<f64>> {
+        // A wheelset's elements hold it at its axle boxes, within a gauge of its centre.
+        let centre = |name: &str| -> Option<(Vector3<f64>, bool)> {
             match m.lookup(name)? {
                 BodyRef::Track => None,
-                BodyRef::Body(i) => Some(nominal_centre(m, r0, i)),
+                BodyRef::Body(i) => Some((nominal_centre(m, r0, i), i >= m.bodies.len())),
             }
         };
         let mut p = Vec::new();
         let mut check = |key: String, point: &[f64; 3], body: &str| {
-            let Some(c) = centre(body) else { return };
+            let Some((c, wheelset)) = centre(body) else { return };
             let d = (Vector3::from(*point) - c).norm();
-            if d.is_finite() && d > reach {
+            if d.is_finite() && wheelset && d > WHEELSET_REACH_M {
+                p.push(format!(
+                    "{key} = {point:?}: {d:.1} m from the centre of wheelset \"{body}\" (x_m = {}), which its elements hold at its axle boxes, within {WHEELSET_REACH_M} m — is the wheelset outside its bogie, or the point a position in mm given as m?",
+                    c.x
+                ));
+            } else if d.is_finite() && d > reach {
                 p.push(format!(
                     "{key} = {point:?}: {d:.1} m from the centre of \"{body}\", farther than the vehicle is long ({:.1} m) — a position in mm given as m, or a point of another body?",
                     front - rear
@@ -533,6 +539,10 @@ fn inertia_problem(key: &str, i: &[f64; 3]) -> Option<String> {
 /// How far beyond the vehicle's length an attachment point may lie from its body's centre, m
 /// ([`VehicleSpec::far_attachments`]): a body's half-width and height, and a coupler's reach.
 pub const ATTACHMENT_MARGIN_M: f64 = 5.0;
+
+/// How far from a wheelset's centre its elements may attach, m: its axle boxes lie about a gauge
+/// apart ([`VehicleSpec::far_attachments`]).
+pub const WHEELSET_REACH_M: f64 = 3.0;
 
 /// A problem found in the vehicle table.
 pub type VehicleProblem = String;
