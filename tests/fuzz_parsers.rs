@@ -166,6 +166,46 @@ fn check_irregularity_csv(content: &str) {
     });
 }
 
+/// A study's manifest (`study.json`) as `kecsim study` writes it, `mutated`, in an output
+/// directory of its own with one finished case: `study merge` on it answers (an error naming the
+/// file, or the table) within the deadline, allocating nothing beyond the limits.
+fn check_manifest(mutated: &str, tag: usize) {
+    let dir = tmp(&format!("manifest-{tag}"));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(dir.join("cases/00000")).unwrap();
+    std::fs::write(dir.join("study.json"), mutated).unwrap();
+    bounded("study merge", || {
+        let _ = kecsim::study::merge(&dir);
+    });
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The manifest of the wheelset speed sweep, as `kecsim study` writes it.
+fn manifest_text() -> String {
+    let study = kecsim::study::Study::read(&Path::new(ROOT).join("assets/studies/wheelset_speed_sweep.toml"))
+        .unwrap();
+    serde_json::to_string_pretty(&kecsim::study::Manifest::of(&study)).unwrap()
+}
+
+/// The bogie scene's vehicle tables mutated (the text before `[vehicle]` kept): compiled, its
+/// force elements built — an error names the file, never a panic, within the deadline.
+fn check_vehicle_tables(m: &Mutation) {
+    let src = text("assets/scenes/bogie_tab6_curve.toml");
+    let at = src.find("[vehicle]").unwrap();
+    let content = format!("{}{}", &src[..at], apply(&src[at..], m));
+    bounded("vehicle tables", || {
+        let Ok(s) = Scenario::parse(&content, "fuzz.toml") else {
+            return;
+        };
+        let Ok(scene) = s.compile("fuzz.toml", &Path::new(ROOT).join("assets/scenes")) else {
+            return;
+        };
+        if let Some((_, kecsim::vehicle::spec::VehicleSpec::Multibody(spec))) = &scene.simulation {
+            let _ = spec.elements(scene.pair.wheelset.nominal_radius_m);
+        }
+    });
+}
+
 /// The single-wheelset scene with a short run, whose build (tables, KEC profiles, settling) is
 /// cheap enough to fuzz.
 fn small_scene() -> String {
@@ -205,6 +245,16 @@ proptest! {
     #[test]
     fn track_files_never_panic(m in mutation()) {
         check_track(&apply(&text("assets/scenes/bogie_tab6_curve.toml"), &m));
+    }
+
+    #[test]
+    fn study_manifests_never_panic(m in mutation(), tag in any::<usize>()) {
+        check_manifest(&apply(&manifest_text(), &m), tag);
+    }
+
+    #[test]
+    fn vehicle_tables_never_panic(m in mutation()) {
+        check_vehicle_tables(&m);
     }
 
     #[test]

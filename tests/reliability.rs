@@ -1255,13 +1255,16 @@ fn unit_mistakes_and_absurd_counts_in_a_vehicle_are_refused() {
     );
 }
 
+/// A scenario file's name, its edits of the reliability scenario and what its error must say.
+type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a [&'a str]);
+
 /// Issue 35, item 6: inputs that used to run silently although absurd are refused, or run with a
 /// warning, each naming the key and the physical reason.
 #[test]
 fn absurd_inputs_are_refused_or_warned_with_the_reason() {
     let dir = tmpdir("rel-absurd");
     let straight = "horizontal = [\n  { type = \"straight\", from_m = 0.0, to_m = 1000.0 },\n]";
-    let refused: &[(&str, &[(&str, &str)], &[&str])] = &[
+    let refused: &[Case] = &[
         ("nolines.toml", &[(straight, "horizontal = []")], &["[track.irregularities] needs a track line", "ignored"]),
         (
             "order.toml",

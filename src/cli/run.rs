@@ -210,7 +210,19 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         println!("{line}");
     }
     if let RunEnd::Failed(e) = &out.end {
-        anyhow::bail!("the run stopped at t = {:.4} s: {e}", summary.simulated_s);
+        let profiles = if e.in_contact_model() {
+            format!(
+                " (the profiles: wheel {}, rail {}, placed as {} says)",
+                scene.pair.wheel.source, scene.pair.rail.source, scene.origin
+            )
+        } else {
+            String::new()
+        };
+        anyhow::bail!(
+            "{}: the run stopped at t = {:.4} s: {e}{profiles}",
+            scene.origin,
+            summary.simulated_s
+        );
     }
     if let RunEnd::Stopped(Stop::Interrupted { t }) = &out.end {
         anyhow::bail!("interrupted at t = {t:.4} s; everything recorded up to it is written");

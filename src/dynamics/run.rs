@@ -128,6 +128,21 @@ pub const STALL_STEPS: usize = 10_000;
 pub const STALL_FRACTION: f64 = 1e-5;
 
 impl RunFailure {
+    /// Whether the contact model failed (the wheel and rail never touch, the contact runs off a
+    /// profile, its Newton iteration did not converge): the profiles and their placement are then
+    /// what to check, and the message should name their files.
+    pub fn in_contact_model(&self) -> bool {
+        matches!(
+            self,
+            RunFailure::Integration(
+                IntegrationError::Model { error, .. } | IntegrationError::Output { error, .. },
+            ) if matches!(
+                error,
+                DynamicsError::Contact { .. } | DynamicsError::Wheelset { .. } | DynamicsError::CentredContact(_)
+            )
+        )
+    }
+
     /// The derailment that ended the run, if that is what did (the wheelset's name): a flange
     /// climb or a wheel lifted beyond its limit, found by a step's evaluation or by an output
     /// sample's (on the step's continuous extension, between its stages).

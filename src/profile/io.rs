@@ -111,7 +111,24 @@ fn parse_number(path: &str, line: usize, col: usize, cell: &str) -> Result<f64, 
     Ok(v)
 }
 
-/// Plain CSV, `y,z` in mm, z up; optional header row (first record, non-numeric), `#` comments.
+/// A profile CSV header's column: `y`/`z`, with or without `_mm`, `mm`, `[mm]`, `(mm)`, any case
+/// (`Some('y')`, `Some('z')`); a length in another unit or any other name: None.
+fn header_axis(cell: &str) -> Option<char> {
+    let c: String = cell
+        .to_ascii_lowercase()
+        .chars()
+        .filter(|c| !c.is_whitespace() && !"[]()_".contains(*c))
+        .collect();
+    match c.as_str() {
+        "y" | "ymm" => Some('y'),
+        "z" | "zmm" => Some('z'),
+        _ => None,
+    }
+}
+
+/// Plain CSV, `y,z` in mm, z up; `#` comments. An optional header row (the first record, not a
+/// number) names the columns, which are then read by name, in any order (`y_mm`, `z_mm`; `y`, `z`
+/// with or without a unit in mm); a header that names no y and z column in mm is refused.
 fn read_csv(path: &str, text: &str) -> Result<Vec<RawPoint>, ProfileError> {
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(false)
@@ -120,6 +137,7 @@ fn read_csv(path: &str, text: &str) -> Result<Vec<RawPoint>, ProfileError> {
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
     let mut pts = Vec::new();
+    let (mut yc, mut zc) = (0, 1);
     for (k, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(|e| {
             let line = e.position().map(|p| p.line() as usize).unwrap_or(0);
@@ -130,7 +148,22 @@ fn read_csv(path: &str, text: &str) -> Result<Vec<RawPoint>, ProfileError> {
             continue;
         }
         if k == 0 && rec.get(0).is_some_and(|c| c.parse::<f64>().is_err()) {
-            continue; // header row
+            // The header row: the columns by name.
+            let find = |axis: char| rec.iter().position(|c| header_axis(c) == Some(axis));
+            match (find('y'), find('z')) {
+                (Some(y), Some(z)) => (yc, zc) = (y, z),
+                _ => {
+                    return Err(at(
+                        path,
+                        line,
+                        format!(
+                            "header `{}` names no y and z column in mm (expected y_mm, z_mm in any order; a profile file is in mm)",
+                            rec.iter().collect::<Vec<_>>().join(", ")
+                        ),
+                    ))
+                }
+            }
+            continue;
         }
         if rec.len() < 2 {
             return Err(at(
@@ -139,8 +172,19 @@ fn read_csv(path: &str, text: &str) -> Result<Vec<RawPoint>, ProfileError> {
                 format!("expected 2 columns (y_mm, z_mm), found {}", rec.len()),
             ));
         }
-        let y = parse_number(path, line, 1, &rec[0])?;
-        let z = parse_number(path, line, 2, &rec[1])?;
+        if rec.len() <= yc.max(zc) {
+            return Err(at(
+                path,
+                line,
+                format!(
+                    "expected {} columns as the header names, found {}",
+                    yc.max(zc) + 1,
+                    rec.len()
+                ),
+            ));
+        }
+        let y = parse_number(path, line, yc + 1, &rec[yc])?;
+        let z = parse_number(path, line, zc + 1, &rec[zc])?;
         pts.push(RawPoint { y, z, line });
     }
     Ok(pts)
@@ -449,6 +493,10 @@ fn check_points(
     Ok(CheckedPoints { s, z, notes })
 }
 
+/// Narrowest profile accepted, m: wheel running surfaces and rail heads span 60–150 mm, so a
+/// much narrower one is in another unit (inches: 2.4–6; cm: 6–15).
+pub const MIN_PROFILE_SPAN_M: f64 = 0.015;
+
 /// Smallest flange height accepted on a wheel profile, m (S1002: 28 mm; worn and tram wheels
 /// 20–25 mm).
 pub const MIN_FLANGE_HEIGHT_M: f64 = 0.010;
@@ -461,6 +509,15 @@ pub const MIN_FLANGE_HEIGHT_M: f64 = 0.010;
 /// a wheel as the rail) is then named as such instead of giving nonsense results.
 pub fn shape_problem(kind: ProfileKind, s: &[f64], z: &[f64]) -> Option<String> {
     let pts = || s.iter().zip(z);
+    // A wheel's running surface and a rail head span 60–150 mm: one of 2–6 "mm" is in inches
+    // (or cm), and its flange or head would be named as missing.
+    let span = s.iter().copied().fold(f64::MIN, f64::max) - s.iter().copied().fold(f64::MAX, f64::min);
+    if span < MIN_PROFILE_SPAN_M {
+        return Some(format!(
+            "the profile spans only {:.2} mm across (a {kind} profile spans 60–150 mm): is it in inches (× 25.4) or cm (× 10)? Profile files are in mm",
+            span * 1e3
+        ));
+    }
     match kind {
         ProfileKind::Wheel => {
             let flange = pts()
@@ -471,6 +528,16 @@ pub fn shape_problem(kind: ProfileKind, s: &[f64], z: &[f64]) -> Option<String> 
                 .filter(|(s, _)| **s > 0.0)
                 .map(|(_, z)| *z)
                 .fold(0.0, f64::min);
+            let up = pts()
+                .filter(|(s, _)| **s < 0.0)
+                .map(|(_, z)| *z)
+                .fold(0.0, f64::max);
+            if flange > -MIN_FLANGE_HEIGHT_M && up >= MIN_FLANGE_HEIGHT_M {
+                return Some(format!(
+                    "the flange points up: the inner side (y < 0) rises {:.1} mm above the taping line and never falls below it — the profile is flipped in z (z must be up, the flange below the taping line: z = r0 − radius); negate its z column",
+                    up * 1e3
+                ));
+            }
             if flange > -MIN_FLANGE_HEIGHT_M && field <= -MIN_FLANGE_HEIGHT_M {
                 return Some(format!(
                     "the flange is on the wrong side: the profile's lowest point, {:.1} mm below the taping line, lies on the field side (y > 0) and the inner side has none — the profile is mirrored (y must increase towards the field side of a left wheel, the flange at negative y); negate its y column",
@@ -554,6 +621,68 @@ mod tests {
     use super::*;
     use crate::profile::StandardProfile;
     use std::fs;
+
+    /// Issue 35, item 7: a wheel flipped in z and a wheel in inches are named as such (before:
+    /// "is it a rail profile?"); a mirrored wheel is still named mirrored.
+    #[test]
+    fn flipped_mirrored_and_inch_profiles_are_named_as_such() {
+        let rows: Vec<(f64, f64)> = include_str!("../../profiles/s1002.csv")
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with('y'))
+            .filter_map(|l| l.split_once(','))
+            .map(|(y, z)| (y.parse().unwrap(), z.parse().unwrap()))
+            .collect();
+        let read = |f: &dyn Fn(f64, f64) -> (f64, f64)| {
+            let mut t = String::from("y_mm,z_mm\n");
+            let mut pts: Vec<(f64, f64)> = rows.iter().map(|&(y, z)| f(y, z)).collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for (y, z) in pts {
+                t.push_str(&format!("{y},{z}\n"));
+            }
+            parse_profile(&t, "csv", "w", "w.csv", ProfileKind::Wheel)
+                .unwrap_err()
+                .to_string()
+        };
+        let e = read(&|y, z| (y, -z));
+        assert!(e.contains("w.csv") && e.contains("flipped in z"), "{e}");
+        let e = read(&|y, z| (y / 25.4, z / 25.4));
+        assert!(e.contains("w.csv") && e.contains("inches"), "{e}");
+        let e = read(&|y, z| (-y, z));
+        assert!(e.contains("w.csv") && e.contains("mirrored"), "{e}");
+    }
+
+    /// Issue 35, item 7: a CSV header names the columns, read by name in any order (before: by
+    /// position, so `z_mm,y_mm` gave a profile turned by 90°); a header that names no y and z
+    /// column in mm is refused at its line.
+    #[test]
+    fn csv_columns_are_read_by_their_header_names() {
+        let rows: Vec<(&str, &str)> = include_str!("../../profiles/60e1.csv")
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with('y'))
+            .filter_map(|l| l.split_once(','))
+            .collect();
+        let text = |header: &str, swap: bool| {
+            let mut t = format!("{header}\n");
+            for (y, z) in &rows {
+                let (a, b) = if swap { (z, y) } else { (y, z) };
+                t.push_str(&format!("{a},{b}\n"));
+            }
+            t
+        };
+        let read = |t: &str| parse_profile(t, "csv", "p", "p.csv", ProfileKind::Rail);
+        let straight = read(&text("y_mm,z_mm", false)).unwrap();
+        let swapped = read(&text("z_mm,y_mm", true)).unwrap();
+        assert_eq!(straight.knots(), swapped.knots());
+        let spaced = read(&text("Z [mm], Y [mm]", true)).unwrap();
+        assert_eq!(straight.knots(), spaced.knots());
+        for bad in ["a,b", "y_m,z_m", "y_in,z_in"] {
+            let e = read(&text(bad, false)).unwrap_err().to_string();
+            assert!(
+                e.contains("p.csv:1:") && e.contains("names no y and z column"),
+                "{e}"
+            );
+        }
+    }
 
     fn tmp(name: &str, content: &str) -> std::path::PathBuf {
         let dir = std::env::temp_dir().join(format!("kecsim-io-{}", std::process::id()));
