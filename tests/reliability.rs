@@ -1190,6 +1190,11 @@ fn a_grinding_run_ends_with_a_step_collapse_diagnosis() {
     );
     assert!(!out.ok, "{}", out.stdout);
     assert!(
+        out.stderr.contains("warning") && out.stderr.contains("g typed as kg"),
+        "{}",
+        out.stderr
+    );
+    assert!(
         out.stderr.contains("step size collapsed at t = ")
             && out.stderr.contains("limited by bogie.")
             && out.stderr.contains("unit mistake"),

@@ -234,6 +234,7 @@ impl VehicleSpec {
     /// of gyration outside what rail vehicles have.
     pub fn doubtful(&self) -> Vec<String> {
         let mut w = Vec::new();
+        let mut light = Vec::new();
         // Radius of gyration sqrt(I/m) of a body of mass m about axis k.
         let mut gyration = |what: String, mass: f64, inertia: &[f64], lo: f64, hi: f64| {
             for (k, i) in inertia.iter().enumerate() {
@@ -257,6 +258,12 @@ impl VehicleSpec {
             }
             VehicleSpec::Multibody(m) => {
                 for b in &m.bodies {
+                    if b.mass_kg < DOUBTFUL_BODY_MASS_KG {
+                        light.push(format!(
+                            "vehicle.bodies[{}].mass_kg = {}: lighter than any rail vehicle body (bogie frames weigh 1–3 t, carbodies 10–40 t; g typed as kg?)",
+                            b.name, b.mass_kg
+                        ));
+                    }
                     gyration(
                         format!("bodies[{}]", b.name),
                         b.mass_kg,
@@ -276,6 +283,7 @@ impl VehicleSpec {
                 }
             }
         }
+        w.extend(light);
         if let VehicleSpec::Multibody(m) = self {
             for e in &m.elements {
                 w.extend(element_doubts(e));
@@ -465,6 +473,9 @@ const DOUBTFUL_STIFFNESS: f64 = 1e10;
 /// Stiffness below which a non-zero element stiffness is doubtful, N/m or N m/rad (a unit
 /// mistake: 31 N/m for 31 kN/mm).
 const DOUBTFUL_SOFT_STIFFNESS: f64 = 1e3;
+/// Body mass below which it is doubtful, kg (the lightest bodies a vehicle model carries — a
+/// motor, a bolster — weigh hundreds of kg).
+const DOUBTFUL_BODY_MASS_KG: f64 = 50.0;
 /// Damping above which an element is doubtful, N s/m or N m s/rad.
 const DOUBTFUL_DAMPING: f64 = 1e8;
 /// Carried mass above which it is doubtful, kg.
