@@ -1380,6 +1380,24 @@ fn absurd_inputs_are_refused_or_warned_with_the_reason() {
             ],
         ),
     ];
+    // A wheel of 200 mm under a 100 kN axle (r0 in the wrong unit): warned once the settled loads
+    // are known, before the run.
+    let small = scenario(
+        &dir,
+        "small.toml",
+        &[(
+            "[simulation]",
+            "[wheelset]\nnominal_radius_m = 0.1\n\n[simulation]",
+        )],
+    );
+    let out = run(&["run", small.to_str().unwrap()], &dir, 60);
+    assert!(
+        out.stderr
+            .contains("warning: wheelset_1: a static wheel load of 58.9 kN on wheels of 200 mm")
+            && out.stderr.contains("nominal_radius_m = 0.1 right?"),
+        "{}",
+        out.stderr
+    );
     for (what, sc, needles) in warned {
         let out = run(&["run", sc.to_str().unwrap(), "--pace", "1e-9"], &dir, 30);
         assert!(
@@ -1428,5 +1446,37 @@ fn vehicle_mistakes_are_reported_at_their_key() {
             "wheelset \"wheelset_1\" (x_m = 9.28)",
             "outside its bogie",
         ],
+    );
+}
+
+/// Issue 35, item 7: a contact model that cannot be built on the profiles ("the wheel and rail
+/// never touch", "the contact runs off the wheel profile") names the scenario and both profile
+/// files (before: neither). The wheel here is S1002 cut 8 mm outside its taping line.
+#[test]
+fn contact_failures_name_the_profile_files() {
+    let dir = tmpdir("rel-contact-files");
+    let s1002 =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles/s1002.csv")).unwrap();
+    let cut: String = s1002
+        .lines()
+        .filter(|l| {
+            l.split_once(',')
+                .and_then(|(y, _)| y.parse::<f64>().ok())
+                .is_none_or(|y| y <= 8.0)
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.join("cut.csv"), cut).unwrap();
+    let sc = scenario(&dir, "cut.toml", &[("wheel = \"s1002\"", "wheel = \"cut.csv\"")]);
+    let out = rejects(
+        &["run", sc.to_str().unwrap()],
+        &dir,
+        60,
+        &["cut.toml", "the profiles: wheel", "cut.csv", "rail 60E1"],
+    );
+    assert!(
+        out.stderr.contains("never touch") || out.stderr.contains("runs off"),
+        "{}",
+        out.stderr
     );
 }

@@ -382,11 +382,14 @@ pub enum BuildError {
     /// A comparison of fewer than two contact models.
     #[error("a comparison needs at least two contact models, got {got}")]
     TooFewModels { got: usize },
-    /// The contact model could not be built for the scene from the file named first.
-    #[error("{scene}: {source}")]
+    /// The contact model could not be built for the scene from the file named first, on the
+    /// profiles named last (what to check: the files and their placement).
+    #[error("{scene}: {source} (the profiles: wheel {wheel}, rail {rail})")]
     Contact {
         scene: String,
         source: ContactBuildError,
+        wheel: String,
+        rail: String,
     },
     #[error("vehicle: {0}")]
     Vehicle(#[from] DynamicsError),
@@ -561,6 +564,31 @@ pub fn run_extent_problems(
     p
 }
 
+/// Static wheel load per wheel diameter above which a wheel is doubtful, N/m (0.2 kN/mm; the
+/// railways' permissible static wheel loads stay near 0.12 kN/mm, e.g. 112.5 kN on a 920 mm
+/// wheel).
+pub const DOUBTFUL_WHEEL_LOAD_PER_DIAMETER: f64 = 2e5;
+
+/// Warnings for wheels loaded beyond what their diameter carries (Q₀ = half the static axle load,
+/// D = 2 r0): a radius typed in the wrong unit, or a load of another vehicle.
+fn wheel_load_notes(axle_loads: &[f64], wheelsets: &[String], r0: f64) -> Vec<String> {
+    axle_loads
+        .iter()
+        .zip(wheelsets)
+        .filter_map(|(&q, name)| {
+            let per_d = 0.5 * q / (2.0 * r0);
+            (per_d > DOUBTFUL_WHEEL_LOAD_PER_DIAMETER).then(|| {
+                format!(
+                    "{name}: a static wheel load of {:.1} kN on wheels of {:.0} mm diameter ({:.2} kN/mm; permissible wheel loads stay near 0.12 kN/mm): is wheelset.nominal_radius_m = {r0} right?",
+                    0.5 * q * 1e-3,
+                    2e3 * r0,
+                    per_d * 1e-6
+                )
+            })
+        })
+        .collect()
+}
+
 impl Scene {
     /// Builds the objects of the scene's run with `options` (contact model, vehicle system with
     /// its static settling, reference, settings) — the preprocessing, timed.
@@ -624,6 +652,8 @@ impl Scene {
                     .map_err(|source| BuildError::Contact {
                         scene: self.origin.clone(),
                         source,
+                        wheel: self.pair.wheel.source.clone(),
+                        rail: self.pair.rail.source.clone(),
                     })?;
                 // The safety figures' flange angle; a pair whose contact cannot be followed up
                 // the flange on the ideal track runs without them.
@@ -639,13 +669,28 @@ impl Scene {
                 (model, angle)
             }
         };
+        let spec = vehicle;
         let vehicle = build_vehicle(
-            vehicle,
+            spec,
             model,
             &self.contact_forces,
             self.pair.wheelset.nominal_radius_m,
             reference,
         )?;
+        let mut notes = notes;
+        let axle_loads: Vec<f64> = match (vehicle.settling(), spec) {
+            (Some(st), _) => st.axle_loads.clone(),
+            // The carried load and the wheelset's own weight.
+            (None, VehicleSpec::WheelsetOnFrame(f)) => {
+                vec![f.axle_load_n + f.wheelset.mass_kg * crate::dynamics::reference::G]
+            }
+            _ => Vec::new(),
+        };
+        notes.extend(wheel_load_notes(
+            &axle_loads,
+            &vehicle.wheelset_names(),
+            self.pair.wheelset.nominal_radius_m,
+        ));
         let mut settings = sim.run_settings(&self.name);
         settings.integrator.cancel = options.cancel.clone();
         Ok(BuiltRun {
