@@ -384,12 +384,12 @@ pub enum BuildError {
     TooFewModels { got: usize },
     /// The contact model could not be built for the scene from the file named first, on the
     /// profiles named last (what to check: the files and their placement).
-    #[error("{scene}: {source} (the profiles: wheel {wheel}, rail {rail})")]
+    #[error("{scene}: {source} (the profiles: {profiles})")]
     Contact {
         scene: String,
         source: ContactBuildError,
-        wheel: String,
-        rail: String,
+        /// `wheel FILE, rail FILE`.
+        profiles: String,
     },
     #[error("vehicle: {0}")]
     Vehicle(#[from] DynamicsError),
@@ -652,8 +652,10 @@ impl Scene {
                     .map_err(|source| BuildError::Contact {
                         scene: self.origin.clone(),
                         source,
-                        wheel: self.pair.wheel.source.clone(),
-                        rail: self.pair.rail.source.clone(),
+                        profiles: format!(
+                            "wheel {}, rail {}",
+                            self.pair.wheel.source, self.pair.rail.source
+                        ),
                     })?;
                 // The safety figures' flange angle; a pair whose contact cannot be followed up
                 // the flange on the ideal track runs without them.
