@@ -652,10 +652,7 @@ impl Scene {
                     .map_err(|source| BuildError::Contact {
                         scene: self.origin.clone(),
                         source,
-                        profiles: format!(
-                            "wheel {}, rail {}",
-                            self.pair.wheel.source, self.pair.rail.source
-                        ),
+                        profiles: format!("wheel {}, rail {}", self.pair.wheel.source, self.pair.rail.source),
                     })?;
                 // The safety figures' flange angle; a pair whose contact cannot be followed up
                 // the flange on the ideal track runs without them.
