@@ -247,9 +247,7 @@ fn precision(a: BenchArgs) -> Result<()> {
             (scene, Some(MS_PRECISION_WINDOW_S))
         }
     };
-    let mut inputs: Vec<&Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
-    inputs.extend(a.scenario.as_deref());
-    let _outputs = super::guard(&inputs, &[], Some(&sink))?;
+    let _outputs = super::guard_scene(&scene, a.scenario.as_deref(), &[], &sink)?;
     let mut settings = PrecisionSettings {
         duration_s: a.duration.or(default_window),
         ..PrecisionSettings::default()

@@ -42,9 +42,7 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
     let origin = a.scenario.display().to_string();
     let mut scene =
         Scenario::read(&a.scenario)?.compile(&origin, a.scenario.parent().unwrap_or(Path::new(".")))?;
-    let mut inputs: Vec<&Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
-    inputs.push(&a.scenario);
-    let _outputs = super::guard(&inputs, &[], Some(&sink))?;
+    let _outputs = super::guard_scene(&scene, Some(&a.scenario), &[], &sink)?;
     scene.table_cache = super::table_cache();
     anyhow::ensure!(
         scene.simulation.is_some(),

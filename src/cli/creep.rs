@@ -66,7 +66,7 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         sink,
     } = a;
     let sink = sink.sink();
-    let _outputs = super::guard(&[], &[("--csv", csv.as_deref())], Some(&sink))?;
+    let _outputs = super::guard::<&std::path::Path>(&[], &[("--csv", csv.as_deref())], Some(&sink))?;
     anyhow::ensure!(
         normal_force_n.is_finite() && normal_force_n > 0.0,
         "--normal-force-n {normal_force_n}: expected a positive force in N (a lifted wheel has no creep forces)"

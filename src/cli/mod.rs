@@ -343,7 +343,11 @@ fn print_pair(pair: &WheelRailPair) {
 /// command reads (`inputs`: by any name — a hard link, a symlink, another spelling), none is
 /// another output (the sink's file included), each can be written and is not being written by
 /// another run. The guard holds the outputs' locks: keep it until the command ends.
-fn guard(inputs: &[&Path], outputs: &[(&str, Option<&Path>)], sink: Option<&Sink>) -> Result<OutputGuard> {
+fn guard<P: AsRef<Path>>(
+    inputs: &[P],
+    outputs: &[(&str, Option<&Path>)],
+    sink: Option<&Sink>,
+) -> Result<OutputGuard> {
     let mut g = OutputGuard::new();
     g.inputs(inputs);
     for (what, p) in outputs {
@@ -373,6 +377,18 @@ fn check_output_dir(flag: &str, dir: &Path) -> Result<()> {
         .with_context(|| format!("{flag} {}: cannot write into this directory", dir.display()))?;
     std::fs::remove_file(&probe).ok();
     Ok(())
+}
+
+/// The outputs of a command on a scene, guarded as [`guard`] does against the scenario `file` (None:
+/// the embedded one) and the files it names ([`kecsim::scenario::Scene::inputs`]).
+fn guard_scene(
+    scene: &kecsim::scenario::Scene,
+    file: Option<&Path>,
+    outputs: &[(&str, Option<&Path>)],
+    sink: &Sink,
+) -> Result<OutputGuard> {
+    let inputs: Vec<&Path> = scene.inputs.iter().map(PathBuf::as_path).chain(file).collect();
+    guard(&inputs, outputs, Some(sink))
 }
 
 /// The outputs of a command on a pair (`--csv`-like options and the sink's file), guarded as

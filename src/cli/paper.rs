@@ -3,7 +3,7 @@
 //! tables, its Fig. 14–19 recorded in one recording laid out as the paper's, and its Tab. 7 and
 //! Fig. 18's summary printed beside the paper's numbers.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
@@ -32,9 +32,7 @@ pub(super) fn run(a: PaperArgs) -> Result<()> {
     let sink = a.sink.sink();
     let (parsed, origin, base) = super::read_scenario(a.scenario.as_deref())?;
     let mut scene = parsed.compile(&origin, &base)?;
-    let mut inputs: Vec<&Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
-    inputs.extend(a.scenario.as_deref());
-    let _outputs = super::guard(&inputs, &[], Some(&sink))?;
+    let _outputs = super::guard_scene(&scene, a.scenario.as_deref(), &[], &sink)?;
     scene.table_cache = super::table_cache();
     for w in &scene.warnings {
         eprintln!("kecsim: warning: {w}");

@@ -80,9 +80,7 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
     let summary = kec_summary(&format!("kecsim run: {}", scene.name), &geom, &table, &model)
         .map_err(anyhow::Error::msg)?;
     let sink = a.sink.sink();
-    let mut inputs: Vec<&std::path::Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
-    inputs.extend(a.scenario.as_deref());
-    let _outputs = super::guard(&inputs, &[], Some(&sink))?;
+    let _outputs = super::guard_scene(&scene, a.scenario.as_deref(), &[], &sink)?;
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::kec::blueprint)?;
         inspect::kec::record(&rec, &geom.pair, &table, &model, &summary)?;
@@ -133,9 +131,7 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     };
     let mut outputs = vec![("--json", a.json.as_deref())];
     outputs.extend(csv_files.iter().map(|p| ("--csv", Some(p.as_path()))));
-    let mut inputs: Vec<&std::path::Path> = scene.inputs.iter().map(|p| p.as_path()).collect();
-    inputs.extend(a.scenario.as_deref());
-    let _outputs = super::guard(&inputs, &outputs, Some(&sink))?;
+    let _outputs = super::guard_scene(scene, a.scenario.as_deref(), &outputs, &sink)?;
     let built = scene.build_run(&RunOptions {
         contact: a.contact.clone(),
         speed_m_s: a.speed,

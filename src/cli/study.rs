@@ -175,11 +175,9 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
     // A shard writes only its cases; the whole study also the table and the recording.
     // (Shards run at once in one directory by design: each writes its own cases.)
     let _outputs = if shard.is_none() {
-        let inputs = study.input_files();
-        let inputs: Vec<&Path> = inputs.iter().map(|p| p.as_path()).collect();
         let mut outputs = merge_outputs(&out).to_vec();
         outputs.push(out.join("study.json"));
-        Some(super::guard(&inputs, &named(&outputs), Some(&sink))?)
+        Some(super::guard(&study.input_files(), &named(&outputs), Some(&sink))?)
     } else {
         None
     };
@@ -438,9 +436,7 @@ fn slurm(
         study = q(&study),
         outq = q(&out),
     );
-    let inputs = s.input_files();
-    let inputs: Vec<&Path> = inputs.iter().map(|p| p.as_path()).collect();
-    let _outputs = super::guard(&inputs, &[("--script", script.as_deref())], None)?;
+    let _outputs = super::guard(&s.input_files(), &[("--script", script.as_deref())], None)?;
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     match script {
         Some(p) => {

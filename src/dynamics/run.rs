@@ -109,7 +109,7 @@ pub enum RunFailure {
     /// The step size stayed collapsed ([`STALL_STEPS`] steps in a row shorter than
     /// [`STALL_FRACTION`] of the sampling interval): the run is ended with a diagnosis instead of
     /// grinding on; `state` names the state whose error held most of those steps.
-    #[error("step size collapsed at t = {t:.6} s, limited by {state}: {steps} steps in a row shorter than {h_below:.1e} s (1e-5 of the sampling interval) advanced the run by only {span_s:.2e} s. A motion this fast is not a railway vehicle's: look for a unit mistake at what {state} belongs to (a mass or inertia in g or g mm², a position in mm given as m, a stiffness far from the vehicle's), or a body held by nothing")]
+    #[error("step size collapsed at t = {t:.6} s, limited by {state}: {steps} steps in a row shorter than {h_below:.1e} s ({fraction:e} of the sampling interval) advanced the run by only {span_s:.2e} s. A motion this fast is not a railway vehicle's: look for a unit mistake at what {state} belongs to (a mass or inertia in g or g mm², a position in mm given as m, a stiffness far from the vehicle's), or a body held by nothing", fraction = STALL_FRACTION)]
     StepCollapse {
         t: f64,
         h_below: f64,

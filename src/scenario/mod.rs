@@ -453,10 +453,7 @@ fn wrong_length(text: &str, at: usize, message: &str) -> Option<String> {
                         key.trim(),
                         inner.trim(),
                         n,
-                        message
-                            .rsplit("length ")
-                            .next()
-                            .map_or(String::from("another number"), |m| m.trim().to_string())
+                        message.rsplit("length ").next().unwrap_or(message).trim()
                     ));
                 }
             }

@@ -366,13 +366,12 @@ impl Study {
             if a.seeds.is_some() {
                 // Realisations of the generated irregularities: a seed nothing reads would give
                 // the same run N times, presented as N realisations.
-                let generated = base
-                    .get("track")
+                let track = base.get("track");
+                let generated = track
                     .and_then(|t| t.get("irregularities"))
                     .and_then(|i| i.get("psd"))
                     .is_some()
-                    && base
-                        .get("track")
+                    && track
                         .and_then(|t| t.get("horizontal"))
                         .and_then(|h| h.as_array())
                         .is_some_and(|h| !h.is_empty());

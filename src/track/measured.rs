@@ -149,38 +149,24 @@ pub fn parse_csv(text: &str, origin: &str) -> Result<Irregularities, TrackError>
             v[c] = mm * 1e-3;
         }
         if rails {
-            let o = RailOffsets {
-                y_left: v[0],
-                z_left: v[1],
-                y_right: v[2],
-                z_right: v[3],
-            };
-            let (al, vp, gv, cl) = o.combinations();
-            v = [al, vp, gv, cl];
+            v = combinations(v);
         }
         if let Some(rc) = &both {
             let mut r = [0.0; 4];
             for c in 0..4 {
                 r[c] = cell(rc[c], RAIL_COLUMNS[c])? * 1e-3;
             }
-            let o = RailOffsets {
-                y_left: r[0],
-                z_left: r[1],
-                y_right: r[2],
-                z_right: r[3],
-            };
-            let (al, vp, gv, cl) = o.combinations();
-            for (c, from_rails) in [al, vp, gv, cl].into_iter().enumerate() {
+            for (c, from_rails) in combinations(r).into_iter().enumerate() {
                 // 1 µm: the files kecsim writes carry 1e-9 mm.
                 if (from_rails - v[c]).abs() > 1e-6 {
                     return Err(at(
                         origin,
                         line,
                         format!(
-                            "column {} = {:.6} mm contradicts the rails' columns ({} from {}): give one set, or both consistent",
+                            "column {} = {:.6} mm contradicts the rails' columns ({:.6} mm from {}): give one set, or both consistent",
                             COMBINATION_COLUMNS[c],
                             v[c] * 1e3,
-                            format_args!("{:.6} mm", from_rails * 1e3),
+                            from_rails * 1e3,
                             RAIL_COLUMNS.join(", ")
                         ),
                     ));
@@ -226,6 +212,19 @@ pub fn from_samples(s: Vec<f64>, values: &[[f64; 4]], origin: Origin) -> Result<
         }
     }
     Irregularities::from_nodes(s, nodes, origin)
+}
+
+/// The combinations [al, vp, gv, cl] of the rails' displacements [y_left, z_left, y_right,
+/// z_right] (m), as [`RailOffsets::combinations`] gives them.
+fn combinations(r: [f64; 4]) -> [f64; 4] {
+    let (al, vp, gv, cl) = RailOffsets {
+        y_left: r[0],
+        z_left: r[1],
+        y_right: r[2],
+        z_right: r[3],
+    }
+    .combinations();
+    [al, vp, gv, cl]
 }
 
 /// Writes the irregularities at their nodes: `s_m`, `al_mm`, `vp_mm`, `gv_mm`, `cl_mm`.
