@@ -152,14 +152,21 @@ pub enum Method {
     Ros3,
     Ros34pw2,
     Bdf,
+    Radau5,
 }
 
 impl Method {
     /// Every method, in the order of [`Method::NAMES`].
-    pub const ALL: [Method; 4] = [Method::Dopri5, Method::Ros3, Method::Ros34pw2, Method::Bdf];
+    pub const ALL: [Method; 5] = [
+        Method::Dopri5,
+        Method::Ros3,
+        Method::Ros34pw2,
+        Method::Bdf,
+        Method::Radau5,
+    ];
     /// The one list of method names: the scenario's `[simulation.integrator] method`, the CLI's
     /// `--method` values and the printed name are all these.
-    pub const NAMES: [&'static str; 4] = ["dopri5", "ros3", "ros34pw2", "bdf"];
+    pub const NAMES: [&'static str; 5] = ["dopri5", "ros3", "ros34pw2", "bdf", "radau5"];
 
     /// The method's name in scenario files and on the command line.
     pub fn name(self) -> &'static str {
@@ -453,7 +460,7 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
     .min(settings.h_max)
     .min((t_end - t0).max(f64::MIN_POSITIVE));
     let mut stepper = Stepper::new(n, settings.method);
-    if settings.method == Method::Bdf {
+    if matches!(settings.method, Method::Bdf | Method::Radau5) {
         let groups = sys
             .newton_groups()
             .or_else(|| sys.jacobian_blocks().map(|b| vec![b]));
@@ -610,6 +617,7 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             x1.copy_from_slice(&xe);
             stepper.jac_age = None;
             stepper.bdf.restart();
+            stepper.radau.restart();
         }
         t = if last && event.is_none() { t_end } else { t1 };
         std::mem::swap(&mut x, &mut x1);
@@ -623,6 +631,8 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             let e = err.max(1e-10);
             let mut fac = if settings.method == Method::Bdf {
                 stepper.bdf.factor
+            } else if settings.method == Method::Radau5 {
+                stepper.radau.factor
             } else {
                 (0.9 * e.powf(-1.0 / q + 0.75 * beta) * err_prev.powf(beta)).clamp(0.2, 10.0)
             };
@@ -737,12 +747,17 @@ struct ErrorNorm {
 impl ErrorNorm {
     /// Adds component `next` (components are added in order, every one of them).
     fn add(&mut self, x0: f64, x1: f64, e: f64, s: &Settings) {
+        self.add_scaled(x0, x1, e, s.rtol, s.atol);
+    }
+
+    /// [`Self::add`] with the tolerances given (Radau's transformed ones).
+    fn add_scaled(&mut self, x0: f64, x1: f64, e: f64, rtol: f64, atol: f64) {
         let i = self.next;
         self.next += 1;
         if x0 == 0.0 && x1 == 0.0 && e == 0.0 {
             return;
         }
-        let sc = s.atol + s.rtol * x0.abs().max(x1.abs());
+        let sc = atol + rtol * x0.abs().max(x1.abs());
         let term = (e / sc).powi(2);
         self.sum += term;
         self.count += 1;
@@ -811,6 +826,8 @@ struct Stepper {
     limiting: Option<usize>,
     /// A Rosenbrock method's tableau.
     tableau: Option<rosenbrock::Tableau>,
+    /// Radau IIA: the collocation polynomial, the stages and the two factorisations.
+    radau: radau::Radau,
 }
 
 impl Stepper {
@@ -830,6 +847,7 @@ impl Stepper {
             newton_matrix: None,
             limiting: None,
             tableau: rosenbrock::Tableau::of(method),
+            radau: radau::Radau::new(if method == Method::Radau5 { n } else { 0 }),
         }
     }
 
@@ -890,7 +908,10 @@ impl Stepper {
     /// The step factor after a rejection with error norm `err` (q the error's order): a BDF step
     /// whose Newton iteration failed (infinite norm) is halved; otherwise from the estimate.
     fn rejection_factor(&self, err: f64, q: f64) -> f64 {
-        if err.is_finite() {
+        if self.method == Method::Radau5 {
+            // Its own control: the estimate's factor, or the Newton iteration's.
+            self.radau.factor
+        } else if err.is_finite() {
             (0.9 * err.powf(-1.0 / q)).clamp(0.1, 0.9)
         } else if self.method == Method::Bdf && self.bdf.newton_failed {
             0.5
@@ -906,6 +927,8 @@ impl Stepper {
             Method::Dopri5 => 5.0,
             Method::Ros3 | Method::Ros34pw2 => 3.0,
             Method::Bdf => self.bdf.usable_order() as f64 + 1.0,
+            // The embedded estimate's order 3.
+            Method::Radau5 => 4.0,
         }
     }
 
@@ -918,7 +941,7 @@ impl Stepper {
         // The BDF's solution is whatever Newton converges to, whatever its matrix: a finite error
         // norm the error test rejects says nothing of the Jacobian (a Newton iteration that fails
         // with an old one renews it, `bdf_step`). The W-methods' solution depends on the matrix.
-        let jacobian_blameless = self.method == Method::Bdf && err.is_finite();
+        let jacobian_blameless = matches!(self.method, Method::Bdf | Method::Radau5) && err.is_finite();
         if !jacobian_blameless && self.jac_age.is_some_and(|a| a > 0) && (err > 10.0 || rejections >= 2) {
             self.jac_age = None;
         }
@@ -954,6 +977,7 @@ impl Stepper {
                 r
             }
             Method::Bdf => self.bdf_step(sys, t, x, f0, h, s, x1, f1, stats),
+            Method::Radau5 => self.radau_step(sys, t, x, f0, h, s, x1, f1, stats),
         }
     }
 
@@ -962,6 +986,7 @@ impl Stepper {
         let s1 = 1.0 - s;
         match self.method {
             Method::Dopri5 => self.dopri5_dense(x, x1, f0, f1, h, s),
+            Method::Radau5 => self.radau.dense(x1, s),
             Method::Ros3 | Method::Ros34pw2 | Method::Bdf => (0..x.len())
                 .map(|i| {
                     // Cubic Hermite.
@@ -983,6 +1008,7 @@ mod bdf_step;
 mod dopri5;
 mod jacobian;
 mod newton;
+mod radau;
 mod rosenbrock;
 use newton::IterationMatrix;
 #[cfg(test)]

@@ -57,8 +57,8 @@ impl Stepper {
             }
         }
         // ∂f/∂t by a forward difference (the Rosenbrock methods' γ_i h f_t terms; zero for
-        // autonomous systems). The BDF does not use it.
-        if self.method != Method::Bdf {
+        // autonomous systems). The BDF and Radau do not use it.
+        if matches!(self.method, Method::Ros3 | Method::Ros34pw2) {
             let dt = 1.5e-8 * t.abs().max(h).max(1e-6);
             sys.rhs(t + dt, x, &mut self.ft).map_err(StepFailure::Model)?;
             stats.rhs_evaluations += 1;

@@ -1,36 +1,39 @@
 //! The factored iteration matrix (1/(γh)) I − J of the implicit methods' Newton iterations:
-//! dense, or by diagonal blocks (each an LU) and kinematic blocks (closed form).
+//! dense, or by diagonal blocks (each an LU) and kinematic blocks (closed form). Real for the BDF
+//! and the Rosenbrock methods; complex for Radau IIA's pair of complex eigenvalues
+//! (1/(γh) = (α + iβ)/h, [`super::radau`]).
 
-use nalgebra::DMatrix;
+use nalgebra::{ComplexField, DMatrix, DVector};
 
-/// The W-method's iteration matrix (1/(γh) I − W), factored: dense, or block by block where W is
-/// restricted to diagonal blocks (outside them it is 1/(γh) I).
-pub(super) enum IterationMatrix {
-    Dense(nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
+/// The iteration matrix (1/(γh)) I − W, factored: dense, or block by block where W is
+/// restricted to diagonal blocks (outside them it is 1/(γh) I). `T`: f64, or
+/// `nalgebra::Complex<f64>` for a complex 1/(γh).
+pub(super) enum IterationMatrix<T: ComplexField<RealField = f64> + Copy = f64> {
+    Dense(nalgebra::LU<T, nalgebra::Dyn, nalgebra::Dyn>),
     Blocks {
         blocks: Vec<(usize, usize)>,
-        lus: Vec<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+        lus: Vec<nalgebra::LU<T, nalgebra::Dyn, nalgebra::Dyn>>,
         /// Blocks whose Jacobian is only the exact q̇ = v coupling (a body outside the
         /// finite-difference blocks): solved in closed form, nothing to factor.
         kinematic: Vec<(usize, usize)>,
-        gh: f64,
+        gh: T,
     },
 }
 
-impl IterationMatrix {
+impl<T: ComplexField<RealField = f64> + Copy> IterationMatrix<T> {
     /// (1/(γh)) I − J factored: dense, or by its diagonal `blocks` (each an LU) and its
     /// `kinematic` blocks (closed form) with the identity elsewhere.
     pub(super) fn factor(
         jac: &DMatrix<f64>,
         blocks: Option<&[(usize, usize)]>,
         kinematic: &[(usize, usize)],
-        gh: f64,
-    ) -> IterationMatrix {
+        gh: T,
+    ) -> IterationMatrix<T> {
         match blocks {
             None => {
-                let mut g = -jac.clone();
+                let mut g = (-jac.clone()).map(T::from_real);
                 for i in 0..g.nrows() {
-                    g[(i, i)] += 1.0 / gh;
+                    g[(i, i)] += T::one() / gh;
                 }
                 IterationMatrix::Dense(g.lu())
             }
@@ -39,9 +42,9 @@ impl IterationMatrix {
                 lus: blocks
                     .iter()
                     .map(|&(o, m)| {
-                        let mut g = -jac.view((o, o), (m, m)).into_owned();
+                        let mut g = (-jac.view((o, o), (m, m)).into_owned()).map(T::from_real);
                         for i in 0..m {
-                            g[(i, i)] += 1.0 / gh;
+                            g[(i, i)] += T::one() / gh;
                         }
                         g.lu()
                     })
@@ -52,26 +55,7 @@ impl IterationMatrix {
         }
     }
 
-    /// W v.
-    pub(super) fn w_times(&self, jac: &DMatrix<f64>, v: &[f64]) -> Vec<f64> {
-        let n = v.len();
-        match self {
-            IterationMatrix::Dense(_) => (0..n).map(|m| (0..n).map(|c| jac[(m, c)] * v[c]).sum()).collect(),
-            IterationMatrix::Blocks {
-                blocks, kinematic, ..
-            } => {
-                let mut out = vec![0.0; n];
-                for &(o, m) in blocks.iter().chain(kinematic) {
-                    for r in 0..m {
-                        out[o + r] = (0..m).map(|c| jac[(o + r, o + c)] * v[o + c]).sum();
-                    }
-                }
-                out
-            }
-        }
-    }
-
-    pub(super) fn solve(&self, rhs: &nalgebra::DVector<f64>) -> Option<nalgebra::DVector<f64>> {
+    pub(super) fn solve(&self, rhs: &DVector<T>) -> Option<DVector<T>> {
         match self {
             IterationMatrix::Dense(lu) => lu.solve(rhs),
             IterationMatrix::Blocks {
@@ -94,7 +78,7 @@ impl IterationMatrix {
                 // A kinematic block [c I, −I; 0, c I] (c = 1/(γh)): v = r_v / c, then
                 // q = (r_q + v) / c — the operations its LU (no pivoting: L = I) would do, in
                 // its order, so the result is the LU's bit for bit.
-                let c = 1.0 / *gh;
+                let c = T::one() / *gh;
                 for &(o, m) in kinematic {
                     let half = m / 2;
                     for i in 0..half {
@@ -104,6 +88,27 @@ impl IterationMatrix {
                     }
                 }
                 Some(k)
+            }
+        }
+    }
+}
+
+impl IterationMatrix<f64> {
+    /// W v.
+    pub(super) fn w_times(&self, jac: &DMatrix<f64>, v: &[f64]) -> Vec<f64> {
+        let n = v.len();
+        match self {
+            IterationMatrix::Dense(_) => (0..n).map(|m| (0..n).map(|c| jac[(m, c)] * v[c]).sum()).collect(),
+            IterationMatrix::Blocks {
+                blocks, kinematic, ..
+            } => {
+                let mut out = vec![0.0; n];
+                for &(o, m) in blocks.iter().chain(kinematic) {
+                    for r in 0..m {
+                        out[o + r] = (0..m).map(|c| jac[(o + r, o + c)] * v[o + c]).sum();
+                    }
+                }
+                out
             }
         }
     }

@@ -151,7 +151,7 @@ impl Tableau {
         match method {
             Method::Ros3 => Some(Tableau::ros3()),
             Method::Ros34pw2 => Some(Tableau::ros34pw2()),
-            Method::Dopri5 | Method::Bdf => None,
+            Method::Dopri5 | Method::Bdf | Method::Radau5 => None,
         }
     }
 

@@ -69,10 +69,14 @@ fn convergence_order() {
         (Method::Dopri5, 5.0),
         (Method::Ros3, 3.0),
         (Method::Ros34pw2, 3.0),
+        (Method::Radau5, 5.0),
     ] {
         let mut errs = Vec::new();
         for h in [0.1, 0.05, 0.025] {
-            let mut s = Settings::new(method, 1e-6, 1e-6);
+            // Radau's Newton iteration stops at a fraction of the tolerance: far below the
+            // truncation error here.
+            let tol = if method == Method::Radau5 { 1e-14 } else { 1e-6 };
+            let mut s = Settings::new(method, tol, tol);
             s.fixed_step = Some(h);
             let (out, _) = run(&mut Oscillator { w: 2.0 }, &[1.0, 0.0], 2.0, 0.1, &s);
             let (t, x) = out.last().unwrap();
@@ -164,13 +168,13 @@ fn w_method_keeps_its_order_with_a_wrong_jacobian() {
 /// at a fixed rate between steps (dense output), is as accurate as the steps.
 #[test]
 fn tolerance_proportionality_and_dense_output() {
-    for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2] {
+    for method in [Method::Dopri5, Method::Ros3, Method::Ros34pw2, Method::Radau5] {
         let mut prev: Option<f64> = None;
         for tol in [1e-5, 1e-7, 1e-9] {
             let s = Settings::new(method, tol, tol);
             let (out, stats) = run(&mut Oscillator { w: 3.0 }, &[1.0, 0.0], 10.0, 0.01, &s);
             assert_eq!(out.len(), 1001, "fixed-rate output");
-            if method == Method::Dopri5 {
+            if matches!(method, Method::Dopri5 | Method::Radau5) {
                 // Fewer steps than outputs: the output comes from the dense output between steps.
                 assert!(stats.accepted < out.len(), "{method:?}: {} steps", stats.accepted);
             }
@@ -501,7 +505,7 @@ fn events_locate_impacts_and_jump() {
             Ok(())
         }
     }
-    for method in [Method::Dopri5, Method::Bdf] {
+    for method in [Method::Dopri5, Method::Bdf, Method::Radau5] {
         let mut impacts = Vec::new();
         let mut prev_v = 0.0;
         let s = Settings::new(method, 1e-9, 1e-12);
@@ -645,8 +649,12 @@ fn bdf_newton_matrix_groups_and_kinematic_blocks() {
         &Settings::new(Method::Dopri5, 1e-11, 1e-13),
     );
     let mut work = Vec::new();
-    for matrix in 0..3 {
-        let s = Settings::new(Method::Bdf, 1e-6, 1e-8);
+    for (method, matrix) in [0, 1, 2]
+        .map(|m| (Method::Bdf, m))
+        .into_iter()
+        .chain([(Method::Radau5, 2)])
+    {
+        let s = Settings::new(method, 1e-6, 1e-8);
         let (out, st) = run(&mut Bogie { matrix }, &x0, 2.0, 0.01, &s);
         let err = out
             .iter()
@@ -654,10 +662,10 @@ fn bdf_newton_matrix_groups_and_kinematic_blocks() {
             .map(|((_, x), (_, r))| (x[0] - r[0]).abs().max((x[2] - r[2]).abs()))
             .fold(0.0, f64::max);
         println!(
-            "matrix {matrix}: {} steps ({} rejected), {} Jacobians, {} rhs, error {err:.2e}",
+            "{method:?} matrix {matrix}: {} steps ({} rejected), {} Jacobians, {} rhs, error {err:.2e}",
             st.accepted, st.rejected, st.jacobians, st.rhs_evaluations
         );
-        assert!(err < 1e-5, "matrix {matrix}: error {err}");
+        assert!(err < 1e-5, "{method:?} matrix {matrix}: error {err}");
         work.push(st.rhs_evaluations);
     }
     assert!(10 * work[2] < 7 * work[0], "right-hand sides {work:?}");
@@ -871,4 +879,238 @@ fn method_names_are_one_list() {
         "{e}"
     );
     assert_eq!(Method::ALL.len(), Method::NAMES.len());
+}
+
+/// Radau IIA's constants: A satisfies the collocation conditions Σⱼ aᵢⱼ cⱼ^(k−1) = cᵢᵏ/k
+/// (k = 1, 2, 3) at c = ((4 − √6)/10, (4 + √6)/10, 1) (H–W II, §IV.5), T⁻¹T = I, and
+/// T⁻¹A⁻¹T = [[γ̂, 0, 0], [0, α̂, −β̂], [0, β̂, α̂]] with the γ̂, α̂, β̂ the step uses — the
+/// transformation that splits the 3n-dimensional Newton system into one real and one complex one.
+#[test]
+fn radau_transformation_diagonalises_the_inverse_of_a() {
+    use nalgebra::Matrix3;
+    let a = Matrix3::from_fn(|i, j| radau::butcher_a()[i][j]);
+    let s6 = 6.0f64.sqrt();
+    let c = [(4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0];
+    for i in 0..3 {
+        for k in 1..=3 {
+            let lhs: f64 = (0..3).map(|j| a[(i, j)] * c[j].powi(k - 1)).sum();
+            assert!((lhs - c[i].powi(k) / k as f64).abs() < 1e-15, "row {i}, k {k}");
+        }
+    }
+    let t = Matrix3::from_fn(|i, j| radau::T[i][j]);
+    let ti = Matrix3::from_fn(|i, j| radau::TI[i][j]);
+    assert!((ti * t - Matrix3::identity()).amax() < 1e-14);
+    let (g, al, be) = (radau::GAMMA, radau::ALPHA, radau::BETA);
+    let want = Matrix3::new(g, 0.0, 0.0, 0.0, al, -be, 0.0, be, al);
+    let got = ti * a.try_inverse().expect("A is regular") * t;
+    assert!((got - want).amax() < 1e-12, "{got}");
+}
+
+/// x' = (re + i im) x as a real 2×2 system.
+struct Linear2 {
+    re: f64,
+    im: f64,
+}
+
+impl OdeSystem for Linear2 {
+    type Error = String;
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+        d[0] = self.re * x[0] - self.im * x[1];
+        d[1] = self.im * x[0] + self.re * x[1];
+        Ok(())
+    }
+}
+
+/// One Radau IIA step on the test equation x' = λx is x₁ = R(hλ) x₀, R the (2, 3) Padé
+/// approximant of e^z, R(z) = (1 + 2z/5 + z²/20) / (1 − 3z/5 + 3z²/20 − z³/60) (H–W II, §IV.5,
+/// Table 5.13): checked in closed form for real and complex hλ — among them a lightly damped mode
+/// and hλ = −10⁶, where L-stability makes R ≈ −3/z (BDF-3…5 are not even A-stable).
+#[test]
+fn radau_step_is_the_pade_approximant_on_the_test_equation() {
+    use nalgebra::Complex;
+    for (re, im) in [
+        (-0.5, 0.0),
+        (-10.0, 0.0),
+        (-1e6, 0.0),
+        (-1.0, 5.0),
+        (-0.05, 3.0),
+        (-2e4, 1e5),
+    ] {
+        let mut s = Settings::new(Method::Radau5, 1e-13, 1e-13);
+        s.fixed_step = Some(1.0);
+        let (out, st) = run(&mut Linear2 { re, im }, &[1.0, 0.0], 1.0, 1.0, &s);
+        let z = Complex::new(re, im);
+        let r = (1.0 + z * 0.4 + z * z / 20.0) / (1.0 - z * 0.6 + z * z * 0.15 - z * z * z / 60.0);
+        let x = &out.last().expect("the end").1;
+        let err = (x[0] - r.re).abs().max((x[1] - r.im).abs());
+        println!(
+            "hλ = {z}: R = {r:.6e}, step {:.6e} + {:.6e} i, |Δ| {err:.1e}",
+            x[0], x[1]
+        );
+        assert_eq!(st.accepted, 1);
+        assert!(err < 1e-10 * r.norm().max(1e-3), "hλ = {z}: {x:?} against {r}");
+    }
+}
+
+/// van der Pol with μ = 1000, y(0) = (2, 0), to t = 2000: the Test Set for IVP Solvers' problem
+/// VDPOL (Mazzia & Magherini, Univ. Bari, https://archimede.uniba.it/~testset/problems/vdpol.php),
+/// reference y(2000) = (1.706167732170469, −0.8928097010248125e-3). Radau at rtol 1e-8 lands
+/// within 1e-5 of it in a few thousand steps; the error falls with the tolerance.
+#[test]
+fn radau_van_der_pol_mu_1000_against_the_test_set() {
+    struct VanDerPol;
+    impl OdeSystem for VanDerPol {
+        type Error = String;
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, y: &[f64], d: &mut [f64]) -> Result<(), String> {
+            d[0] = y[1];
+            d[1] = 1000.0 * (1.0 - y[0] * y[0]) * y[1] - y[0];
+            Ok(())
+        }
+    }
+    let reference = [1.706_167_732_170_469, -0.892_809_701_024_812_5e-3];
+    let mut errors = Vec::new();
+    for tol in [1e-6, 1e-8] {
+        let s = Settings::new(Method::Radau5, tol, tol);
+        let (out, st) = run(&mut VanDerPol, &[2.0, 0.0], 2000.0, 100.0, &s);
+        let y = &out.last().expect("the end").1;
+        let err = (y[0] - reference[0])
+            .abs()
+            .max((y[1] - reference[1]).abs() / reference[1].abs());
+        println!(
+            "VDPOL rtol {tol:e}: {} steps ({} rejected), {} RHS, {} Jacobians, y(2000) = {y:?}, error {err:.2e}",
+            st.accepted, st.rejected, st.rhs_evaluations, st.jacobians
+        );
+        assert!(st.accepted < 5_000, "{} steps", st.accepted);
+        errors.push(err);
+    }
+    assert!(errors[1] < 1e-5, "{errors:?}");
+    assert!(errors[1] < errors[0], "{errors:?}");
+}
+
+/// Robertson's reaction to t = 1e11: the Test Set for IVP Solvers' problem ROBER
+/// (https://archimede.uniba.it/~testset/problems/rober.php), reference y(1e11) =
+/// (0.2083340149701255e-7, 0.8333360770334713e-13, 0.9999999791665050); the mass Σyᵢ = 1 is a
+/// conserved linear invariant, which a Runge–Kutta method keeps to round-off (up to the Newton
+/// iteration's remainder).
+#[test]
+fn radau_robertson_against_the_test_set() {
+    struct Robertson;
+    impl OdeSystem for Robertson {
+        type Error = String;
+        fn dim(&self) -> usize {
+            3
+        }
+        fn rhs(&mut self, _t: f64, y: &[f64], d: &mut [f64]) -> Result<(), String> {
+            d[0] = -0.04 * y[0] + 1e4 * y[1] * y[2];
+            d[2] = 3e7 * y[1] * y[1];
+            d[1] = -d[0] - d[2];
+            Ok(())
+        }
+    }
+    let reference = [
+        0.208_334_014_970_125_5e-7,
+        0.833_336_077_033_471_3e-13,
+        0.999_999_979_166_505,
+    ];
+    let s = Settings::new(Method::Radau5, 1e-8, 1e-14);
+    let mut mass: f64 = 0.0;
+    let (out, st) = {
+        let mut out = Vec::new();
+        let st = integrate(
+            &mut Robertson,
+            0.0,
+            &[1.0, 0.0, 0.0],
+            1e11,
+            1e9,
+            &s,
+            &mut |t, y| {
+                mass = mass.max((y.iter().sum::<f64>() - 1.0).abs());
+                out.push((t, y.to_vec()));
+                Ok(Flow::Continue)
+            },
+        )
+        .unwrap();
+        (out, st)
+    };
+    let y = &out.last().expect("the end").1;
+    println!(
+        "ROBER: {} steps ({} rejected), {} RHS, {} Jacobians, y(1e11) = {y:?}, mass drift {mass:.1e}",
+        st.accepted, st.rejected, st.rhs_evaluations, st.jacobians
+    );
+    for i in 0..3 {
+        let rel = (y[i] - reference[i]).abs() / reference[i];
+        assert!(
+            rel < 1e-6,
+            "y{} = {} against {}: {rel:.1e}",
+            i + 1,
+            y[i],
+            reference[i]
+        );
+    }
+    assert!(mass < 1e-9, "mass drift {mass}");
+    assert!(st.accepted < 2_000, "{} steps", st.accepted);
+}
+
+/// The forced lightly damped mode of `bdf_on_a_lightly_damped_mode_is_held_at_its_stability_boundary`
+/// with Radau IIA: L-stable, its steps do not depend on the mode's damping (ζ = 0.015 against
+/// 0.7), where BDF's grow > 3× with it; the error against the closed-form steady response holds.
+#[test]
+fn radau_steps_do_not_depend_on_the_damping_of_a_mode() {
+    struct Forced {
+        w: f64,
+        zeta: f64,
+    }
+    impl OdeSystem for Forced {
+        type Error = String;
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+            let u = 1e-3 * (std::f64::consts::TAU * t).sin();
+            d[0] = x[1];
+            d[1] = -self.w * self.w * (x[0] - u) - 2.0 * self.zeta * self.w * x[1];
+            Ok(())
+        }
+    }
+    let w = 600.0;
+    let om = std::f64::consts::TAU;
+    let mut steps = Vec::new();
+    for zeta in [0.015, 0.7] {
+        let gain =
+            nalgebra::Complex::new(w * w, 0.0) / nalgebra::Complex::new(w * w - om * om, 2.0 * zeta * w * om);
+        let exact = |t: f64| {
+            let e = gain * nalgebra::Complex::new(0.0, om * t).exp();
+            (1e-3 * e.im, 1e-3 * om * e.re)
+        };
+        let x0 = [exact(0.0).0, exact(0.0).1];
+        let mut counts = Vec::new();
+        for method in [Method::Radau5, Method::Bdf] {
+            let s = Settings::new(method, 1e-4, 1e-7);
+            let (out, st) = run(&mut Forced { w, zeta }, &x0, 2.0, 0.01, &s);
+            let err = out
+                .iter()
+                .map(|(t, x)| (x[0] - exact(*t).0).abs())
+                .fold(0.0, f64::max);
+            println!(
+                "ζ = {zeta}: {method:?} {} steps ({} rejected), {} RHS, max |x − exact| {err:.2e} m",
+                st.accepted, st.rejected, st.rhs_evaluations
+            );
+            assert!(err < 2e-6, "{method:?} ζ = {zeta}: error {err}");
+            counts.push(st.accepted);
+        }
+        steps.push(counts);
+    }
+    let (radau_light, radau_damped) = (steps[0][0] as f64, steps[1][0] as f64);
+    assert!(
+        (radau_light / radau_damped - 1.0).abs() < 0.3,
+        "Radau: ζ 0.015 {radau_light} steps, ζ 0.7 {radau_damped}"
+    );
+    assert!(steps[0][1] > 3 * steps[1][1], "BDF {steps:?}");
+    assert!(steps[0][0] * 3 < steps[0][1], "lightly damped: Radau {steps:?}");
 }
