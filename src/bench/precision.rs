@@ -36,7 +36,7 @@ impl Default for PrecisionSettings {
     fn default() -> Self {
         PrecisionSettings {
             contacts: ["kec", "lookup", "lookup2", "online"].map(String::from).to_vec(),
-            methods: vec![Method::Bdf, Method::Dopri5],
+            methods: vec![Method::Bdf, Method::Radau5, Method::Dopri5],
             rtols: vec![1e-3, 1e-4, 1e-5],
             reference: ("online".to_string(), Method::Dopri5, 1e-8),
             duration_s: None,

@@ -81,7 +81,8 @@ pub struct IntegratorSpec {
     pub rtol: f64,
     #[serde(default = "default_atol")]
     pub atol: f64,
-    /// ros34pw2: accepted steps one Jacobian serves before it is evaluated again.
+    /// ros34pw2, bdf, radau5: accepted steps one Jacobian serves at most before it is evaluated
+    /// again (earlier where the method asks for it).
     #[serde(default = "default_jacobian_max_age")]
     pub jacobian_max_age: usize,
     /// bdf: the highest order (1–5; default 5). Given with another method, which has no order to
