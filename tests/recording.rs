@@ -454,3 +454,154 @@ fn kec_writes_equivalent_profiles_csv_and_recording() {
     }
     assert_eq!(rec["/kec/equivalent/left/wheel"].strips.len(), rows.len());
 }
+
+/// The rows of a Transform3D component of `entity` on the `time` timeline: (t in ns, values).
+fn transform_rows<const N: usize>(
+    chunks: &[rerun::log::Chunk],
+    entity: &str,
+    component: rerun::ComponentIdentifier,
+) -> Vec<(i64, [f32; N])> {
+    let mut rows = Vec::new();
+    for c in chunks
+        .iter()
+        .filter(|c| c.entity_path().to_string() == entity && !c.is_static())
+    {
+        let times: Vec<i64> = c
+            .iter_component_indices(rerun::TimelineName::from("time"), component)
+            .map(|(t, _)| t.as_i64())
+            .collect();
+        let values: Vec<[f32; N]> = c.iter_slices::<[f32; N]>(component).map(|v| v[0]).collect();
+        assert_eq!(times.len(), values.len(), "{entity}");
+        rows.extend(times.into_iter().zip(values));
+    }
+    rows.sort_by_key(|r| r.0);
+    rows
+}
+
+/// Issue 36: the run's 3D view. A short run of the default scene with its CSV and a non-default
+/// `--exaggerate`: the recording holds the stretch of track, every body's and wheelset's
+/// transforms and shapes, each wheelset's contact points and force arrows, and the followed
+/// frame; each wheelset's displacement transform gives back the CSV's lateral displacement
+/// (÷ the exaggeration) and z − r0 to 1e-9 m, its rotation the roll and the yaw (÷ the
+/// exaggeration) to 1e-7 rad, and its track frame sits at the CSV's arc length on the track (to the
+/// recording's f32: 1 mm over the kilometre).
+#[test]
+fn the_3d_view_follows_the_simulated_states() {
+    use rerun::Transform3D;
+    let dir = tmpdir("world3d");
+    let ms = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
+    )
+    .unwrap()
+    .replacen("duration_s = 51.0", "duration_s = 0.5", 1);
+    std::fs::write(dir.join("ms.toml"), ms).unwrap();
+    let e = 40.0;
+    common::kecsim_ok(
+        &[
+            "run",
+            "ms.toml",
+            "--csv",
+            "csv",
+            "--save",
+            "w.rrd",
+            "--exaggerate",
+            "40",
+        ],
+        &dir,
+    );
+    let rrd = dir.join("w.rrd");
+    rerun_verify(&rrd);
+    let chunks = recording_chunks(&rrd).unwrap();
+    let entities: std::collections::BTreeSet<String> =
+        chunks.iter().map(|c| c.entity_path().to_string()).collect();
+    let bodies = ["c1", "c2", "c3", "c4", "c5", "b1", "b2", "b3"];
+    let wheelsets = ["w1", "w2", "w3", "w4", "w5", "w6"];
+    let mut expected = vec![
+        "/run/world/track/rails".to_string(),
+        "/run/world/track/sleepers".to_string(),
+        "/run/world/follow".to_string(),
+    ];
+    for n in bodies.iter().chain(&wheelsets) {
+        for sub in ["", "/pose", "/pose/body", "/pose/body/shape"] {
+            expected.push(format!("/run/world/vehicle/{n}{sub}"));
+        }
+    }
+    for w in wheelsets {
+        expected.push(format!("/run/world/vehicle/{w}/contact"));
+        expected.push(format!("/run/world/vehicle/{w}/forces"));
+    }
+    for e in &expected {
+        assert!(entities.contains(e), "missing {e}: {entities:?}");
+    }
+    let scene = common::scene("ms_vehicle_tab6.toml");
+    let track = scene.track.clone().expect("the default scene has its track");
+    let origin = track
+        .centreline
+        .frame(track.centreline.range().0)
+        .unwrap()
+        .position;
+    let r0 = scene.pair.wheelset.nominal_radius_m;
+    let translation = Transform3D::descriptor_translation().component;
+    let mat3x3 = Transform3D::descriptor_mat3x3().component;
+    let mut worst = [0.0f64; 4];
+    for w in wheelsets {
+        let csv = std::fs::read_to_string(dir.join("csv").join(format!("{w}.csv"))).unwrap();
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+        let (ct, cs, cy, cz, cyaw, croll) = (
+            col("t_s"),
+            col("s_m"),
+            col("y_mm"),
+            col("z_mm"),
+            col("yaw_mrad"),
+            col("roll_mrad"),
+        );
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        let pose = transform_rows::<3>(&chunks, &format!("/run/world/vehicle/{w}/pose"), translation);
+        let body = transform_rows::<9>(&chunks, &format!("/run/world/vehicle/{w}/pose/body"), mat3x3);
+        let frame = transform_rows::<3>(&chunks, &format!("/run/world/vehicle/{w}"), translation);
+        // A frame every 20 ms of the 0.5 s.
+        assert!((25..=27).contains(&pose.len()), "{w}: {} frames", pose.len());
+        assert_eq!(pose.len(), body.len());
+        assert_eq!(pose.len(), frame.len());
+        for ((&(t, p), &(_, m)), &(_, f)) in pose.iter().zip(&body).zip(&frame) {
+            let row = rows
+                .iter()
+                .find(|r| ((r[ct] * 1e9).round() as i64 - t).abs() <= 1)
+                .unwrap_or_else(|| panic!("{w}: no CSV row at {t} ns"));
+            let y = row[cy] * 1e-3;
+            let z = row[cz] * 1e-3;
+            worst[0] = worst[0].max((p[1] as f64 / e - y).abs());
+            worst[1] = worst[1].max((p[2] as f64 - z).abs());
+            assert_eq!(p[0], 0.0);
+            // Column-major: R[1][0] = sin(e ψ) cos θ (θ = 0 for a wheelset), R[2][1] = sin φ.
+            let yaw = (m[1] as f64).asin() / e;
+            let roll = (m[5] as f64).asin();
+            worst[2] = worst[2].max(
+                (yaw - row[cyaw] * 1e-3)
+                    .abs()
+                    .max((roll - row[croll] * 1e-3).abs()),
+            );
+            let at = track.centreline.frame(row[cs]).unwrap().position - origin;
+            let d = (0..3).map(|i| (f[i] as f64 - at[i]).abs()).fold(0.0, f64::max);
+            worst[3] = worst[3].max(d);
+        }
+        let shape = chunks
+            .iter()
+            .find(|c| c.entity_path().to_string() == format!("/run/world/vehicle/{w}/pose/body/shape"))
+            .unwrap();
+        assert!(shape.is_static(), "{w}: the shape is static");
+        let height = transform_rows::<3>(&chunks, &format!("/run/world/vehicle/{w}/pose/body"), translation);
+        assert!(height.iter().all(|(_, h)| (h[2] as f64 - r0).abs() < 1e-7), "{w}");
+    }
+    println!(
+        "3D view against the CSV: y {:.1e} m, z {:.1e} m, yaw/roll {:.1e} rad, track frame {:.1e} m",
+        worst[0], worst[1], worst[2], worst[3]
+    );
+    assert!(worst[0] < 1e-9 && worst[1] < 1e-9, "{worst:?}");
+    assert!(worst[2] < 1e-7, "{worst:?}");
+    assert!(worst[3] < 1e-3, "{worst:?}");
+}

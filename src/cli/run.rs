@@ -42,6 +42,11 @@ pub(super) struct RunArgs {
     /// default: as fast as it computes.
     #[arg(long, value_name = "X")]
     pace: Option<f64>,
+    /// The 3D view's factor on the lateral and yaw motion relative to the track (and on the rails'
+    /// lateral irregularities), so that millimetres show on a 30 m vehicle; 1 = true scale. The
+    /// cross-sections stay true scale.
+    #[arg(long, value_name = "FACTOR", default_value_t = kecsim::inspect::world3d::DEFAULT_EXAGGERATION)]
+    exaggerate: f64,
     #[command(flatten)]
     sink: SinkArgs,
 }
@@ -105,6 +110,11 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
             "--pace {x}: expected a factor of real time in 0.001..1e6 (0.001: 1 s simulated in 17 min)"
         );
     }
+    anyhow::ensure!(
+        a.exaggerate.is_finite() && (1.0..=1e4).contains(&a.exaggerate),
+        "--exaggerate {}: expected a factor in 1..10000 (1: true scale)",
+        a.exaggerate
+    );
     if let Some(v) = a.speed {
         anyhow::ensure!(
             v.is_finite() && (0.0..=200.0).contains(&v),
@@ -172,7 +182,10 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         ),
         None => None,
     };
-    let mut recorder = LiveRecorder::open(&sink, scene, &names)?;
+    let world = kecsim::inspect::world3d::World3dSettings {
+        exaggerate: a.exaggerate,
+    };
+    let mut recorder = LiveRecorder::open_with(&sink, scene, &names, &world)?;
     let mut progress = Progress::new();
     let mut pace = a.pace.map(|x| Pace::new(x, cancel.clone()));
     let out = {

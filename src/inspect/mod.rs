@@ -27,6 +27,7 @@ pub mod readback;
 pub mod run;
 pub mod study;
 pub mod track;
+pub mod world3d;
 
 use std::path::PathBuf;
 

@@ -37,15 +37,18 @@
 //! | `run/section/{left,right}/{rail,wheel,contact}` | LineStrips2D / Points2D | cross-section (mm, `[Y, −Z]`), at ≤ 50 Hz |
 //! | `run/track/plan`, `run/track/position` | LineStrips2D static / Points2D | track plan (m, `[X, −Y]`) and the wheelset on it |
 //! | `run/summary` | TextDocument | the run summary |
+//!
+//! and the 3D view of the vehicle on its track, `run/world/**` ([`super::world3d`]).
 
 use std::time::{Duration, Instant};
 
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView,
-    Vertical,
+    Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, TextDocumentView, TimePanel,
+    TimeSeriesView, Vertical,
 };
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines, TextDocument, TimeColumn};
 
+use super::world3d::{World3d, World3dSettings};
 use super::{log_static, open_recording, section_mm, send_scalar_values, InspectError, Sink};
 use crate::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
 use crate::dynamics::sample::{Panel, Quantity, Sample, Series, QUANTITIES, WHEELS};
@@ -137,22 +140,37 @@ pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Pl
     rows
 }
 
-/// The layout for the run of `wheelsets` (by name): the first wheelset's cross-sections and the
-/// track plan, then the [`plot_rows`] of [`QUANTITIES`], the last with the summary.
+/// The layout for the run of `wheelsets` (by name) with the default 3D view
+/// ([`blueprint_with`]).
 pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
+    blueprint_with(wheelsets, &World3dSettings::default())
+}
+
+/// The layout for the run of `wheelsets` (by name), read top-down: the 3D view of the vehicle on
+/// its track (following the front wheelset), the first wheelset's cross-sections and the track
+/// plan; then the [`plot_rows`] of [`QUANTITIES`], the last with the summary.
+pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings) -> Blueprint {
     let mut rows: Vec<ContainerLike> = vec![Horizontal::new([
-        Spatial2DView::new("Right wheel and rail (−Y)")
-            .with_origin("/run/section/right")
+        Spatial3DView::new(World3d::title(world))
+            .with_origin("/run/world/follow")
+            .with_contents(["/run/world/**"])
             .into(),
-        Spatial2DView::new("Left wheel and rail (+Y)")
-            .with_origin("/run/section/left")
-            .into(),
+        Vertical::new([
+            Spatial2DView::new("Right wheel and rail (−Y)")
+                .with_origin("/run/section/right")
+                .into(),
+            Spatial2DView::new("Left wheel and rail (+Y)")
+                .with_origin("/run/section/left")
+                .into(),
+        ])
+        .into(),
         Spatial2DView::new("Track plan [m]")
             .with_origin("/run/track")
             .into(),
     ])
+    .with_column_shares([3.0, 1.2, 1.0])
     .into()];
-    let mut shares = vec![3.0];
+    let mut shares = vec![5.0];
     let plots = plot_rows(QUANTITIES, wheelsets);
     let last = plots.len().saturating_sub(1);
     for (k, row) in plots.into_iter().enumerate() {
@@ -268,6 +286,8 @@ pub struct LiveRecorder {
     styled: std::collections::HashSet<String>,
     /// Samples sent per wheelset.
     sent: usize,
+    /// The 3D view's frames.
+    world: World3d,
 }
 
 impl LiveRecorder {
@@ -279,8 +299,18 @@ impl LiveRecorder {
     /// Opens the recording on `sink` with the run layout for `wheelsets`, and logs the statics
     /// (rails, track plan, series styles): a sink that cannot be opened fails before the run.
     pub fn open(sink: &Sink, scene: &Scene, wheelsets: &[String]) -> Result<LiveRecorder, InspectError> {
-        let rec = open_recording("kecsim", sink, || blueprint_for(wheelsets))?;
-        let mut r = Self::on(rec, scene, wheelsets)?;
+        Self::open_with(sink, scene, wheelsets, &World3dSettings::default())
+    }
+
+    /// [`Self::open`] with the 3D view's settings (the command line's `--exaggerate`).
+    pub fn open_with(
+        sink: &Sink,
+        scene: &Scene,
+        wheelsets: &[String],
+        world: &World3dSettings,
+    ) -> Result<LiveRecorder, InspectError> {
+        let rec = open_recording("kecsim", sink, || blueprint_with(wheelsets, world))?;
+        let mut r = Self::on_with(rec, scene, wheelsets, world)?;
         if matches!(sink, Sink::Save(_)) {
             r.batch_wall = BATCH_WALL_FILE;
         }
@@ -292,6 +322,16 @@ impl LiveRecorder {
         rec: RecordingStream,
         scene: &Scene,
         wheelsets: &[String],
+    ) -> Result<LiveRecorder, InspectError> {
+        Self::on_with(rec, scene, wheelsets, &World3dSettings::default())
+    }
+
+    /// [`Self::on`] with the 3D view's settings.
+    pub fn on_with(
+        rec: RecordingStream,
+        scene: &Scene,
+        wheelsets: &[String],
+        world: &World3dSettings,
     ) -> Result<LiveRecorder, InspectError> {
         let pair = scene.pair.clone();
         let (knots, _) = pair.wheel.knots();
@@ -310,8 +350,10 @@ impl LiveRecorder {
             wheel_knots,
             styled: std::collections::HashSet::new(),
             sent: 0,
+            world: World3d::new(scene, *world),
         };
         r.log_statics()?;
+        r.world.log_statics(&r.rec)?;
         Ok(r)
     }
 
@@ -449,6 +491,7 @@ impl LiveRecorder {
             }
         }
         self.send_sections()?;
+        self.world.send(&self.rec, TIME, DISTANCE)?;
         self.sent += n;
         for p in &mut self.pending {
             p.clear();
@@ -575,6 +618,7 @@ impl RunObserver for LiveRecorder {
         if let Some(first) = sample.wheelsets.first() {
             self.log_section(first);
         }
+        self.world.sample(sample.t, sample.wheelsets, sample.bodies);
         if self.last_batch.elapsed() >= self.batch_wall {
             self.send_batch()?;
         }
