@@ -484,7 +484,8 @@ fn transform_rows<const N: usize>(
 /// frame; each wheelset's displacement transform gives back the CSV's lateral displacement
 /// (÷ the exaggeration) and z − r0 to 1e-9 m, its rotation the roll and the yaw (÷ the
 /// exaggeration) to 1e-7 rad, and its track frame sits at the CSV's arc length on the track (to the
-/// recording's f32: 1 mm over the kilometre).
+/// recording's f32: 1 mm over the kilometre). The running bands hold every wheel's contact on its
+/// rail at every output sample, at the CSV's (s, s^r).
 #[test]
 fn the_3d_view_follows_the_simulated_states() {
     use rerun::Transform3D;
@@ -596,6 +597,50 @@ fn the_3d_view_follows_the_simulated_states() {
         assert!(shape.is_static(), "{w}: the shape is static");
         let height = transform_rows::<3>(&chunks, &format!("/run/world/vehicle/{w}/pose/body"), translation);
         assert!(height.iter().all(|(_, h)| (h[2] as f64 - r0).abs() < 1e-7), "{w}");
+    }
+    // The running bands: every CSV row's contact on each rail, (s, −s^r in 0.1 mm), is a point of
+    // that rail's band (the f32 of the recording).
+    for (side, col) in [("left", "s_rail_left_mm"), ("right", "s_rail_right_mm")] {
+        let points: Vec<[f32; 2]> = chunks
+            .iter()
+            .filter(|c| {
+                c.entity_path()
+                    .to_string()
+                    .starts_with(&format!("/run/bands/{side}/"))
+            })
+            .flat_map(|c| {
+                c.iter_slices::<[f32; 2]>(rerun::Points2D::descriptor_positions().component)
+                    .flat_map(|v| v.to_vec())
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let mut expected = 0;
+        for w in wheelsets {
+            let csv = std::fs::read_to_string(dir.join("csv").join(format!("{w}.csv"))).unwrap();
+            let mut lines = csv.lines();
+            let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+            let (cs, cr) = (
+                header.iter().position(|h| *h == "s_m").unwrap(),
+                header.iter().position(|h| *h == col).unwrap(),
+            );
+            for l in lines {
+                let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+                let want = [v[cs] as f32, (-v[cr] * 10.0) as f32];
+                assert!(
+                    points
+                        .iter()
+                        .any(|p| (p[0] - want[0]).abs() <= 1e-5 * want[0].abs().max(1.0)
+                            && (p[1] - want[1]).abs() <= 1e-4 * want[1].abs().max(1.0)),
+                    "{side} band: no point for {w} at {want:?}"
+                );
+                expected += 1;
+            }
+        }
+        assert_eq!(
+            points.len(),
+            expected,
+            "{side} band: one point per wheel and output sample"
+        );
     }
     println!(
         "3D view against the CSV: y {:.1e} m, z {:.1e} m, yaw/roll {:.1e} rad, track frame {:.1e} m",

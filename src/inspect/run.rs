@@ -38,7 +38,8 @@
 //! | `run/track/plan`, `run/track/position` | LineStrips2D static / Points2D | track plan (m, `[X, −Y]`) and the wheelset on it |
 //! | `run/summary` | TextDocument | the run summary |
 //!
-//! and the 3D view of the vehicle on its track, `run/world/**` ([`super::world3d`]).
+//! and the 3D view of the vehicle on its track, `run/world/**` ([`super::world3d`]), and the
+//! running bands on both rails, `run/bands/**` ([`super::bands`]).
 
 use std::time::{Duration, Instant};
 
@@ -48,6 +49,7 @@ use rerun::blueprint::{
 };
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines, TextDocument, TimeColumn};
 
+use super::bands::RunningBands;
 use super::world3d::{World3d, World3dSettings};
 use super::{log_static, open_recording, section_mm, send_scalar_values, InspectError, Sink};
 use crate::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
@@ -171,6 +173,18 @@ pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings) -> Blueprin
     .with_column_shares([3.0, 1.2, 1.0])
     .into()];
     let mut shares = vec![5.0];
+    rows.push(
+        Horizontal::new([
+            Spatial2DView::new("Running band, left rail: s^r [0.1 mm, up] along the track [m]; colour: normal force 0 (blue) to 100 kN (red)")
+                .with_origin("/run/bands/left")
+                .into(),
+            Spatial2DView::new("Running band, right rail: s^r [0.1 mm, up] along the track [m]; colour: normal force 0 (blue) to 100 kN (red)")
+                .with_origin("/run/bands/right")
+                .into(),
+        ])
+        .into(),
+    );
+    shares.push(2.0);
     let plots = plot_rows(QUANTITIES, wheelsets);
     let last = plots.len().saturating_sub(1);
     for (k, row) in plots.into_iter().enumerate() {
@@ -288,6 +302,8 @@ pub struct LiveRecorder {
     sent: usize,
     /// The 3D view's frames.
     world: World3d,
+    /// The running bands' batches.
+    bands: RunningBands,
 }
 
 impl LiveRecorder {
@@ -351,6 +367,7 @@ impl LiveRecorder {
             styled: std::collections::HashSet::new(),
             sent: 0,
             world: World3d::new(scene, *world),
+            bands: RunningBands::default(),
         };
         r.log_statics()?;
         r.world.log_statics(&r.rec)?;
@@ -492,6 +509,7 @@ impl LiveRecorder {
         }
         self.send_sections()?;
         self.world.send(&self.rec, TIME, DISTANCE)?;
+        self.bands.send(&self.rec, &self.pending)?;
         self.sent += n;
         for p in &mut self.pending {
             p.clear();

@@ -51,9 +51,9 @@ pub const FRAME_INTERVAL_S: f64 = 0.02;
 /// behind the last wheelset to where the first one will be at the next stretch, so that the
 /// vehicle is always on the latest one; the whole line is the track plan's. (The whole kilometre
 /// in 3D would make the view's camera frame a kilometre.)
-pub const STRETCH_INTERVAL_S: f64 = 1.0;
+pub const STRETCH_INTERVAL_S: f64 = 0.5;
 /// Track drawn behind the last wheelset and ahead of where the first will be, m.
-const STRETCH_MARGIN_M: f64 = 15.0;
+const STRETCH_MARGIN_M: f64 = 6.0;
 
 /// Sleeper spacing, m.
 const SLEEPER_SPACING_M: f64 = 0.6;
@@ -296,8 +296,8 @@ impl World3d {
                 rec,
                 &format!("run/world/vehicle/{}/pose/body/shape", b.name),
                 &Boxes3D::from_half_sizes([b.half])
-                    .with_colors([Color::from_unmultiplied_rgba(200, 200, 210, 110)])
-                    .with_labels([b.name.clone()]),
+                    .with_fill_mode(rerun::components::FillMode::Solid)
+                    .with_colors([Color::from_unmultiplied_rgba(200, 200, 215, 90)]),
             )?;
         }
         for w in &self.wheelsets {
