@@ -84,6 +84,9 @@ design_wheel() { k design-wheel --csv "$WORK/ms-standin.csv" --save "$WORK/d.rrd
 creep()        { k creep --normal-force-n 80000 --a-mm 6 --b-mm 4 --spin 1 --save "$WORK/cr.rrd"; shot creep "$WORK/cr.rrd"; }
 track()        { k track assets/track/tab6_irregular.toml --csv "$WORK/track.csv" --save "$WORK/t.rrd"; shot track "$WORK/t.rrd"; }
 run()          { k run --csv "$WORK/out" --json "$WORK/summary.json" --save "$WORK/r.rrd"; shot run "$WORK/r.rrd" 30; }
+# the default scene's first 12 s: the tram in its curve (the 3D view, the running bands)
+run_curve()    { sed 's/^duration_s = 51.0 /duration_s = 12.0 /' assets/scenes/ms_vehicle_tab6.toml >"$WORK/ms12.toml"
+                 k run "$WORK/ms12.toml" --save "$WORK/rc.rrd"; shot run_curve "$WORK/rc.rrd" 15; }
 compare()      { k compare assets/scenes/ms_vehicle_tab6.toml --contact kec,lookup,lookup2 --duration 10 --save "$WORK/cmp.rrd"; shot compare "$WORK/cmp.rrd" 15; }
 paper()        { k paper --duration 10 --save "$WORK/pa.rrd"; shot paper "$WORK/pa.rrd" 15; }
 study()        { k study assets/studies/wheelset_speed_sweep.toml --out "$WORK/sweep"; shot study "$WORK/sweep/study.rrd" 15; }
@@ -93,7 +96,7 @@ bench_precision() {
   shot bench_precision "$WORK/bp.rrd"
 }
 
-ALL=(profiles contact kec design_wheel creep track run compare paper study bench_precision)
+ALL=(profiles contact kec design_wheel creep track run run_curve compare paper study bench_precision)
 for name in "${@:-${ALL[@]}}"; do
   "$name"
 done

@@ -598,8 +598,8 @@ fn the_3d_view_follows_the_simulated_states() {
         let height = transform_rows::<3>(&chunks, &format!("/run/world/vehicle/{w}/pose/body"), translation);
         assert!(height.iter().all(|(_, h)| (h[2] as f64 - r0).abs() < 1e-7), "{w}");
     }
-    // The running bands: every CSV row's contact on each rail, (s, −s^r in 0.1 mm), is a point of
-    // that rail's band (the f32 of the recording).
+    // The running bands: every CSV row's contact on each rail, (s, −s^r in mm; the 0.5 s run's
+    // track unit is 1 m), is a point of that rail's band (the f32 of the recording).
     for (side, col) in [("left", "s_rail_left_mm"), ("right", "s_rail_right_mm")] {
         let points: Vec<[f32; 2]> = chunks
             .iter()
@@ -625,7 +625,7 @@ fn the_3d_view_follows_the_simulated_states() {
             );
             for l in lines {
                 let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
-                let want = [v[cs] as f32, (-v[cr] * 10.0) as f32];
+                let want = [v[cs] as f32, -v[cr] as f32];
                 assert!(
                     points
                         .iter()

@@ -2,7 +2,11 @@
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
-//! | `run/bands/left/K`, `run/bands/right/K` | Points2D, static | every wheel's contact on that rail, (s, −s^r) in (m, 0.1 mm): the track coordinate against the contact's position on the rail head (paper convention; drawn upward, in tenths of a millimetre so that a kilometre and a 40 mm rail head fit one view), coloured by the normal force ([`force_color`]) |
+//! | `run/bands/left/K`, `run/bands/right/K` | Points2D, static | every wheel's contact on that rail, (s/u, −s^r): the track coordinate in units of u metres against the contact's position on the rail head in mm (paper convention; drawn upward), coloured by the normal force ([`force_color`]) |
+//!
+//! A 2D view keeps its axes' scales equal, so the track's unit u is chosen for the run's length
+//! ([`RunningBands::unit_for`]: 1, 2 or 5 × a power of ten metres, ~200 units over the run) that the
+//! band of a ~40 mm rail head reads at about 5:1.
 //!
 //! Each batch of the recorder is a static entity `K` of its own (K counts the batches), so the
 //! view of `run/bands/SIDE` shows the band as it has grown, whatever the time cursor: a band on a
@@ -14,9 +18,6 @@ use rerun::{Color, Points2D, Radius, RecordingStream};
 
 use super::{log_static, InspectError};
 use crate::dynamics::sample::Sample;
-
-/// The band's vertical unit: tenths of a millimetre per metre of s^r.
-pub const BAND_UNITS_PER_M: f64 = 1e4;
 
 /// The normal force at which the colour scale ends, N.
 pub const FORCE_SCALE_MAX_N: f64 = 100e3;
@@ -44,12 +45,44 @@ pub fn force_color(normal_n: f64) -> Color {
 }
 
 /// The running bands' batches.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct RunningBands {
     batches: usize,
+    /// The track coordinate's unit u, m.
+    unit_m: f64,
 }
 
 impl RunningBands {
+    /// Bands whose track coordinate is in units of `unit_m` metres.
+    pub fn new(unit_m: f64) -> RunningBands {
+        RunningBands { batches: 0, unit_m }
+    }
+
+    /// The track coordinate's unit for a run over `distance_m`: 1, 2 or 5 × 10^k m, the one
+    /// nearest (in ratio) to distance/200, at least 1 m.
+    pub fn unit_for(distance_m: f64) -> f64 {
+        let target = (distance_m / 200.0).max(1.0);
+        let decade = 10f64.powf(target.log10().floor());
+        [1.0, 2.0, 5.0, 10.0]
+            .into_iter()
+            .map(|m| m * decade)
+            .min_by(|a, b| (a / target).ln().abs().total_cmp(&(b / target).ln().abs()))
+            .unwrap_or(1.0)
+    }
+
+    /// The view's title for the `side` rail ("left", "right").
+    pub fn title(side: &str, unit_m: f64) -> String {
+        let unit = if unit_m == 1.0 {
+            "m".to_string()
+        } else {
+            format!("× {unit_m} m")
+        };
+        format!(
+            "Running band, {side} rail: s^r [mm, up] along the track [{unit}]; colour: normal force 0 (blue) to {:.0} kN (red)",
+            FORCE_SCALE_MAX_N * 1e-3
+        )
+    }
+
     /// Sends the contacts of `samples` (per wheelset) as the next batch of each rail's band.
     pub fn send(&mut self, rec: &RecordingStream, samples: &[Vec<Sample>]) -> Result<(), InspectError> {
         let n: usize = samples.iter().map(Vec::len).sum();
@@ -60,7 +93,7 @@ impl RunningBands {
             let points = samples
                 .iter()
                 .flatten()
-                .map(|s| [s.s as f32, (-s.s_rail[wheel] * BAND_UNITS_PER_M) as f32]);
+                .map(|s| [(s.s / self.unit_m) as f32, (-s.s_rail[wheel] * 1e3) as f32]);
             let colors = samples.iter().flatten().map(|s| force_color(s.normal[wheel]));
             log_static(
                 rec,
@@ -78,6 +111,17 @@ impl RunningBands {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The track's unit for a run's length.
+    #[test]
+    fn the_band_unit_follows_the_run_length() {
+        assert_eq!(RunningBands::unit_for(10.0), 1.0);
+        assert_eq!(RunningBands::unit_for(276.0), 1.0);
+        assert_eq!(RunningBands::unit_for(400.0), 2.0);
+        assert_eq!(RunningBands::unit_for(969.0), 5.0);
+        assert_eq!(RunningBands::unit_for(4000.0), 20.0);
+        assert_eq!(RunningBands::unit_for(1.5e4), 100.0);
+    }
 
     /// The colour scale's ends and its middle, and grey for a lifted wheel.
     #[test]

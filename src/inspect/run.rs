@@ -145,13 +145,24 @@ pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Pl
 /// The layout for the run of `wheelsets` (by name) with the default 3D view
 /// ([`blueprint_with`]).
 pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
-    blueprint_with(wheelsets, &World3dSettings::default())
+    blueprint_with(wheelsets, &World3dSettings::default(), 1.0)
+}
+
+/// The distance `scene`'s run covers, m (0 without a simulation).
+fn run_distance(scene: &Scene) -> f64 {
+    scene.simulation.as_ref().map_or(0.0, |(sim, _)| {
+        let t = sim.duration_s;
+        (sim.speed_m_s * t + 0.5 * sim.speed_ramp_m_s2 * t * t)
+            .max(sim.speed_m_s * t)
+            .max(0.0)
+    })
 }
 
 /// The layout for the run of `wheelsets` (by name), read top-down: the 3D view of the vehicle on
 /// its track (following the front wheelset), the first wheelset's cross-sections and the track
-/// plan; then the [`plot_rows`] of [`QUANTITIES`], the last with the summary.
-pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings) -> Blueprint {
+/// plan; the running bands on both rails (the track in units of `band_unit_m`); then the
+/// [`plot_rows`] of [`QUANTITIES`], the last with the summary.
+pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings, band_unit_m: f64) -> Blueprint {
     let mut rows: Vec<ContainerLike> = vec![Horizontal::new([
         Spatial3DView::new(World3d::title(world))
             .with_origin("/run/world/follow")
@@ -175,10 +186,10 @@ pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings) -> Blueprin
     let mut shares = vec![5.0];
     rows.push(
         Horizontal::new([
-            Spatial2DView::new("Running band, left rail: s^r [0.1 mm, up] along the track [m]; colour: normal force 0 (blue) to 100 kN (red)")
+            Spatial2DView::new(RunningBands::title("left", band_unit_m))
                 .with_origin("/run/bands/left")
                 .into(),
-            Spatial2DView::new("Running band, right rail: s^r [0.1 mm, up] along the track [m]; colour: normal force 0 (blue) to 100 kN (red)")
+            Spatial2DView::new(RunningBands::title("right", band_unit_m))
                 .with_origin("/run/bands/right")
                 .into(),
         ])
@@ -325,7 +336,8 @@ impl LiveRecorder {
         wheelsets: &[String],
         world: &World3dSettings,
     ) -> Result<LiveRecorder, InspectError> {
-        let rec = open_recording("kecsim", sink, || blueprint_with(wheelsets, world))?;
+        let unit = RunningBands::unit_for(run_distance(scene));
+        let rec = open_recording("kecsim", sink, || blueprint_with(wheelsets, world, unit))?;
         let mut r = Self::on_with(rec, scene, wheelsets, world)?;
         if matches!(sink, Sink::Save(_)) {
             r.batch_wall = BATCH_WALL_FILE;
@@ -367,7 +379,7 @@ impl LiveRecorder {
             styled: std::collections::HashSet::new(),
             sent: 0,
             world: World3d::new(scene, *world),
-            bands: RunningBands::default(),
+            bands: RunningBands::new(RunningBands::unit_for(run_distance(scene))),
         };
         r.log_statics()?;
         r.world.log_statics(&r.rec)?;
