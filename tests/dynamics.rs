@@ -801,6 +801,50 @@ fn compare_reports_the_differences_of_the_runs() {
     for (r, d) in rows.iter().zip(&diff) {
         assert!((d[0] - (r[1] - r[0])).abs() < 1e-9);
     }
+    // Both models' wheelsets in the 3D view (issue 36): the first with the track, and each
+    // model's displacement transform at its own lateral displacement (× the default
+    // exaggeration), 50 Hz over the 0.5 s.
+    let entities: std::collections::BTreeSet<String> =
+        chunks.iter().map(|c| c.entity_path().to_string()).collect();
+    for e in [
+        "/compare/world/kec/track/rails",
+        "/compare/world/kec/follow",
+        "/compare/world/kec/vehicle/wheelset_1/pose",
+        "/compare/world/lookup/vehicle/wheelset_1/pose",
+        "/compare/world/lookup/vehicle/wheelset_1/contact",
+    ] {
+        assert!(entities.contains(e), "missing {e}: {entities:?}");
+    }
+    assert!(
+        !entities.contains("/compare/world/lookup/track/rails"),
+        "one track"
+    );
+    let e = kecsim::inspect::world3d::DEFAULT_EXAGGERATION;
+    for (k, model) in ["kec", "lookup"].into_iter().enumerate() {
+        let y: Vec<f64> = chunks
+            .iter()
+            .filter(|c| {
+                c.entity_path().to_string() == format!("/compare/world/{model}/vehicle/wheelset_1/pose")
+            })
+            .flat_map(|c| {
+                c.iter_slices::<[f32; 3]>(rerun::Transform3D::descriptor_translation().component)
+                    .map(|v| v[0][1] as f64 / e)
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        assert_eq!(y.len(), 26, "{model}");
+        // A frame every 20 ms, an output sample every 5 ms (the scene's 200 Hz): the y_mm series'
+        // value for this model at every 4th sample.
+        let every = (rows.len() - 1) / (y.len() - 1);
+        assert_eq!(every, 4);
+        for (i, yi) in y.iter().enumerate() {
+            let want = rows[every * i][k] * 1e-3;
+            assert!(
+                (yi - want).abs() < 1e-9 + 1e-6 * want.abs(),
+                "{model} frame {i}: {yi} vs {want}"
+            );
+        }
+    }
 }
 
 /// `kecsim bench precision`: a tolerance sweep against one reference run. The error of each row is

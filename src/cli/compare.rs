@@ -51,7 +51,7 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
     let c = kecsim::compare::compare(&scene, &models, a.duration)?;
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, || inspect::compare::blueprint(&c))?;
-        inspect::compare::record(&rec, &c)?;
+        inspect::compare::record(&rec, &c, &scene)?;
         inspect::finish_recording(rec, &sink)
     };
     print!("{}", c.markdown());

@@ -9,13 +9,18 @@
 //! | `compare/NAME/{dy_mm, dyaw_mrad}` | Scalars (one per model after the first) | difference from the first model |
 //! | `compare/NAME/{normal_left_kn, normal_right_kn}` | Scalars (one per model) | normal forces |
 //! | `compare/summary` | TextDocument | the report |
+//! | `compare/world/MODEL/**` | as `run/world/**` ([`super::world3d`]) | every model's vehicle in one 3D view: the first with the track, the others ghosted in their series colour |
 
-use rerun::blueprint::{Blueprint, Horizontal, TextDocumentView, TimePanel, TimeSeriesView, Vertical};
+use rerun::blueprint::{
+    Blueprint, Horizontal, Spatial3DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
+};
 use rerun::{Color, RecordingStream, TextDocument, TimeColumn};
 
+use super::world3d::{World3d, World3dSettings, WorldStyle};
 use super::{log_static, send_scalar_rows, InspectError};
 use crate::compare::Comparison;
 use crate::dynamics::Sample;
+use crate::scenario::Scene;
 
 /// The simulated-time timeline.
 pub const TIME: &str = "time";
@@ -51,8 +56,19 @@ fn shown(c: &Comparison) -> Vec<String> {
 
 /// The layout: a row per wheelset shown, the report below.
 pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
+    let mut rows = wheelset_rows(wheelsets);
+    rows.push(
+        TextDocumentView::new("Report")
+            .with_origin("/compare/summary")
+            .into(),
+    );
+    Blueprint::new(Vertical::new(rows)).with_time_panel(TimePanel::new().with_timeline(TIME))
+}
+
+/// A row of plots per wheelset shown.
+fn wheelset_rows(wheelsets: &[String]) -> Vec<rerun::blueprint::ContainerLike> {
     let plot = |title: String, origin: String| TimeSeriesView::new(title).with_origin(origin).into();
-    let mut rows: Vec<rerun::blueprint::ContainerLike> = wheelsets
+    wheelsets
         .iter()
         .map(|w| {
             Horizontal::new([
@@ -71,22 +87,72 @@ pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
             ])
             .into()
         })
-        .collect();
+        .collect()
+}
+
+/// The layout for a comparison: the models' vehicles in 3D on top (following the first model's
+/// front wheelset), then [`blueprint_for`]'s rows.
+pub fn blueprint(c: &Comparison) -> Blueprint {
+    let Some(first) = c.runs.first() else {
+        return blueprint_for(&shown(c));
+    };
+    let world = Spatial3DView::new(format!(
+        "{} — every model's vehicle, {} solid, the others ghosted",
+        World3d::title(&World3dSettings::default()),
+        first.model
+    ))
+    .with_origin(format!("/compare/world/{}/follow", first.model))
+    .with_contents(["/compare/world/**"]);
+    let rows_below = wheelset_rows(&shown(c));
+    let mut shares = vec![3.0];
+    shares.extend(std::iter::repeat_n(2.0, rows_below.len() + 1));
+    let mut rows: Vec<rerun::blueprint::ContainerLike> = vec![world.into()];
+    rows.extend(rows_below);
     rows.push(
         TextDocumentView::new("Report")
             .with_origin("/compare/summary")
             .into(),
     );
-    Blueprint::new(Vertical::new(rows)).with_time_panel(TimePanel::new().with_timeline(TIME))
+    Blueprint::new(Vertical::new(rows).with_row_shares(shares))
+        .with_time_panel(TimePanel::new().with_timeline(TIME))
 }
 
-/// The layout for a comparison.
-pub fn blueprint(c: &Comparison) -> Blueprint {
-    blueprint_for(&shown(c))
+/// Every model's vehicle in 3D (`compare/world/MODEL`, see the module doc), over the time every run
+/// covers.
+fn record_world(rec: &RecordingStream, c: &Comparison, scene: &Scene) -> Result<(), InspectError> {
+    for (k, run) in c.runs.iter().enumerate() {
+        let (r, g, b) = PALETTE[k % PALETTE.len()];
+        let style = WorldStyle {
+            root: format!("compare/world/{}", run.model),
+            track: k == 0,
+            tint: (k > 0).then(|| Color::from_unmultiplied_rgba(r, g, b, 110)),
+        };
+        let mut world = World3d::styled(scene, World3dSettings::default(), style);
+        world.log_statics(rec)?;
+        let out = &run.output;
+        let n = out
+            .wheelsets
+            .iter()
+            .map(|(_, s)| s.iter().take_while(|p| p.t <= c.common_s + 1e-9).count())
+            .min()
+            .unwrap_or(0);
+        for i in 0..n {
+            let wheelsets: Vec<Sample> = out.wheelsets.iter().map(|(_, s)| s[i]).collect();
+            let bodies: Vec<_> = out
+                .bodies
+                .iter()
+                .filter_map(|(_, b)| b.get(i).map(|(_, q)| *q))
+                .collect();
+            world.sample(wheelsets[0].t, &wheelsets, &bodies);
+        }
+        world.send(rec, TIME, super::run::DISTANCE)?;
+    }
+    Ok(())
 }
 
-/// Records the comparison (see the module doc).
-pub fn record(rec: &RecordingStream, c: &Comparison) -> Result<(), InspectError> {
+/// Records the comparison (see the module doc) of `scene`'s runs.
+pub fn record(rec: &RecordingStream, c: &Comparison, scene: &Scene) -> Result<(), InspectError> {
+    record_world(rec, c, scene)?;
     let models: Vec<&str> = c.runs.iter().map(|r| r.model.as_str()).collect();
     for (k, name) in shown(c).iter().enumerate() {
         let series: Vec<&[Sample]> = c

@@ -75,6 +75,29 @@ impl Default for World3dSettings {
     }
 }
 
+/// Where a vehicle's 3D drawing goes and how it looks: `run/world` for a run; `compare/world/MODEL`
+/// for each model of a comparison, the first with the track, the others ghosted in a colour of
+/// their own.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorldStyle {
+    /// The entity path everything goes under.
+    pub root: String,
+    /// Draw the stretch of track (one vehicle of several draws it).
+    pub track: bool,
+    /// The bodies' and wheels' colour (None: the run's grey bodies and blue wheels).
+    pub tint: Option<Color>,
+}
+
+impl Default for WorldStyle {
+    fn default() -> Self {
+        WorldStyle {
+            root: "run/world".to_string(),
+            track: true,
+            tint: None,
+        }
+    }
+}
+
 /// A rigid body's drawing: its box.
 #[derive(Debug, Clone)]
 struct BodyShape {
@@ -174,6 +197,10 @@ fn v32(v: &Vector3<f64>) -> [f32; 3] {
 /// The run's 3D world: statics at the start, a frame every [`FRAME_INTERVAL_S`], sent as columns
 /// with the recorder's batches.
 pub struct World3d {
+    /// The entity path everything goes under ([`WorldStyle::root`]).
+    root: String,
+    draw_track: bool,
+    tint: Option<Color>,
     track: Option<Arc<Track>>,
     /// The global position the drawing is relative to (the track's start), m.
     origin: Vector3<f64>,
@@ -202,6 +229,11 @@ struct Stretch {
 
 impl World3d {
     pub fn new(scene: &Scene, settings: World3dSettings) -> World3d {
+        Self::styled(scene, settings, WorldStyle::default())
+    }
+
+    /// [`Self::new`] under another root, with or without the track, tinted.
+    pub fn styled(scene: &Scene, settings: World3dSettings, style: WorldStyle) -> World3d {
         let (bodies, wheelsets) = shapes(scene);
         let track = scene.track.clone();
         let origin = track
@@ -209,6 +241,9 @@ impl World3d {
             .and_then(|t| t.centreline.frame(t.centreline.range().0).ok())
             .map_or_else(Vector3::zeros, |f| f.position);
         World3d {
+            root: style.root,
+            draw_track: style.track,
+            tint: style.tint,
             track,
             origin,
             settings,
@@ -294,10 +329,12 @@ impl World3d {
         for b in &self.bodies {
             log_static(
                 rec,
-                &format!("run/world/vehicle/{}/pose/body/shape", b.name),
+                &format!("{}/vehicle/{}/pose/body/shape", self.root, b.name),
                 &Boxes3D::from_half_sizes([b.half])
                     .with_fill_mode(rerun::components::FillMode::Solid)
-                    .with_colors([Color::from_unmultiplied_rgba(200, 200, 215, 90)]),
+                    .with_colors([self
+                        .tint
+                        .unwrap_or(Color::from_unmultiplied_rgba(200, 200, 215, 90))]),
             )?;
         }
         for w in &self.wheelsets {
@@ -312,7 +349,7 @@ impl World3d {
             };
             log_static(
                 rec,
-                &format!("run/world/vehicle/{}/pose/body/shape", w.name),
+                &format!("{}/vehicle/{}/pose/body/shape", self.root, w.name),
                 &LineStrips3D::new([
                     vec![[0.0, -l - 0.1, 0.0], [0.0, l + 0.1, 0.0]],
                     circle(l),
@@ -320,8 +357,8 @@ impl World3d {
                 ])
                 .with_colors([
                     Color::from_rgb(90, 90, 100),
-                    Color::from_rgb(70, 140, 230),
-                    Color::from_rgb(70, 140, 230),
+                    self.tint.unwrap_or(Color::from_rgb(70, 140, 230)),
+                    self.tint.unwrap_or(Color::from_rgb(70, 140, 230)),
                 ])
                 .with_radii([
                     Radius::new_scene_units(0.06),
@@ -339,7 +376,7 @@ impl World3d {
         if t < self.next_t - 1e-9 || wheelsets.len() != self.wheelsets.len() || wheelsets.is_empty() {
             return;
         }
-        if t >= self.next_stretch_t - 1e-9 {
+        if self.draw_track && t >= self.next_stretch_t - 1e-9 {
             self.next_stretch_t = t + STRETCH_INTERVAL_S;
             let (lo, hi) = wheelsets
                 .iter()
@@ -464,21 +501,21 @@ impl World3d {
                 }
             };
             send(
-                format!("run/world/vehicle/{name}"),
+                format!("{}/vehicle/{name}", self.root),
                 transforms(
                     rows.iter().map(|r| at(r).frame_t).collect(),
                     rows.iter().map(|r| at(r).frame_m).collect(),
                 ),
             )?;
             send(
-                format!("run/world/vehicle/{name}/pose"),
+                format!("{}/vehicle/{name}/pose", self.root),
                 Transform3D::update_fields()
                     .with_many_translation(rows.iter().map(|r| at(r).pose_t))
                     .columns_of_unit_batches()
                     .map(|c| Box::new(c) as Box<dyn Iterator<Item = _>>),
             )?;
             send(
-                format!("run/world/vehicle/{name}/pose/body"),
+                format!("{}/vehicle/{name}/pose/body", self.root),
                 transforms(
                     rows.iter().map(|r| at(r).body_t).collect(),
                     rows.iter().map(|r| at(r).body_m).collect(),
@@ -496,7 +533,7 @@ impl World3d {
                 })
             };
             send(
-                format!("run/world/vehicle/{}/contact", w.name),
+                format!("{}/vehicle/{}/contact", self.root, w.name),
                 Points3D::new(rows.iter().flat_map(|r| r.contact[k]))
                     .with_colors(rows.iter().flat_map(colors))
                     .with_radii(std::iter::repeat_n(Radius::new_scene_units(0.04), 2 * n))
@@ -504,7 +541,7 @@ impl World3d {
                     .map(|c| Box::new(c) as Box<dyn Iterator<Item = _>>),
             )?;
             send(
-                format!("run/world/vehicle/{}/forces", w.name),
+                format!("{}/vehicle/{}/forces", self.root, w.name),
                 Arrows3D::from_vectors(rows.iter().flat_map(|r| r.forces[k]))
                     .with_origins(rows.iter().flat_map(|r| r.contact[k]))
                     .with_colors(std::iter::repeat_n(Color::from_rgb(230, 160, 40), 2 * n))
@@ -514,7 +551,7 @@ impl World3d {
         }
         if !self.wheelsets.is_empty() {
             send(
-                "run/world/follow".to_string(),
+                format!("{}/follow", self.root),
                 transforms(
                     rows.iter().map(|r| r.wheelsets[0].frame_t).collect(),
                     rows.iter().map(|r| r.wheelsets[0].frame_m).collect(),
@@ -549,18 +586,15 @@ impl World3d {
                 .with_radii(std::iter::repeat_n(Radius::new_scene_units(0.06), k))
                 .columns([k]);
             for (entity, columns) in [
-                ("run/world/track/rails", rails),
-                ("run/world/track/sleepers", sleepers),
+                (format!("{}/track/rails", self.root), rails),
+                (format!("{}/track/sleepers", self.root), sleepers),
             ] {
                 let columns = columns.map_err(|e| InspectError::Log {
-                    entity: entity.to_string(),
+                    entity: entity.clone(),
                     source: e.into(),
                 })?;
-                rec.send_columns(entity, timelines.clone(), columns)
-                    .map_err(|source| InspectError::Log {
-                        entity: entity.to_string(),
-                        source,
-                    })?;
+                rec.send_columns(entity.as_str(), timelines.clone(), columns)
+                    .map_err(|source| InspectError::Log { entity, source })?;
             }
         }
         Ok(())
