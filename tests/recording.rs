@@ -521,6 +521,8 @@ fn the_3d_view_follows_the_simulated_states() {
         "/run/world/track/rails".to_string(),
         "/run/world/track/sleepers".to_string(),
         "/run/world/follow".to_string(),
+        "/run/world/elements/bushings".to_string(),
+        "/run/world/elements/axial".to_string(),
     ];
     for n in bodies.iter().chain(&wheelsets) {
         for sub in ["", "/pose", "/pose/body", "/pose/body/shape"] {
@@ -535,6 +537,58 @@ fn the_3d_view_follows_the_simulated_states() {
         assert!(entities.contains(e), "missing {e}: {entities:?}");
     }
     let scene = common::scene("ms_vehicle_tab6.toml");
+    // Every force element between two bodies at every frame: the bushings as points, the axial
+    // elements (traction rods) as lines.
+    let Some((_, kecsim::vehicle::spec::VehicleSpec::Multibody(spec))) = scene.simulation.as_ref() else {
+        panic!("the default scene is a multibody vehicle")
+    };
+    let elements = spec.elements(scene.pair.wheelset.nominal_radius_m);
+    let between = |axial: bool| {
+        elements
+            .iter()
+            .filter(|e| match e {
+                kecsim::vehicle::elements::Element::Bushing { a, b, .. } => {
+                    !axial
+                        && !matches!(a, kecsim::vehicle::elements::BodyRef::Track)
+                        && !matches!(b, kecsim::vehicle::elements::BodyRef::Track)
+                }
+                kecsim::vehicle::elements::Element::Axial { a, b, .. } => {
+                    axial
+                        && !matches!(a, kecsim::vehicle::elements::BodyRef::Track)
+                        && !matches!(b, kecsim::vehicle::elements::BodyRef::Track)
+                }
+                _ => false,
+            })
+            .count()
+    };
+    for (entity, count, colors) in [
+        (
+            "/run/world/elements/bushings",
+            between(false),
+            rerun::Points3D::descriptor_colors().component,
+        ),
+        (
+            "/run/world/elements/axial",
+            between(true),
+            rerun::LineStrips3D::descriptor_colors().component,
+        ),
+    ] {
+        // One colour per element drawn, per frame.
+        let per_row: Vec<usize> = chunks
+            .iter()
+            .filter(|c| c.entity_path().to_string() == entity)
+            .flat_map(|c| {
+                c.iter_component::<rerun::components::Color>(colors)
+                    .map(|row| row.len())
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        assert!(count > 0, "{entity}");
+        assert!(
+            (25..=27).contains(&per_row.len()) && per_row.iter().all(|&n| n == count),
+            "{entity}: {per_row:?} against {count} elements"
+        );
+    }
     let track = scene.track.clone().expect("the default scene has its track");
     let origin = track
         .centreline

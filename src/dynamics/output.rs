@@ -184,6 +184,9 @@ pub struct OutputSample<'a> {
     pub t: f64,
     pub wheelsets: &'a [Sample],
     pub bodies: &'a [BodySample],
+    /// Per force element of a multibody vehicle (in the scene's order): its deflection and force
+    /// in its first body's axes (m, N); empty for the other vehicles.
+    pub elements: &'a [(nalgebra::Vector3<f64>, nalgebra::Vector3<f64>)],
 }
 
 /// Receives a run's samples as they are produced (read-only; an `Err` ends the run).

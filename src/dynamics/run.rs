@@ -412,6 +412,7 @@ impl Recorder<'_, '_, '_> {
             t,
             wheelsets: &row,
             bodies: &s.bodies,
+            elements: &s.elements,
         };
         for o in self.observers.iter_mut() {
             o.sample(&sample).map_err(RecordFailure::Observer)?;

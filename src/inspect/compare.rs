@@ -143,7 +143,7 @@ fn record_world(rec: &RecordingStream, c: &Comparison, scene: &Scene) -> Result<
                 .iter()
                 .filter_map(|(_, b)| b.get(i).map(|(_, q)| *q))
                 .collect();
-            world.sample(wheelsets[0].t, &wheelsets, &bodies);
+            world.sample(wheelsets[0].t, &wheelsets, &bodies, &[]);
         }
         world.send(rec, TIME, super::run::DISTANCE)?;
     }

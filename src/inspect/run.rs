@@ -648,7 +648,8 @@ impl RunObserver for LiveRecorder {
         if let Some(first) = sample.wheelsets.first() {
             self.log_section(first);
         }
-        self.world.sample(sample.t, sample.wheelsets, sample.bodies);
+        self.world
+            .sample(sample.t, sample.wheelsets, sample.bodies, sample.elements);
         if self.last_batch.elapsed() >= self.batch_wall {
             self.send_batch()?;
         }

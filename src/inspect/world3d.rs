@@ -10,6 +10,7 @@
 //! | `run/world/vehicle/WHEELSET/contact` | Points3D | the real contact points (lifted wheels grey) |
 //! | `run/world/vehicle/WHEELSET/forces` | Arrows3D | the rail's force on each wheel: creep Fx, Y and Q ([`FORCE_SCALE_M_PER_N`]) |
 //! | `run/world/follow` | Transform3D | the front wheelset's track frame: the 3D view's origin, so the camera follows it |
+//! | `run/world/elements/bushings`, `run/world/elements/axial` | Points3D / LineStrips3D | the force elements between bodies: a bushing as a point at its attachment (the middle of its two bodies' points), an axial element (rod, damper) as the line between its two attachment points; coloured by the force's magnitude ([`super::bands::force_color`], 0–100 kN) |
 //!
 //! **Coordinates**: the track's global frame (X, Y left, Z up; Eq. 1) shifted to the track's start,
 //! so that the f32 of the recording keeps ~0.1 mm over a kilometre. Each body and wheelset is
@@ -30,11 +31,13 @@ use rerun::{
     Arrows3D, Boxes3D, Color, LineStrips3D, Points3D, Radius, RecordingStream, TimeColumn, Transform3D,
 };
 
+use super::bands::force_color;
 use super::{log_static, InspectError};
 use crate::dynamics::sample::Sample;
 use crate::dynamics::system::BodySample;
 use crate::scenario::Scene;
 use crate::track::{RailOffsets, Track};
+use crate::vehicle::elements::{BodyRef, Element};
 use crate::vehicle::spec::VehicleSpec;
 
 /// The default exaggeration of the lateral and yaw motion relative to the track: 1 mm is drawn
@@ -117,6 +120,55 @@ struct WheelsetShape {
     half_track: f64,
 }
 
+/// A force element between two bodies (indices into the bodies, then the wheelsets) and its
+/// attachment arms from their nominal centres.
+#[derive(Debug, Clone)]
+struct ElementShape {
+    a: usize,
+    arm_a: Vector3<f64>,
+    b: usize,
+    arm_b: Vector3<f64>,
+    /// An axial element (drawn as a line); else a bushing (a point).
+    axial: bool,
+    /// Its index among the vehicle's elements (the order of the run's element forces).
+    index: usize,
+}
+
+/// The drawable force elements of `scene`'s vehicle: bushings and axial elements between two
+/// bodies (not those on the track reference, nor carried masses).
+fn element_shapes(scene: &Scene) -> Vec<ElementShape> {
+    let r0 = scene.pair.wheelset.nominal_radius_m;
+    let Some((_, VehicleSpec::Multibody(m))) = scene.simulation.as_ref() else {
+        return Vec::new();
+    };
+    m.elements(r0)
+        .into_iter()
+        .enumerate()
+        .filter_map(|(index, e)| {
+            let (a, b, arm_a, arm_b, axial) = match e {
+                Element::Bushing {
+                    a, b, arm_a, arm_b, ..
+                } => (a, b, arm_a, arm_b, false),
+                Element::Axial {
+                    a, b, arm_a, arm_b, ..
+                } => (a, b, arm_a, arm_b, true),
+                Element::CarriedMass { .. } => return None,
+            };
+            match (a, b) {
+                (BodyRef::Body(a), BodyRef::Body(b)) => Some(ElementShape {
+                    a,
+                    arm_a,
+                    b,
+                    arm_b,
+                    axial,
+                    index,
+                }),
+                _ => None,
+            }
+        })
+        .collect()
+}
+
 /// One body's or wheelset's transforms at one frame: the track frame, the displacement in it, and
 /// the rotation about the centre at its nominal height.
 #[derive(Debug, Clone, Copy)]
@@ -140,6 +192,10 @@ struct FrameRow {
     contact: Vec<[[f32; 3]; 2]>,
     forces: Vec<[[f32; 3]; 2]>,
     lifted: Vec<[bool; 2]>,
+    /// The bushings' points and the axial elements' lines (drawing coordinates), with their
+    /// forces' magnitudes, N.
+    bushings: Vec<([f32; 3], f64)>,
+    axial: Vec<([[f32; 3]; 2], f64)>,
 }
 
 /// The box of a uniform solid with the body's mass and principal inertias (roll, pitch, yaw):
@@ -207,6 +263,7 @@ pub struct World3d {
     settings: World3dSettings,
     bodies: Vec<BodyShape>,
     wheelsets: Vec<WheelsetShape>,
+    elements: Vec<ElementShape>,
     rows: Vec<FrameRow>,
     next_t: f64,
     /// The pending stretches of track: time, distance (mm), rails, sleepers.
@@ -249,6 +306,7 @@ impl World3d {
             settings,
             bodies,
             wheelsets,
+            elements: element_shapes(scene),
             rows: Vec::new(),
             next_t: f64::NEG_INFINITY,
             stretches: Vec::new(),
@@ -370,9 +428,16 @@ impl World3d {
         Ok(())
     }
 
-    /// Keeps a frame of `wheelsets` and `bodies` (in the order of the scene's) if one is due,
-    /// and a stretch of track if one is due.
-    pub fn sample(&mut self, t: f64, wheelsets: &[Sample], bodies: &[BodySample]) {
+    /// Keeps a frame of `wheelsets`, `bodies` and the force `elements`' (deflection, force) (in
+    /// the order of the scene's; `elements` may be empty: no elements drawn) if one is due, and a
+    /// stretch of track if one is due.
+    pub fn sample(
+        &mut self,
+        t: f64,
+        wheelsets: &[Sample],
+        bodies: &[BodySample],
+        elements: &[(Vector3<f64>, Vector3<f64>)],
+    ) {
         if t < self.next_t - 1e-9 || wheelsets.len() != self.wheelsets.len() || wheelsets.is_empty() {
             return;
         }
@@ -394,9 +459,13 @@ impl World3d {
         }
         self.next_t = t + FRAME_INTERVAL_S;
         let e = self.settings.exaggerate;
-        let placed = |s: f64, pose_t: Vector3<f64>, height: f64, angles: [f64; 3]| {
+        // Each body's and wheelset's pose in the drawing (f64, for the elements' points) and
+        // its transforms.
+        let mut poses: Vec<(Vector3<f64>, Matrix3<f64>, Vector3<f64>, Matrix3<f64>)> = Vec::new();
+        let mut placed = |s: f64, pose_t: Vector3<f64>, height: f64, angles: [f64; 3]| {
             let (p, a) = self.frame(s);
             let r = Rotation3::from_euler_angles(angles[0], angles[1], angles[2]);
+            poses.push((p, a, pose_t + Vector3::new(0.0, 0.0, height), *r.matrix()));
             Placed {
                 frame_t: v32(&p),
                 frame_m: mat(&a),
@@ -405,7 +474,7 @@ impl World3d {
                 body_m: mat(r.matrix()),
             }
         };
-        let body_rows = self
+        let body_rows: Vec<Placed> = self
             .bodies
             .iter()
             .zip(bodies)
@@ -435,6 +504,26 @@ impl World3d {
             }));
             lifted.push([s.lift[0] > 0.0, s.lift[1] > 0.0]);
         }
+        drop(placed);
+        // The force elements, where the run gives their forces and every body is drawn.
+        let (mut bushings, mut axial) = (Vec::new(), Vec::new());
+        if !elements.is_empty() && poses.len() == self.bodies.len() + self.wheelsets.len() {
+            let point = |i: usize, arm: &Vector3<f64>| {
+                let (p, a, c, r) = &poses[i];
+                p + a * (c + r * arm)
+            };
+            for el in &self.elements {
+                let Some((_, force)) = elements.get(el.index) else {
+                    continue;
+                };
+                let (pa, pb) = (point(el.a, &el.arm_a), point(el.b, &el.arm_b));
+                if el.axial {
+                    axial.push(([v32(&pa), v32(&pb)], force.norm()));
+                } else {
+                    bushings.push((v32(&(0.5 * (pa + pb))), force.norm()));
+                }
+            }
+        }
         self.rows.push(FrameRow {
             t,
             distance_mm: (wheelsets.first().map_or(0.0, |s| s.s) * 1e3).round() as i64,
@@ -443,6 +532,8 @@ impl World3d {
             contact,
             forces,
             lifted,
+            bushings,
+            axial,
         });
     }
 
@@ -546,6 +637,28 @@ impl World3d {
                     .with_origins(rows.iter().flat_map(|r| r.contact[k]))
                     .with_colors(std::iter::repeat_n(Color::from_rgb(230, 160, 40), 2 * n))
                     .columns(std::iter::repeat_n(2, n))
+                    .map(|c| Box::new(c) as Box<dyn Iterator<Item = _>>),
+            )?;
+        }
+        let bushings: Vec<&([f32; 3], f64)> = rows.iter().flat_map(|r| &r.bushings).collect();
+        if !bushings.is_empty() {
+            send(
+                format!("{}/elements/bushings", self.root),
+                Points3D::new(bushings.iter().map(|b| b.0))
+                    .with_colors(bushings.iter().map(|b| force_color(b.1)))
+                    .with_radii(std::iter::repeat_n(Radius::new_scene_units(0.07), bushings.len()))
+                    .columns(rows.iter().map(|r| r.bushings.len()))
+                    .map(|c| Box::new(c) as Box<dyn Iterator<Item = _>>),
+            )?;
+        }
+        let axial: Vec<&([[f32; 3]; 2], f64)> = rows.iter().flat_map(|r| &r.axial).collect();
+        if !axial.is_empty() {
+            send(
+                format!("{}/elements/axial", self.root),
+                LineStrips3D::new(axial.iter().map(|a| a.0))
+                    .with_colors(axial.iter().map(|a| force_color(a.1)))
+                    .with_radii(std::iter::repeat_n(Radius::new_scene_units(0.04), axial.len()))
+                    .columns(rows.iter().map(|r| r.axial.len()))
                     .map(|c| Box::new(c) as Box<dyn Iterator<Item = _>>),
             )?;
         }
