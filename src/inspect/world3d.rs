@@ -169,6 +169,10 @@ fn element_shapes(scene: &Scene) -> Vec<ElementShape> {
         .collect()
 }
 
+/// A body's pose in the drawing: its track frame's position and rotation, its centre in that
+/// frame, its rotation about the centre.
+type DrawnPose = (Vector3<f64>, Matrix3<f64>, Vector3<f64>, Matrix3<f64>);
+
 /// One body's or wheelset's transforms at one frame: the track frame, the displacement in it, and
 /// the rotation about the centre at its nominal height.
 #[derive(Debug, Clone, Copy)]
@@ -461,7 +465,7 @@ impl World3d {
         let e = self.settings.exaggerate;
         // Each body's and wheelset's pose in the drawing (f64, for the elements' points) and
         // its transforms.
-        let mut poses: Vec<(Vector3<f64>, Matrix3<f64>, Vector3<f64>, Matrix3<f64>)> = Vec::new();
+        let mut poses: Vec<DrawnPose> = Vec::new();
         let mut placed = |s: f64, pose_t: Vector3<f64>, height: f64, angles: [f64; 3]| {
             let (p, a) = self.frame(s);
             let r = Rotation3::from_euler_angles(angles[0], angles[1], angles[2]);
@@ -504,7 +508,6 @@ impl World3d {
             }));
             lifted.push([s.lift[0] > 0.0, s.lift[1] > 0.0]);
         }
-        drop(placed);
         // The force elements, where the run gives their forces and every body is drawn.
         let (mut bushings, mut axial) = (Vec::new(), Vec::new());
         if !elements.is_empty() && poses.len() == self.bodies.len() + self.wheelsets.len() {
