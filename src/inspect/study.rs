@@ -11,7 +11,8 @@
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
-//! | `study/EXTRACT/grid` | LineStrips2D, static | frame and labelled ticks |
+//! | `study/EXTRACT/grid` | LineStrips2D, static | frame and ticks |
+//! | `study/EXTRACT/grid/labels` | Points2D, static | the ticks' values and the first axis's name, placed off the frame so that none overlaps |
 //! | `study/EXTRACT/group_K` | LineStrips2D, Points2D, static | the cases of one combination of the other varying axes |
 //! | `study/front_y/case_NNNNN` | Scalars on `time` | the case's first wheelset's lateral displacement, mm |
 //! | `study/summary` | TextDocument, static | the results table |
@@ -45,8 +46,8 @@ fn slug(name: &str) -> String {
     s.trim_matches('_').replace("__", "_")
 }
 
-/// The layout: the extracts' diagrams in a grid on the left; every case's front wheelset y and the
-/// table on the right.
+/// The layout, readable at 1600×1000: the extracts' diagrams in a grid across the top (up to three
+/// a row), every case's front wheelset y and the table below.
 pub fn blueprint_for(manifest: &Manifest) -> Blueprint {
     let against = manifest.axes.first().map_or("case".to_string(), |a| a.clone());
     let views: Vec<rerun::blueprint::ContainerLike> = manifest
@@ -58,7 +59,7 @@ pub fn blueprint_for(manifest: &Manifest) -> Blueprint {
                 .into()
         })
         .collect();
-    let right = Vertical::new([
+    let below = Horizontal::new([
         TimeSeriesView::new("every case: front wheelset y [mm]")
             .with_origin("/study/front_y")
             .into(),
@@ -67,12 +68,17 @@ pub fn blueprint_for(manifest: &Manifest) -> Blueprint {
             .into(),
     ])
     .into();
-    let columns = if views.len() > 4 { 3 } else { 2 };
+    let columns = match views.len() {
+        0..=2 => views.len().max(1),
+        4 => 2,
+        _ => 3,
+    };
+    let rows_of_views = views.len().div_ceil(columns) as f32;
     let layout: rerun::blueprint::ContainerLike = if views.is_empty() {
-        right
+        below
     } else {
-        Horizontal::new([Grid::new(views).with_grid_columns(columns).into(), right])
-            .with_column_shares([3.0, 2.0])
+        Vertical::new([Grid::new(views).with_grid_columns(columns as u32).into(), below])
+            .with_row_shares([2.0 * rows_of_views, 2.0])
             .into()
     };
     Blueprint::new(layout).with_time_panel(TimePanel::new().with_timeline(TIME))
@@ -175,11 +181,15 @@ pub fn record(
         };
         let base = format!("study/{}", slug(name));
         let (x0, x1, y0, y1) = (sx.at(sx.lo), sx.at(sx.hi), sy.at(sy.lo), sy.at(sy.hi));
+        // The frame and ticks; their labels as invisible points placed off the frame (a strip's
+        // label sits on the strip, over the frame and the next tick's).
         let mut strips = vec![vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]]];
-        let mut labels = vec![String::new()];
+        let mut at = Vec::new();
+        let mut labels = Vec::new();
         for t in sx.ticks() {
             let x = sx.at(t);
             strips.push(vec![[x, y0], [x, y0 + 12.0]]);
+            at.push([x, y0 + 55.0]);
             labels.push(match (&numeric, manifest.axes.is_empty()) {
                 (None, false) => distinct
                     .get(t.round() as usize)
@@ -190,19 +200,26 @@ pub fn record(
         for t in sy.ticks() {
             let y = sy.at(t);
             strips.push(vec![[x0 - 12.0, y], [x0, y]]);
+            at.push([x0 - 90.0, y]);
             labels.push(tick(t));
         }
-        strips.push(vec![[x1, y0 + 40.0], [x1, y0 + 40.0]]);
+        at.push([0.5 * (x0 + x1), y0 + 115.0]);
         labels.push(x_name.clone());
-        strips.push(vec![[x0, y1 - 30.0], [x0, y1 - 30.0]]);
-        labels.push(name.clone());
         log_static(
             rec,
             &format!("{base}/grid"),
             &LineStrips2D::new(strips)
-                .with_labels(labels)
                 .with_colors([Color::from_rgb(90, 90, 100)])
                 .with_radii([Radius::new_ui_points(0.5)]),
+        )?;
+        let n_labels = at.len();
+        log_static(
+            rec,
+            &format!("{base}/grid/labels"),
+            &Points2D::new(at)
+                .with_labels(labels)
+                .with_colors(std::iter::repeat_n(Color::from_rgb(170, 170, 180), n_labels))
+                .with_radii(std::iter::repeat_n(Radius::new_ui_points(0.0), n_labels)),
         )?;
         for (k, g) in groups.iter().enumerate() {
             let color = super::compare::colors(1, k)[0];
@@ -217,17 +234,19 @@ pub fn record(
             if members.is_empty() {
                 continue;
             }
-            let label = if g.is_empty() { name.clone() } else { g.clone() };
             let entity = format!("{base}/group_{k}");
             let pts: Vec<[f32; 2]> = members.iter().map(|m| [sx.at(m.0), sy.at(m.1)]).collect();
-            log_static(
-                rec,
-                &entity,
-                &LineStrips2D::new([pts.clone()])
-                    .with_labels([label])
-                    .with_colors([color])
-                    .with_radii([Radius::new_ui_points(1.0)]),
-            )?;
+            // A line is labelled only where there are several (the view's title names the
+            // extract).
+            let line = LineStrips2D::new([pts.clone()])
+                .with_colors([color])
+                .with_radii([Radius::new_ui_points(1.0)]);
+            let line = if groups.len() > 1 && !g.is_empty() {
+                line.with_labels([g.clone()])
+            } else {
+                line
+            };
+            log_static(rec, &entity, &line)?;
             log_static(
                 rec,
                 &format!("{entity}/points"),
