@@ -87,6 +87,32 @@ run()          { k run --csv "$WORK/out" --json "$WORK/summary.json" --save "$WO
 # the default scene's first 12 s: the tram in its curve (the 3D view, the running bands)
 run_curve()    { sed 's/^duration_s = 51.0 /duration_s = 12.0 /' assets/scenes/ms_vehicle_tab6.toml >"$WORK/ms12.toml"
                  k run "$WORK/ms12.toml" --save "$WORK/rc.rrd"; shot run_curve "$WORK/rc.rrd" 15; }
+# the default run streamed live to a headless viewer (--connect --pace 1), two pictures 6 s of wall
+# time apart while it computes (docs/cli.md, "Watching a run live")
+live() {
+  setsid rerun --headless --window-size 1600x1000 --port "$PORT" >"$WORK/viewer-live.log" 2>&1 &
+  local viewer=$!
+  sleep 10
+  "$KECSIM" run --connect "rerun+http://127.0.0.1:$PORT/proxy" --pace 1 >"$WORK/live.log" 2>&1 &
+  local run=$!
+  for k in 1 2; do
+    sleep "$([ "$k" = 1 ] && echo 12 || echo 6)"
+    python3 - "rerun+http://127.0.0.1:$PORT/proxy" "$WORK/live_run_$k.png" <<'EOF2'
+import sys
+from rerun.experimental import ViewerClient
+ViewerClient.connect(sys.argv[1]).save_screenshot(sys.argv[2])
+EOF2
+    python3 -c "
+import sys
+from PIL import Image
+Image.open(sys.argv[1]).convert('RGB').quantize(colors=256, method=Image.Quantize.MEDIANCUT).save(sys.argv[2], optimize=True)
+print(sys.argv[2])" "$WORK/live_run_$k.png" "$OUT/live_run_$k.png"
+  done
+  kill "$run" 2>/dev/null || true
+  wait "$run" 2>/dev/null || true
+  kill -- -"$viewer" 2>/dev/null || true
+  wait "$viewer" 2>/dev/null || true
+}
 compare()      { k compare assets/scenes/ms_vehicle_tab6.toml --contact kec,lookup,lookup2 --duration 10 --save "$WORK/cmp.rrd"; shot compare "$WORK/cmp.rrd" 15; }
 paper()        { k paper --duration 10 --save "$WORK/pa.rrd"; shot paper "$WORK/pa.rrd" 15; }
 study()        { k study assets/studies/wheelset_speed_sweep.toml --out "$WORK/sweep"; shot study "$WORK/sweep/study.rrd" 15; }
@@ -96,7 +122,7 @@ bench_precision() {
   shot bench_precision "$WORK/bp.rrd"
 }
 
-ALL=(profiles contact kec design_wheel creep track run run_curve compare paper study bench_precision)
+ALL=(profiles contact kec design_wheel creep track run run_curve live compare paper study bench_precision)
 for name in "${@:-${ALL[@]}}"; do
   "$name"
 done
