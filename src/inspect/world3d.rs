@@ -442,7 +442,13 @@ impl World3d {
         bodies: &[BodySample],
         elements: &[(Vector3<f64>, Vector3<f64>)],
     ) {
-        if t < self.next_t - 1e-9 || wheelsets.len() != self.wheelsets.len() || wheelsets.is_empty() {
+        // A run whose vehicle is not the scene's (another count of wheelsets or bodies) is not
+        // drawn: nothing here would place it.
+        if t < self.next_t - 1e-9
+            || wheelsets.len() != self.wheelsets.len()
+            || bodies.len() != self.bodies.len()
+            || wheelsets.is_empty()
+        {
             return;
         }
         if self.draw_track && t >= self.next_stretch_t - 1e-9 {
