@@ -1149,3 +1149,76 @@ fn the_output_worker_records_what_the_run_computes() {
         "samples in line"
     );
 }
+
+/// Issue 37, the contact quantities per wheel in `--csv`: the default scene's first 0.3 s. The
+/// wear number and the maximum pressure are recomputed from the CSV's own columns — Tγ =
+/// |Fx ξx + Fy ξy| from `fx_*`, `fy_*`, `creep_x_*`, `creep_y_*`, and p0 = 3N/(2πab) (Johnson,
+/// Eq. 4.29) from `n_*`, `a_*`, `b_*` —, and the values are those of a loaded metro wheel on its
+/// rail: p0 0.4–3 GPa, semi-axes 0.5–30 mm (the stand-in tread on the rail crown is conformal: b to
+/// ~16 mm), creepages below 5 %, the spin term 0 under Polach
+/// (no spin moment).
+#[test]
+fn the_csv_carries_creepages_contact_ellipses_and_wear_numbers() {
+    let dir = tmpdir("contact-quantities");
+    let ms = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
+    )
+    .unwrap()
+    .replacen("duration_s = 51.0", "duration_s = 0.3", 1);
+    std::fs::write(dir.join("ms.toml"), ms).unwrap();
+    kecsim_ok(&["run", "ms.toml", "--csv", "csv", "--save", "r.rrd"], &dir);
+    for w in ["w1", "w4", "w6"] {
+        let text = std::fs::read_to_string(dir.join("csv").join(format!("{w}.csv"))).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        assert!(rows.len() > 20, "{w}");
+        let col = |name: &str| {
+            header
+                .iter()
+                .position(|h| *h == name)
+                .unwrap_or_else(|| panic!("{w}: no column {name}"))
+        };
+        for side in ["left", "right"] {
+            let c = |stem: &str, unit: &str| {
+                if unit.is_empty() {
+                    col(&format!("{stem}_{side}"))
+                } else {
+                    col(&format!("{stem}_{side}_{unit}"))
+                }
+            };
+            let (n, fx, fy) = (c("n", "n"), c("fx", "n"), c("fy", "n"));
+            let (cx, cy, spin) = (c("creep_x", ""), c("creep_y", ""), c("spin", "1pm"));
+            let (a, b, p0) = (c("a", "mm"), c("b", "mm"), c("p0", "mpa"));
+            let (tg, tgs) = (c("tgamma", "n"), c("tgamma_spin", "n"));
+            for r in &rows {
+                let want = (r[fx] * r[cx] + r[fy] * r[cy]).abs();
+                assert!(
+                    (r[tg] - want).abs() <= 1e-8 * want.max(1e-3),
+                    "{w} {side}: Tγ {} vs {want}",
+                    r[tg]
+                );
+                assert_eq!(r[tgs], 0.0, "Polach has no spin moment");
+                assert!(
+                    r[cx].abs() < 0.05 && r[cy].abs() < 0.05 && r[spin].abs() < 5.0,
+                    "{r:?}"
+                );
+                if r[n] > 1e3 {
+                    let hertz = 3.0 * r[n] / (2.0 * std::f64::consts::PI * r[a] * 1e-3 * r[b] * 1e-3) * 1e-6;
+                    assert!(
+                        (r[p0] - hertz).abs() <= 1e-8 * hertz,
+                        "{w} {side}: p0 {} vs {hertz}",
+                        r[p0]
+                    );
+                    assert!((400.0..3000.0).contains(&r[p0]), "{w} {side}: p0 {} MPa", r[p0]);
+                    assert!(
+                        (0.5..30.0).contains(&r[a]) && (0.5..30.0).contains(&r[b]),
+                        "{r:?}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -351,7 +351,7 @@ mod tests {
     /// name and position): pinned here, name by name and in order.
     #[test]
     fn csv_header_is_pinned() {
-        const PINNED: [&str; 28] = [
+        const PINNED: [&str; 44] = [
             "t_s",
             "s_m",
             "speed_m_s",
@@ -380,18 +380,80 @@ mod tests {
             "lift_left_mm",
             "lift_right_mm",
             "track_shift_mm",
+            // Issue 37's contact quantities (names from the issue).
+            "creep_x_left",
+            "creep_x_right",
+            "creep_y_left",
+            "creep_y_right",
+            "spin_left_1pm",
+            "spin_right_1pm",
+            "a_left_mm",
+            "a_right_mm",
+            "b_left_mm",
+            "b_right_mm",
+            "p0_left_mpa",
+            "p0_right_mpa",
+            "tgamma_left_n",
+            "tgamma_right_n",
+            "tgamma_spin_left_n",
+            "tgamma_spin_right_n",
         ];
         let header: Vec<&str> = CSV_COLUMNS.iter().copied().collect();
         assert_eq!(header, PINNED);
     }
 
-    /// Each CSV column's value of a sample, in the column's unit (pinned with the header).
+    /// Each CSV column's value of a sample, in the column's unit (pinned with the header). The
+    /// contact quantities by hand: p0 = 3N/(2πab) (48 kN on 6.1 × 4.1 mm: 916.366 MPa; 52 kN on
+    /// 7.1 × 3.1 mm: 1128.040 MPa), Tγ = |Fx ξx + Fy ξy| (|−1.5e3 · 1.1e-3 + 3.5e3 · (−2.1e-3)| =
+    /// 9.0 N; |2.5e3 · (−1.3e-3) − 4.5e3 · 2.3e-3| = 13.6 N), |Mz φ| (11 · 0.31, 13 · 0.37).
     #[test]
     fn csv_row_is_pinned() {
         let row = csv_row(&Sample::distinct());
         let pinned = [
-            1.5, 23.25, 19.0, 2.0, -1.5, 0.7, 0.3, 48e3, 52e3, -1.5e3, 3.5e3, 2.5e3, -4.5e3, 6e3, 40e3, -8e3,
-            50e3, 4.0, 6.0, -5.0, -7.0, 750.0, 1.0, -750.0, 2.0, 0.0, 12.5, 0.5,
+            1.5,
+            23.25,
+            19.0,
+            2.0,
+            -1.5,
+            0.7,
+            0.3,
+            48e3,
+            52e3,
+            -1.5e3,
+            3.5e3,
+            2.5e3,
+            -4.5e3,
+            6e3,
+            40e3,
+            -8e3,
+            50e3,
+            4.0,
+            6.0,
+            -5.0,
+            -7.0,
+            750.0,
+            1.0,
+            -750.0,
+            2.0,
+            0.0,
+            12.5,
+            0.5,
+            1.1e-3,
+            -1.3e-3,
+            -2.1e-3,
+            2.3e-3,
+            0.31,
+            -0.37,
+            6.1,
+            7.1,
+            4.1,
+            3.1,
+            916.3659258389814,
+            1128.040487157459,
+            9.0,
+            13.6,
+            3.41,
+            4.81,
         ];
         assert_eq!(row.len(), pinned.len());
         for (k, (a, b)) in row.iter().zip(pinned).enumerate() {

@@ -52,6 +52,13 @@ pub struct Sample {
     pub lift: [f64; 2],
     /// Lateral shift of the track under the wheelset (0 on a rigid track), m.
     pub track_shift: f64,
+    /// Creepages left, right: ξx, ξy (dimensionless), spin φ (1/m).
+    pub creepage: [[f64; 3]; 2],
+    /// Semi-axes (a, b) of each wheel's contact ellipse, m (0 for a lifted wheel).
+    pub semi_axes: [[f64; 2]; 2],
+    /// Each wheel's creep moment Mz about the contact normal, N m (0 where the creep model
+    /// defines none: Polach, the linear model).
+    pub spin_moment: [f64; 2],
 }
 
 impl Sample {
@@ -80,7 +87,36 @@ impl Sample {
             rails: s.rails,
             lift: d.lift_gap,
             track_shift: s.state.track_shift,
+            creepage: d.creepage.map(|c| [c.longitudinal, c.lateral, c.spin]),
+            semi_axes: d.semi_axes.map(|(a, b)| [a, b]),
+            spin_moment: [d.creep[0].mz, d.creep[1].mz],
         }
+    }
+
+    /// Each wheel's maximum Hertz pressure p0 = 3N / (2π a b), Pa (Johnson, *Contact Mechanics*,
+    /// Eq. 4.29; 0 for a lifted wheel).
+    pub fn max_pressure(&self) -> [f64; 2] {
+        [0, 1].map(|i| {
+            let [a, b] = self.semi_axes[i];
+            if a > 0.0 && b > 0.0 && self.normal[i] > 0.0 {
+                3.0 * self.normal[i] / (2.0 * std::f64::consts::PI * a * b)
+            } else {
+                0.0
+            }
+        })
+    }
+
+    /// Each wheel's wear number Tγ = |Fx ξx + Fy ξy|, N: the creep forces' work per distance
+    /// rolled (the energy dissipated in the patch per metre), without the spin term
+    /// ([`Self::wear_number_spin`]).
+    pub fn wear_number(&self) -> [f64; 2] {
+        [0, 1].map(|i| (self.creep_x[i] * self.creepage[i][0] + self.creep_y[i] * self.creepage[i][1]).abs())
+    }
+
+    /// Each wheel's spin term of the wear number, |Mz φ|, N (0 where the creep model defines no
+    /// spin moment).
+    pub fn wear_number_spin(&self) -> [f64; 2] {
+        [0, 1].map(|i| (self.spin_moment[i] * self.creepage[i][2]).abs())
     }
 
     /// The larger |Y/Q| of the two wheels (a lifted wheel, Q = 0, has none).
@@ -118,6 +154,10 @@ impl Unit {
     pub const KN: Unit = Unit::new("kn", "kN", 1e-3);
     /// A ratio (no unit).
     pub const RATIO: Unit = Unit::new("", "", 1.0);
+    /// Per metre (spin creepage).
+    pub const PER_M: Unit = Unit::new("1pm", "1/m", 1.0);
+    /// Megapascal (contact pressure).
+    pub const MPA: Unit = Unit::new("mpa", "MPa", 1e-6);
 
     const fn new(suffix: &'static str, label: &'static str, per_si: f64) -> Unit {
         Unit {
@@ -424,6 +464,54 @@ pub const QUANTITIES: &[Quantity] = &[
         series: None,
     },
     Quantity {
+        name: "longitudinal creepage ξx",
+        value: Value::Wheels(|s| [s.creepage[0][0], s.creepage[1][0]]),
+        csv: Csv::Columns("creep_x", Unit::RATIO),
+        series: None,
+    },
+    Quantity {
+        name: "lateral creepage ξy",
+        value: Value::Wheels(|s| [s.creepage[0][1], s.creepage[1][1]]),
+        csv: Csv::Columns("creep_y", Unit::RATIO),
+        series: None,
+    },
+    Quantity {
+        name: "spin creepage φ",
+        value: Value::Wheels(|s| [s.creepage[0][2], s.creepage[1][2]]),
+        csv: Csv::Columns("spin", Unit::PER_M),
+        series: None,
+    },
+    Quantity {
+        name: "contact ellipse semi-axis a (rolling direction)",
+        value: Value::Wheels(|s| [s.semi_axes[0][0], s.semi_axes[1][0]]),
+        csv: Csv::Columns("a", Unit::MM),
+        series: None,
+    },
+    Quantity {
+        name: "contact ellipse semi-axis b (lateral)",
+        value: Value::Wheels(|s| [s.semi_axes[0][1], s.semi_axes[1][1]]),
+        csv: Csv::Columns("b", Unit::MM),
+        series: None,
+    },
+    Quantity {
+        name: "maximum Hertz pressure p0",
+        value: Value::Wheels(Sample::max_pressure),
+        csv: Csv::Columns("p0", Unit::MPA),
+        series: None,
+    },
+    Quantity {
+        name: "wear number Tγ = |Fx ξx + Fy ξy|",
+        value: Value::Wheels(Sample::wear_number),
+        csv: Csv::Columns("tgamma", Unit::N),
+        series: None,
+    },
+    Quantity {
+        name: "the wear number's spin term |Mz φ|",
+        value: Value::Wheels(Sample::wear_number_spin),
+        csv: Csv::Columns("tgamma_spin", Unit::N),
+        series: None,
+    },
+    Quantity {
         name: "the smaller wheel load",
         value: Value::One(|s| s.normal[0].min(s.normal[1])),
         csv: Csv::No,
@@ -474,6 +562,9 @@ impl Sample {
             rails: [0.0; 4],
             lift: [0.0; 2],
             track_shift: 0.0,
+            creepage: [[0.0; 3]; 2],
+            semi_axes: [[0.0; 2]; 2],
+            spin_moment: [0.0; 2],
         }
     }
 
@@ -499,6 +590,9 @@ impl Sample {
             rails: [0.75, 0.001, -0.75, 0.002],
             lift: [0.0, 0.0125],
             track_shift: 0.0005,
+            creepage: [[1.1e-3, -2.1e-3, 0.31], [-1.3e-3, 2.3e-3, -0.37]],
+            semi_axes: [[6.1e-3, 4.1e-3], [7.1e-3, 3.1e-3]],
+            spin_moment: [11.0, -13.0],
         }
     }
 }

@@ -255,6 +255,9 @@ pub struct WheelsetDynamics {
     /// Lateral (Y) and vertical (Q) force of each rail on its wheel, track frame, N (normal and
     /// creep forces of all the wheel's contacts).
     pub wheel_force: [(f64, f64); 2],
+    /// Semi-axes (a, b) of each wheel's Hertz contact ellipse at its normal force, m (a along
+    /// the rolling direction; 0 for a lifted wheel).
+    pub semi_axes: [(f64, f64); 2],
 }
 
 /// Dynamics failures.
@@ -784,10 +787,12 @@ fn solve(
         // Moments of each wheel's creep forces about the centre.
         let mut mo_wheel = [Vector3::zeros(); 2];
         let mut creep = [CreepForce::default(); 2];
+        let mut semi_axes = [(0.0, 0.0); 2];
         for i in (0..2).filter(|&i| on_rail(i)) {
             let side = Side::BOTH[i].name();
             let n_force = lambda[i].max(1.0);
             let patch = patch0[i].as_ref().ok_or(WheelsetError::Singular)?.scaled(n_force);
+            semi_axes[i] = (patch.a, patch.b);
             creep[i] = forces
                 .model
                 .forces(&patch, &creepage[i], frame.speed)
@@ -844,6 +849,7 @@ fn solve(
             lift_gap,
             track_accel: if track.is_some() { sol[8] } else { 0.0 },
             wheel_force: [(0.0, 0.0); 2],
+            semi_axes,
         })
     };
     // Solve G(λ) = Φ(λ) − λ = 0 by Broyden's method. Its matrix B ≈ ∂G/∂λ starts from `secant`,
