@@ -223,8 +223,9 @@ impl Radau {
 /// How one Newton solve of the stage equations ended.
 enum Newton {
     Converged(usize),
-    /// Too slow or diverging: the step-size factor to retry with.
-    Failed(f64),
+    /// Diverging, or not converged in [`NIT`] iterations: the step is retried at half its size
+    /// (RADAU5's unexpected-rejection factor).
+    Failed,
 }
 
 impl Stepper {
@@ -255,9 +256,9 @@ impl Stepper {
         let newt = loop {
             match self.radau_newton(sys, t, x, h, rtol, atol, kappa, stats)? {
                 Newton::Converged(k) => break k,
-                Newton::Failed(factor) => {
+                Newton::Failed => {
                     if self.jac_age == Some(0) {
-                        self.radau.factor = factor;
+                        self.radau.factor = 0.5;
                         self.radau.rejected = true;
                         self.bdf.newton_failed = true;
                         return Ok(f64::INFINITY);
@@ -429,14 +430,14 @@ impl Stepper {
             }
             let dyno = norm.value();
             if !dyno.is_finite() {
-                return Ok(Newton::Failed(0.5));
+                return Ok(Newton::Failed);
             }
             if newt > 1 && newt < NIT {
                 let thq = dyno / dyno_old;
                 r.theta = if newt == 2 { thq } else { (thq * thq_old).sqrt() };
                 thq_old = thq;
                 if r.theta >= 0.99 {
-                    return Ok(Newton::Failed(0.5));
+                    return Ok(Newton::Failed);
                 }
                 r.faccon = r.theta / (1.0 - r.theta);
             }
@@ -454,6 +455,6 @@ impl Stepper {
                 return Ok(Newton::Converged(newt));
             }
         }
-        Ok(Newton::Failed(0.5))
+        Ok(Newton::Failed)
     }
 }

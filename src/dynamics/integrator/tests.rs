@@ -36,6 +36,38 @@ impl OdeSystem for Prothero {
     }
 }
 
+/// A forced mode x'' + 2ζω x' + ω² x = ω² u(t), u = 1 mm · sin(2π t): the motion follows u
+/// (1 Hz ≪ ω/2π).
+struct Forced {
+    w: f64,
+    zeta: f64,
+}
+
+impl OdeSystem for Forced {
+    type Error = String;
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
+        let u = 1e-3 * (std::f64::consts::TAU * t).sin();
+        d[0] = x[1];
+        d[1] = -self.w * self.w * (x[0] - u) - 2.0 * self.zeta * self.w * x[1];
+        Ok(())
+    }
+}
+
+impl Forced {
+    /// The steady response (x, x') at t: 1 mm · Im(H e^{iΩt}) with H = ω²/(ω² − Ω² + 2iζωΩ),
+    /// Ω = 2π, and its rate.
+    fn steady(&self, t: f64) -> (f64, f64) {
+        let (w, om) = (self.w, std::f64::consts::TAU);
+        let gain = nalgebra::Complex::new(w * w, 0.0)
+            / nalgebra::Complex::new(w * w - om * om, 2.0 * self.zeta * w * om);
+        let e = gain * nalgebra::Complex::new(0.0, om * t).exp();
+        (1e-3 * e.im, 1e-3 * om * e.re)
+    }
+}
+
 fn run(
     sys: &mut dyn OdeSystem<Error = String>,
     x0: &[f64],
@@ -764,23 +796,6 @@ fn bdf_error_test_rejections_keep_the_jacobian() {
 /// well damped (ζ = 0.7: inside BDF-5's 51.8° stability sector) is stepped by its accuracy alone.
 #[test]
 fn bdf_on_a_lightly_damped_mode_is_held_at_its_stability_boundary() {
-    struct Forced {
-        w: f64,
-        zeta: f64,
-    }
-    // x'' + 2ζω x' + ω² x = ω² u(t), u = 1 mm · sin(2π t): the motion follows u (1 Hz ≪ 95 Hz).
-    impl OdeSystem for Forced {
-        type Error = String;
-        fn dim(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
-            let u = 1e-3 * (std::f64::consts::TAU * t).sin();
-            d[0] = x[1];
-            d[1] = -self.w * self.w * (x[0] - u) - 2.0 * self.zeta * self.w * x[1];
-            Ok(())
-        }
-    }
     let (w, zeta): (f64, f64) = (600.0, 0.015);
     // The stability bounds of constant-step BDF-k on the mode, as ωh.
     let lambda = nalgebra::Complex::new(-zeta * w, w * (1.0 - zeta * zeta).sqrt());
@@ -818,16 +833,10 @@ fn bdf_on_a_lightly_damped_mode_is_held_at_its_stability_boundary() {
         assert!((b - want).abs() < 0.01, "{b} vs {want}");
     }
     // The integrator, from the forced motion's own state (no transient of the mode): the steady
-    // response to u, 1 mm · Im(H e^{iΩt}) with H = ω²/(ω² − Ω² + 2iζωΩ), and its rate.
-    let om = std::f64::consts::TAU;
+    // response to u ([`Forced::steady`]).
     let mut steps = Vec::new();
     for zeta in [zeta, 0.7] {
-        let gain =
-            nalgebra::Complex::new(w * w, 0.0) / nalgebra::Complex::new(w * w - om * om, 2.0 * zeta * w * om);
-        let exact = |t: f64| {
-            let e = gain * nalgebra::Complex::new(0.0, om * t).exp();
-            (1e-3 * e.im, 1e-3 * om * e.re)
-        };
+        let exact = |t: f64| (Forced { w, zeta }).steady(t);
         let x0 = [exact(0.0).0, exact(0.0).1];
         let s = Settings::new(Method::Bdf, 1e-4, 1e-7);
         let (out, st) = run(&mut Forced { w, zeta }, &x0, 2.0, 0.01, &s);
@@ -1062,32 +1071,10 @@ fn radau_robertson_against_the_test_set() {
 /// 0.7), where BDF's grow > 3× with it; the error against the closed-form steady response holds.
 #[test]
 fn radau_steps_do_not_depend_on_the_damping_of_a_mode() {
-    struct Forced {
-        w: f64,
-        zeta: f64,
-    }
-    impl OdeSystem for Forced {
-        type Error = String;
-        fn dim(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), String> {
-            let u = 1e-3 * (std::f64::consts::TAU * t).sin();
-            d[0] = x[1];
-            d[1] = -self.w * self.w * (x[0] - u) - 2.0 * self.zeta * self.w * x[1];
-            Ok(())
-        }
-    }
     let w = 600.0;
-    let om = std::f64::consts::TAU;
     let mut steps = Vec::new();
     for zeta in [0.015, 0.7] {
-        let gain =
-            nalgebra::Complex::new(w * w, 0.0) / nalgebra::Complex::new(w * w - om * om, 2.0 * zeta * w * om);
-        let exact = |t: f64| {
-            let e = gain * nalgebra::Complex::new(0.0, om * t).exp();
-            (1e-3 * e.im, 1e-3 * om * e.re)
-        };
+        let exact = |t: f64| (Forced { w, zeta }).steady(t);
         let x0 = [exact(0.0).0, exact(0.0).1];
         let mut counts = Vec::new();
         for method in [Method::Radau5, Method::Bdf] {
