@@ -148,14 +148,16 @@ pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
     blueprint_with(wheelsets, &World3dSettings::default(), 1.0)
 }
 
-/// The distance `scene`'s run covers, m (0 without a simulation).
-fn run_distance(scene: &Scene) -> f64 {
-    scene.simulation.as_ref().map_or(0.0, |(sim, _)| {
+/// The running bands' track unit for `scene`'s run ([`RunningBands::unit_for`] the distance it
+/// covers; 0 m without a simulation).
+fn band_unit(scene: &Scene) -> f64 {
+    let distance = scene.simulation.as_ref().map_or(0.0, |(sim, _)| {
         let t = sim.duration_s;
         (sim.speed_m_s * t + 0.5 * sim.speed_ramp_m_s2 * t * t)
             .max(sim.speed_m_s * t)
             .max(0.0)
-    })
+    });
+    RunningBands::unit_for(distance)
 }
 
 /// The layout for the run of `wheelsets` (by name), read top-down: the 3D view of the vehicle on
@@ -336,7 +338,7 @@ impl LiveRecorder {
         wheelsets: &[String],
         world: &World3dSettings,
     ) -> Result<LiveRecorder, InspectError> {
-        let unit = RunningBands::unit_for(run_distance(scene));
+        let unit = band_unit(scene);
         let rec = open_recording("kecsim", sink, || blueprint_with(wheelsets, world, unit))?;
         let mut r = Self::on_with(rec, scene, wheelsets, world)?;
         if matches!(sink, Sink::Save(_)) {
@@ -379,7 +381,7 @@ impl LiveRecorder {
             styled: std::collections::HashSet::new(),
             sent: 0,
             world: World3d::new(scene, *world),
-            bands: RunningBands::new(RunningBands::unit_for(run_distance(scene))),
+            bands: RunningBands::new(band_unit(scene)),
         };
         r.log_statics()?;
         r.world.log_statics(&r.rec)?;
