@@ -1222,3 +1222,232 @@ fn the_csv_carries_creepages_contact_ellipses_and_wear_numbers() {
         }
     }
 }
+
+/// A CSV of `kecsim run --csv` as its header and rows (the carbodies' `point` column read as NaN).
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>, Vec<String>) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(str::to_string).collect();
+    let point = header.iter().position(|h| h == "point");
+    let (mut rows, mut points) = (Vec::new(), Vec::new());
+    for l in lines {
+        let cells: Vec<&str> = l.split(',').collect();
+        if let Some(p) = point {
+            points.push(cells[p].to_string());
+        }
+        rows.push(cells.iter().map(|v| v.parse().unwrap_or(f64::NAN)).collect());
+    }
+    (header, rows, points)
+}
+
+/// The USFD wear function as published (Lewis & Dwyer-Joyce 2004; Braghin et al. 2006, Table 1),
+/// written out again here: K (µg/(m mm²)) of Tγ/A (N/mm²).
+fn usfd_published(index: f64) -> f64 {
+    if index <= 0.0 {
+        0.0
+    } else if index < 10.4 {
+        5.3 * index
+    } else if index <= 77.2 {
+        55.0
+    } else {
+        61.9 * index - 4723.0
+    }
+}
+
+/// Issue 37: `kecsim run` prints, writes and records wear, contact stress and ride comfort for every
+/// wheel and carbody of the default scene (16 s: the whole vehicle enters the 235.65 m curve), and
+/// each figure agrees with what is recomputed here from the CSVs:
+/// - the 2 m mean of Tγ (`tgamma_2m_*`) from the `tgamma_*` and `s_m` columns (1e-9);
+/// - each wheel's wear: the published USFD function of Tγ/A (A = π a b) times A, integrated over
+///   s by trapezoids, against the JSON's `mass_mg` (1e-9 relative) and `mass_mg_per_km`;
+/// - each wheel's largest p0 and its share of distance in ratchetting (p0/k > 1/μ, μ = √(Fx² +
+///   Fy²)/N, k = 300 MPa) against the JSON's `contact_stress`;
+/// - the floor's quasi-static lateral acceleration in the steady curve against its closed form
+///   κV² cos c − g sin c (the uncompensated lateral acceleration, 0.783 m/s² at 19 m/s on R
+///   235.65 m with 76 mrad of cant) within 0.1 m/s² (the carbodies lean out on their suspension
+///   by a few mrad, g φ ≈ 0.05 m/s², and the track frame's motion approximations stay below 0.01
+///   m/s² laterally);
+/// - every floor point of the JSON has its rows in its carbody's CSV, and the comfort figures are
+///   a tram's: N_MV 0.3–4, Wz 1–4.5.
+#[test]
+fn a_run_reports_wear_contact_stress_and_ride_comfort() {
+    let dir = tmpdir("wear-stress-comfort");
+    let ms = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
+    )
+    .unwrap()
+    .replacen("duration_s = 51.0", "duration_s = 16.0", 1);
+    std::fs::write(dir.join("ms.toml"), ms).unwrap();
+    let out = kecsim_ok(
+        &[
+            "run", "ms.toml", "--csv", "csv", "--json", "s.json", "--save", "r.rrd",
+        ],
+        &dir,
+    );
+    for line in [
+        "wear (USFD function",
+        "contact stress (R260, k 300 MPa)",
+        "ride comfort (EN 12299",
+    ] {
+        assert!(out.contains(line), "the summary lacks {line}: {out}");
+    }
+    let js: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).unwrap()).unwrap();
+    let wear = js["wear"]["wheels"].as_array().unwrap();
+    let stress = js["contact_stress"]["wheels"].as_array().unwrap();
+    assert_eq!((wear.len(), stress.len()), (12, 12));
+    for (i, w) in ["w1", "w2", "w3", "w4", "w5", "w6"].iter().enumerate() {
+        let (header, rows, _) = read_csv(&dir.join("csv").join(format!("{w}.csv")));
+        let col = |name: &str| {
+            header
+                .iter()
+                .position(|h| h == name)
+                .unwrap_or_else(|| panic!("{w}: no {name}"))
+        };
+        let s = col("s_m");
+        for (k, side) in ["left", "right"].iter().enumerate() {
+            let c = |stem: &str, unit: &str| col(&format!("{stem}_{side}_{unit}"));
+            let (n, fx, fy) = (c("n", "n"), c("fx", "n"), c("fy", "n"));
+            let (a, b, p0, tg, tg2) = (
+                c("a", "mm"),
+                c("b", "mm"),
+                c("p0", "mpa"),
+                c("tgamma", "n"),
+                c("tgamma_2m", "n"),
+            );
+            // The 2 m mean, causal, over the samples within 2 m behind.
+            for (j, r) in rows.iter().enumerate() {
+                let window: Vec<f64> = rows[..=j]
+                    .iter()
+                    .filter(|q| r[s] - q[s] < 2.0)
+                    .map(|q| q[tg])
+                    .collect();
+                let mean = window.iter().sum::<f64>() / window.len() as f64;
+                assert!(
+                    (r[tg2] - mean).abs() <= 1e-9 * mean.max(1.0) + 1e-6,
+                    "{w} {side} row {j}: {} vs {mean}",
+                    r[tg2]
+                );
+            }
+            // Wear: K(Tγ/A)·A µg/m integrated over s.
+            let rate = |r: &Vec<f64>| {
+                let area = std::f64::consts::PI * r[a] * r[b];
+                if r[n] > 0.0 && area > 0.0 {
+                    usfd_published(r[tg] / area) * area
+                } else {
+                    0.0
+                }
+            };
+            let mass_ug: f64 = rows
+                .windows(2)
+                .map(|p| 0.5 * (rate(&p[0]) + rate(&p[1])) * (p[1][s] - p[0][s]).abs())
+                .sum();
+            let jw = &wear[2 * i + k];
+            assert_eq!(
+                (jw["wheelset"].as_str(), jw["wheel"].as_str()),
+                (Some(*w), Some(*side))
+            );
+            let got = jw["mass_mg"].as_f64().unwrap();
+            // The CSV's 10 significant digits bound the agreement.
+            assert!(
+                (got - mass_ug * 1e-3).abs() <= 1e-7 * got.max(1e-3),
+                "{w} {side}: {got} mg vs {}",
+                mass_ug * 1e-3
+            );
+            let distance = (rows.last().unwrap()[s] - rows[0][s]).abs();
+            let per_km = jw["mass_mg_per_km"].as_f64().unwrap();
+            assert!(
+                (per_km - mass_ug / distance).abs() <= 1e-7 * per_km,
+                "{w} {side}: {per_km} mg/km"
+            );
+            assert!(per_km > 0.0, "{w} {side}: no wear");
+            // Contact stress.
+            let js = &stress[2 * i + k];
+            let max_p0 = rows.iter().map(|r| r[p0]).fold(0.0, f64::max);
+            assert!(
+                (js["max_p0_mpa"].as_f64().unwrap() - max_p0).abs() <= 1e-7 * max_p0,
+                "{w} {side}: p0"
+            );
+            let on: Vec<(f64, bool)> = rows
+                .iter()
+                .map(|r| {
+                    let mu = r[fx].hypot(r[fy]) / r[n];
+                    (r[s], r[n] > 0.0 && r[p0] > 0.0 && r[p0] / 300.0 > 1.0 / mu)
+                })
+                .collect();
+            let ratchet: f64 = on
+                .windows(2)
+                .map(|p| 0.5 * (p[1].0 - p[0].0).abs() * (p[0].1 as u8 + p[1].1 as u8) as f64)
+                .sum();
+            let share = js["share_ratchetting"].as_f64().unwrap();
+            assert!(
+                (share - ratchet / distance).abs() < 1e-6,
+                "{w} {side}: ratchetting {share} vs {}",
+                ratchet / distance
+            );
+        }
+    }
+    // Ride comfort: every floor point, its rows, and the steady curve's lateral acceleration.
+    let points = js["comfort"]["points"].as_array().unwrap();
+    let names: Vec<(String, String)> = points
+        .iter()
+        .map(|p| {
+            (
+                p["carbody"].as_str().unwrap().to_string(),
+                p["point"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect();
+    for want in [
+        ("c1", "middle"),
+        ("c1", "over_b1"),
+        ("c2", "middle"),
+        ("c3", "middle"),
+        ("c5", "over_b3"),
+    ] {
+        assert!(
+            names.contains(&(want.0.to_string(), want.1.to_string())),
+            "{want:?} not in {names:?}"
+        );
+    }
+    assert_eq!(names.len(), 7);
+    for p in points {
+        let (n_mv, wy, wz) = (
+            p["n_mv"].as_f64().unwrap(),
+            p["wz_y"].as_f64().unwrap(),
+            p["wz_z"].as_f64().unwrap(),
+        );
+        assert!(
+            (0.3..4.0).contains(&n_mv) && (1.0..4.5).contains(&wy) && (1.0..4.5).contains(&wz),
+            "{p}"
+        );
+    }
+    let (v, r, cant, g) = (19.0f64, 235.65f64, 0.07599f64, 9.81f64);
+    let uncompensated = v * v / r * cant.cos() - g * cant.sin();
+    for c in ["c1", "c3", "c5"] {
+        let (header, rows, pts) = read_csv(&dir.join("csv").join(format!("{c}.csv")));
+        let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+        let (t, s, ay) = (col("t_s"), col("s_m"), col("acc_y_m_s2"));
+        assert_eq!(rows.len(), pts.len());
+        for name in names.iter().filter(|n| n.0 == c) {
+            assert!(pts.contains(&name.1), "{c}: no rows of {}", name.1);
+        }
+        // Steady curve: the carbody 30 m past the curve's start (150 m + 50 m of transition).
+        let steady: Vec<f64> = rows
+            .iter()
+            .zip(&pts)
+            .filter(|(r, p)| *p == "middle" && r[s] > 180.0 && r[t] > 12.0)
+            .map(|(r, _)| r[ay])
+            .collect();
+        assert!(
+            steady.len() > 100,
+            "{c}: {} samples in the steady curve",
+            steady.len()
+        );
+        let mean = steady.iter().sum::<f64>() / steady.len() as f64;
+        assert!(
+            (mean.abs() - uncompensated).abs() < 0.1,
+            "{c}: mean lateral {mean} vs {uncompensated} m/s²"
+        );
+    }
+}

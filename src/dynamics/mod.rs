@@ -14,11 +14,17 @@
 //!   CSV's columns, the recording's series and layout are made from it);
 //! * [`run`](mod@run): the run loop, its threads, stop conditions; [`output`]: summary,
 //!   observers, CSV; [`safety`]: running safety (EN 14363) from the samples; [`cancel`]: the stop
-//!   request a run honours (Ctrl-C in the binary).
+//!   request a run honours (Ctrl-C in the binary);
+//! * what an engineer reads off a run besides safety: [`wear`] (the USFD wear function over the
+//!   wear number, where on the profiles), [`contact_stress`] (p0 on Johnson's shakedown map),
+//!   [`ride`] (EN 12299's comfort and Sperling's Wz at the carbodies' floor points, from the
+//!   weightings and spectra of [`comfort`]).
 //!
 //! The contact models are [`crate::contact::ContactModel`]s; the dynamics never knows which one.
 
 pub mod cancel;
+pub mod comfort;
+pub mod contact_stress;
 pub mod elastic;
 pub mod integrator;
 pub mod kinematics;
@@ -27,11 +33,13 @@ pub mod multibody;
 pub mod output;
 mod reactions;
 pub mod reference;
+pub mod ride;
 pub mod run;
 pub mod safety;
 pub mod sample;
 pub mod single_wheelset;
 pub mod system;
+pub mod wear;
 pub mod wheelset;
 
 pub use cancel::CancelToken;
@@ -41,4 +49,4 @@ pub use run::{
     run, RunEnd, RunLabels, RunOutput, RunPool, RunSettings, Stop, StopConditions, Threads, OUTPUT_QUEUE,
 };
 pub use sample::Sample;
-pub use system::{DynamicsError, InitialDisturbance, Settling, VehicleModel, VehicleSample};
+pub use system::{DynamicsError, FloorPoint, InitialDisturbance, Settling, VehicleModel, VehicleSample};

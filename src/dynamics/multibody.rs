@@ -41,8 +41,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Vector3, Vector6};
 use super::kinematics::{initial_pose, Kind, Kinematics, KinematicsMemo};
 use super::reference::{FrameAt, Reference, G};
 use super::system::{
-    BodySample, DynamicsError, InitialDisturbance, PartTimes, Settling, VehicleData, VehicleModel,
-    VehicleSample, WheelsetSample,
+    BodySample, DynamicsError, FloorPoint, InitialDisturbance, PartTimes, Settling, VehicleData,
+    VehicleModel, VehicleSample, WheelsetSample,
 };
 use super::wheelset::{
     FrameMotion, IrwInertia, Landing, Load, WheelsetDynamics, WheelsetInertia, WheelsetState,
@@ -142,7 +142,13 @@ pub struct Multibody {
     pub reference: Reference,
     /// The static settling behind the elements' preloads.
     pub settling: Settling,
+    /// The carbodies' floor points where ride comfort is read ([`Multibody::find_floor_points`]).
+    pub floor_points: Vec<FloorPoint>,
 }
+
+/// A bogie closer than this to a carbody's middle (along the vehicle) is under the middle floor
+/// point, m.
+const FLOOR_POINT_MERGE_M: f64 = 0.5;
 
 fn v3(a: [f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
@@ -221,13 +227,109 @@ impl Multibody {
                 residual: 0.0,
                 axle_loads: Vec::new(),
             },
+            floor_points: Vec::new(),
         };
+        let floor_heights: Vec<f64> = spec
+            .bodies
+            .iter()
+            .map(|b| b.floor_height_m.unwrap_or(b.position_m[2]))
+            .collect();
+        sys.floor_points = sys.find_floor_points(&floor_heights);
         sys.settling = sys.settle()?;
         Ok(sys)
     }
 
     fn body_offset(&self, i: usize) -> usize {
         12 * i
+    }
+
+    /// EN 12299's floor points: on each carbody, at its middle (its centre's x) and above each
+    /// bogie joined to it by an element (the bogie's x; a bogie within 0.5 m of the middle makes
+    /// the middle point "over" it), at the floor height `floor_heights[i]` above the rail top. A
+    /// bogie is a body that carries a wheelset (an element to one) and is joined by an element
+    /// to a body that carries none; a carbody is a body that is neither a bogie nor carries a
+    /// mass (a bogie scene's half carbody): a two-axle vehicle's body on its wheelsets is one.
+    fn find_floor_points(&self, floor_heights: &[f64]) -> Vec<FloorPoint> {
+        let nb = self.bodies.len();
+        let index = |r: BodyRef| match r {
+            BodyRef::Body(i) => Some(i),
+            BodyRef::Track => None,
+        };
+        let joined = |i: usize, k: usize| {
+            self.elements.iter().any(|e| {
+                let (a, b) = e.ends();
+                (index(a), index(b)) == (Some(i), Some(k)) || (index(a), index(b)) == (Some(k), Some(i))
+            })
+        };
+        let carries_wheelset = |i: usize| (nb..nb + self.wheelsets.len()).any(|k| joined(i, k));
+        let carries_mass = |i: usize| {
+            self.elements
+                .iter()
+                .any(|e| matches!(e, Element::CarriedMass { body: BodyRef::Body(b), .. } if *b == i))
+        };
+        let bogie =
+            |i: usize| carries_wheelset(i) && (0..nb).any(|k| k != i && joined(i, k) && !carries_wheelset(k));
+        let mut points = Vec::new();
+        for (i, c) in self.bodies.iter().enumerate() {
+            if bogie(i) || carries_mass(i) {
+                continue;
+            }
+            let height = floor_heights.get(i).copied().unwrap_or(c.h);
+            let mut point = |name: String, over: Option<&RigidBody>, x: f64| {
+                points.push(FloorPoint {
+                    carbody: c.name.clone(),
+                    point: name,
+                    over_bogie: over.map(|b| b.name.clone()),
+                    x_m: x,
+                    height_m: height,
+                    body: i,
+                    arm: [x - c.d, 0.0, height - c.h],
+                })
+            };
+            let bogies: Vec<&RigidBody> = (0..nb)
+                .filter(|&k| k != i && bogie(k) && joined(i, k))
+                .map(|k| &self.bodies[k])
+                .collect();
+            let middle = bogies.iter().find(|b| (b.d - c.d).abs() < FLOOR_POINT_MERGE_M);
+            point("middle".to_string(), middle.copied(), c.d);
+            for b in bogies.iter().filter(|b| (b.d - c.d).abs() >= FLOOR_POINT_MERGE_M) {
+                point(format!("over_{}", b.name), Some(b), b.d);
+            }
+        }
+        points
+    }
+
+    /// What an accelerometer at each floor point reads, in its carbody's axes, less the static
+    /// 1 g on z, m/s²: the specific force f = a − g of the point, its absolute acceleration (in
+    /// the body's track frame, ρ the point, p its arm) a = a_t + α_t × ρ + ω_t × (ω_t × ρ) +
+    /// 2 ω_t × ρ̇ + r̈ + Θ̈ × p + Θ̇ × (Θ̇ × p) (as the joints', [`Self::apply_joints`]), turned
+    /// into the body's axes to first order in its rotation Θ, f_b = f − Θ × f.
+    fn floor_accelerations(
+        &self,
+        poses: &[Pose],
+        motions: &[FrameMotion],
+        qdd: &[[Vector3<f64>; 2]],
+    ) -> Vec<[f64; 3]> {
+        self.floor_points
+            .iter()
+            .filter_map(|fp| {
+                let (pose, m, q) = (poses.get(fp.body)?, motions.get(fp.body)?, qdd.get(fp.body)?);
+                let p = v3(fp.arm);
+                let rho = pose.local_point(&p);
+                let rho_dot = pose.centre_velocity + pose.theta_dot.cross(&p);
+                let (w, al, g) = (v3(m.omega), v3(m.alpha), v3(m.gravity));
+                let a = v3(m.accel)
+                    + al.cross(&rho)
+                    + w.cross(&w.cross(&rho))
+                    + 2.0 * w.cross(&rho_dot)
+                    + q[0]
+                    + q[1].cross(&p)
+                    + pose.theta_dot.cross(&pose.theta_dot.cross(&p));
+                let f = a - g;
+                let fb = f - pose.theta.cross(&f);
+                Some([fb.x, fb.y, fb.z - g.norm()])
+            })
+            .collect()
     }
 
     /// The bodies that carry wheelsets (bogie frames), whose modes against the wheelsets' primary
@@ -681,7 +783,13 @@ impl Multibody {
                 rails: ws_rails[j],
             });
         }
+        let floor = if sampling && parts.bodies {
+            self.floor_accelerations(&poses, &motions, &qdd)
+        } else {
+            Vec::new()
+        };
         Ok(VehicleSample {
+            floor,
             bodies: body_samples,
             wheelsets: ws_samples,
             elements: if sampling {
@@ -1133,5 +1241,9 @@ impl VehicleModel for Multibody {
 
     fn settling(&self) -> Option<&Settling> {
         Some(&self.settling)
+    }
+
+    fn floor_points(&self) -> Vec<FloorPoint> {
+        self.floor_points.clone()
     }
 }

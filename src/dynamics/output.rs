@@ -78,6 +78,12 @@ pub struct RunSummary {
     /// Running safety per wheelset (Y/Q against Nadal, ΣY against Prud'homme, ΔQ/Q₀), EN 14363
     /// style ([`super::safety`]); None where the run was not given the basis of the limits.
     pub safety: Option<Safety>,
+    /// Wheel wear per wheel (the USFD function over the wear number; [`super::wear`]).
+    pub wear: Option<super::wear::Wear>,
+    /// Contact stress against the rail's shakedown limit per wheel ([`super::contact_stress`]).
+    pub contact_stress: Option<super::contact_stress::ContactStress>,
+    /// Ride comfort at the carbodies' floor points (EN 12299, Sperling; [`super::ride`]).
+    pub comfort: Option<super::ride::Comfort>,
     /// Physically doubtful input the run went on with (the scenario's warnings).
     pub warnings: Vec<String>,
 }
@@ -149,6 +155,15 @@ impl fmt::Display for RunSummary {
         if let Some(safety) = &self.safety {
             write!(f, "{safety}")?;
         }
+        if let Some(wear) = &self.wear {
+            write!(f, "{wear}")?;
+        }
+        if let Some(stress) = &self.contact_stress {
+            write!(f, "{stress}")?;
+        }
+        if let Some(comfort) = &self.comfort {
+            write!(f, "{comfort}")?;
+        }
         if let Some(note) = &self.stopped {
             writeln!(f, "stopped: {note}")?;
         }
@@ -174,6 +189,8 @@ pub type ObserverError = Box<dyn std::error::Error + Send + Sync>;
 pub struct RunStart<'a> {
     pub wheelsets: &'a [String],
     pub bodies: &'a [String],
+    /// The carbodies' floor points (ride comfort), in the order of [`OutputSample::floor`].
+    pub floor_points: &'a [super::system::FloorPoint],
     /// Simulated time the run is to cover, s.
     pub duration_s: f64,
 }
@@ -187,6 +204,9 @@ pub struct OutputSample<'a> {
     /// Per force element of a multibody vehicle (in the scene's order): its deflection and force
     /// in its first body's axes (m, N); empty for the other vehicles.
     pub elements: &'a [(nalgebra::Vector3<f64>, nalgebra::Vector3<f64>)],
+    /// Per floor point of [`RunStart::floor_points`]: the floor accelerations (x, y, z) in the
+    /// carbody's axes less the static 1 g, m/s² ([`super::system::VehicleSample::floor`]).
+    pub floor: &'a [[f64; 3]],
 }
 
 /// Receives a run's samples as they are produced (read-only; an `Err` ends the run).
@@ -290,8 +310,21 @@ fn write_row(w: &mut csv::Writer<AtomicFile>, s: &Sample) -> Result<(), csv::Err
 /// never sees half a file, and what was written is kept if the run stops or fails. The files are
 /// created at the start (a directory that cannot be written fails before any work).
 pub struct CsvWriter {
+    dir: PathBuf,
     writers: Vec<(PathBuf, Option<csv::Writer<AtomicFile>>)>,
+    /// Per carbody with floor points: its CSV ([`CARBODY_CSV_COLUMNS`]) and the indices of its
+    /// floor points in [`OutputSample::floor`].
+    carbodies: Vec<(PathBuf, Option<csv::Writer<AtomicFile>>, Vec<usize>)>,
+    /// The floor points (from the run's start).
+    floor_points: Vec<super::system::FloorPoint>,
 }
+
+/// The columns of a carbody's CSV (`--csv DIR` writes `DIR/CARBODY.csv` beside the wheelsets'
+/// for each carbody with floor points; a documented interface): one row per sample and floor
+/// point — the time, the floor point (`middle`, `over_BOGIE`), the carbody's arc length, and the
+/// floor accelerations in the carbody's axes (what a floor accelerometer reads, the quasi-static
+/// lateral acceleration of a curve included, less 1 g on z).
+pub const CARBODY_CSV_COLUMNS: [&str; 6] = ["t_s", "point", "s_m", "acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2"];
 
 impl CsvWriter {
     /// Creates `dir` and a CSV with its header for each wheelset.
@@ -306,16 +339,48 @@ impl CsvWriter {
                 Ok((path, Some(w)))
             })
             .collect::<Result<Vec<_>, csv::Error>>()?;
-        Ok(CsvWriter { writers })
+        Ok(CsvWriter {
+            dir: dir.to_path_buf(),
+            writers,
+            carbodies: Vec::new(),
+            floor_points: Vec::new(),
+        })
     }
 
-    /// The files written.
+    /// The files written (the carbodies' once the run has started).
     pub fn paths(&self) -> Vec<PathBuf> {
-        self.writers.iter().map(|(p, _)| p.clone()).collect()
+        self.writers
+            .iter()
+            .map(|(p, _)| p.clone())
+            .chain(self.carbodies.iter().map(|(p, ..)| p.clone()))
+            .collect()
     }
 }
 
 impl RunObserver for CsvWriter {
+    /// A CSV per carbody with floor points, with its header.
+    fn start(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
+        self.floor_points = run.floor_points.to_vec();
+        let mut names: Vec<&str> = Vec::new();
+        for p in run.floor_points {
+            if !names.contains(&p.carbody.as_str()) {
+                names.push(&p.carbody);
+            }
+        }
+        for name in names {
+            let path = self.dir.join(format!("{name}.csv"));
+            let mut w = crate::files::csv_writer(&path)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            w.write_record(CARBODY_CSV_COLUMNS.iter())
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            let points = (0..run.floor_points.len())
+                .filter(|&k| run.floor_points[k].carbody == name)
+                .collect();
+            self.carbodies.push((path, Some(w), points));
+        }
+        Ok(())
+    }
+
     fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
         for ((path, w), s) in self.writers.iter_mut().zip(sample.wheelsets) {
             let w = w
@@ -323,13 +388,34 @@ impl RunObserver for CsvWriter {
                 .ok_or_else(|| format!("{}: written after its end", path.display()))?;
             write_row(w, s).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
+        for (path, w, points) in &mut self.carbodies {
+            let w = w
+                .as_mut()
+                .ok_or_else(|| format!("{}: written after its end", path.display()))?;
+            for &k in points.iter() {
+                let (Some(p), Some(a)) = (self.floor_points.get(k), sample.floor.get(k)) else {
+                    continue;
+                };
+                let s = sample.bodies.get(p.body).map_or(f64::NAN, |b| b.s);
+                w.write_record([
+                    format!("{:.9e}", sample.t),
+                    p.point.clone(),
+                    format!("{s:.9e}"),
+                    format!("{:.9e}", a[0]),
+                    format!("{:.9e}", a[1]),
+                    format!("{:.9e}", a[2]),
+                ])
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            }
+        }
         Ok(())
     }
 
     /// Each file renamed into place (all are tried; the first failure is reported).
     fn finish(&mut self, _summary: &RunSummary) -> Result<(), ObserverError> {
         let mut first = None;
-        for (path, w) in &mut self.writers {
+        let carbodies = self.carbodies.iter_mut().map(|(p, w, _)| (&*p, w));
+        for (path, w) in self.writers.iter_mut().map(|(p, w)| (&*p, w)).chain(carbodies) {
             if let Some(w) = w.take() {
                 if let Err(e) = crate::files::commit_csv(w) {
                     first.get_or_insert(format!("cannot write {}: {e}", path.display()));
@@ -351,7 +437,7 @@ mod tests {
     /// name and position): pinned here, name by name and in order.
     #[test]
     fn csv_header_is_pinned() {
-        const PINNED: [&str; 44] = [
+        const PINNED: [&str; 46] = [
             "t_s",
             "s_m",
             "speed_m_s",
@@ -397,6 +483,8 @@ mod tests {
             "tgamma_right_n",
             "tgamma_spin_left_n",
             "tgamma_spin_right_n",
+            "tgamma_2m_left_n",
+            "tgamma_2m_right_n",
         ];
         let header: Vec<&str> = CSV_COLUMNS.iter().copied().collect();
         assert_eq!(header, PINNED);
@@ -454,6 +542,8 @@ mod tests {
             13.6,
             3.41,
             4.81,
+            7.5,
+            12.5,
         ];
         assert_eq!(row.len(), pinned.len());
         for (k, (a, b)) in row.iter().zip(pinned).enumerate() {

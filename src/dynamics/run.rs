@@ -18,7 +18,8 @@ use super::integrator::{integrate_into, Completion, Flow, IntegrationError, Sett
 use super::output::{ObserverError, OutputSample, RunObserver, RunStart, RunSummary};
 use super::sample::Sample;
 use super::system::{
-    BodySample, DynamicsError, Evaluator, InitialDisturbance, LandingEvent, Settling, VehicleModel,
+    BodySample, DynamicsError, Evaluator, FloorPoint, InitialDisturbance, LandingEvent, Settling,
+    VehicleModel,
 };
 use super::wheelset::WheelsetError;
 
@@ -188,6 +189,9 @@ pub struct RunOutput {
     pub end: RunEnd,
     /// The landings of lifted wheels, in time order.
     pub landings: Vec<LandingEvent>,
+    /// Per carbody floor point: its accelerations at each sample (x, y, z in the carbody's axes,
+    /// less 1 g on z), m/s².
+    pub floor: Vec<(FloorPoint, Vec<[f64; 3]>)>,
 }
 
 impl RunOutput {
@@ -394,6 +398,8 @@ struct Recorder<'v, 'o, 'p> {
     r0: f64,
     wheelsets: Vec<(String, Vec<Sample>)>,
     bodies: Vec<(String, Vec<(f64, BodySample)>)>,
+    /// Per floor point: its accelerations at each sample.
+    floor: Vec<(FloorPoint, Vec<[f64; 3]>)>,
     observers: &'o mut [&'p mut (dyn RunObserver + Send)],
 }
 
@@ -401,18 +407,25 @@ impl Recorder<'_, '_, '_> {
     /// Samples (t, x), keeps the samples and hands them to every observer; the wheelsets' row.
     fn record(&mut self, t: f64, x: &[f64]) -> Result<Vec<Sample>, RecordFailure> {
         let s = self.out.sample(t, x).map_err(RecordFailure::Sample)?;
-        let row: Vec<Sample> = s.wheelsets.iter().map(|w| Sample::new(t, w, self.r0)).collect();
-        for (k, w) in row.iter().enumerate() {
+        let mut row: Vec<Sample> = s.wheelsets.iter().map(|w| Sample::new(t, w, self.r0)).collect();
+        for (k, w) in row.iter_mut().enumerate() {
+            w.set_wear_number_2m(&self.wheelsets[k].1);
             self.wheelsets[k].1.push(*w);
         }
         for (k, b) in s.bodies.iter().enumerate() {
             self.bodies[k].1.push((t, *b));
+        }
+        for (k, a) in s.floor.iter().enumerate() {
+            if let Some(f) = self.floor.get_mut(k) {
+                f.1.push(*a);
+            }
         }
         let sample = OutputSample {
             t,
             wheelsets: &row,
             bodies: &s.bodies,
             elements: &s.elements,
+            floor: &s.floor,
         };
         for o in self.observers.iter_mut() {
             o.sample(&sample).map_err(RecordFailure::Observer)?;
@@ -441,9 +454,11 @@ fn run_here(
     if vehicle.contact().history_dependent() {
         integrator.jacobian_max_age = 1;
     }
+    let floor_points = vehicle.floor_points();
     let start = RunStart {
         wheelsets: &names,
         bodies: &body_names,
+        floor_points: &floor_points,
         duration_s: settings.duration_s,
     };
     let mut observer_error: Option<ObserverError> = None;
@@ -458,6 +473,7 @@ fn run_here(
         r0,
         wheelsets: names.iter().map(|n| (n.clone(), Vec::new())).collect(),
         bodies: body_names.iter().map(|n| (n.clone(), Vec::new())).collect(),
+        floor: floor_points.iter().map(|p| (p.clone(), Vec::new())).collect(),
         observers,
     };
     let x0 = vehicle.initial_state(&settings.initial);
@@ -555,6 +571,7 @@ fn run_here(
     let Recorder {
         wheelsets,
         bodies,
+        floor,
         observers,
         ..
     } = recorder;
@@ -615,6 +632,14 @@ fn run_here(
         };
         summary.safety = Some(super::safety::assess(&wheelsets, &q0, basis));
     }
+    if wheelsets.iter().any(|w| !w.1.is_empty()) {
+        summary.wear = Some(super::wear::assess(&wheelsets));
+        summary.contact_stress = Some(super::contact_stress::assess(
+            &wheelsets,
+            super::contact_stress::R260,
+        ));
+    }
+    summary.comfort = super::ride::assess(&floor, settings.record_rate_hz);
     let mut end = end;
     for o in observers.iter_mut() {
         if let Err(e) = o.finish(&summary) {
@@ -632,6 +657,7 @@ fn run_here(
         summary,
         end,
         landings,
+        floor,
     }
 }
 
@@ -715,6 +741,9 @@ fn summarise(
         max_landing_speed_m_s: landings.iter().map(|l| l.landing.speed).fold(0.0, f64::max),
         max_landing_impulse_n_s: landings.iter().map(|l| l.landing.impulse).fold(0.0, f64::max),
         safety: None,
+        wear: None,
+        contact_stress: None,
+        comfort: None,
         derailment_max_y_over_q_2m: match end {
             RunEnd::Failed(e) => e.derailment().and_then(|name| {
                 let w = &wheelsets.iter().find(|w| w.0 == name)?.1;

@@ -24,8 +24,7 @@ use serde::Serialize;
 
 use super::sample::Sample;
 
-/// EN 14363's sliding window for Y/Q and ΣY, m.
-pub const WINDOW_M: f64 = 2.0;
+pub use super::sample::WINDOW_M;
 
 /// Nadal's single-wheel flange-climb limit for flange angle `gamma` (rad) and friction `mu`:
 /// (tan γ − μ)/(1 + μ tan γ).

@@ -19,6 +19,9 @@ use std::ops::Deref;
 
 use super::system::WheelsetSample;
 
+/// EN 14363's sliding window along the track for Y/Q, ΣY (and here the wear number's mean), m.
+pub const WINDOW_M: f64 = 2.0;
+
 /// One output sample of one wheelset.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
@@ -59,6 +62,10 @@ pub struct Sample {
     /// Each wheel's creep moment Mz about the contact normal, N m (0 where the creep model
     /// defines none: Polach, the linear model).
     pub spin_moment: [f64; 2],
+    /// Each wheel's wear number Tγ ([`Self::wear_number`]) as its mean over the last 2 m of
+    /// track up to this sample (EN 14363's window, as Y/Q's), N: set by the run from the samples
+    /// before it ([`Sample::set_wear_number_2m`]); over the first 2 m, the mean of what there is.
+    pub tgamma_2m: [f64; 2],
 }
 
 impl Sample {
@@ -90,7 +97,24 @@ impl Sample {
             creepage: d.creepage.map(|c| [c.longitudinal, c.lateral, c.spin]),
             semi_axes: d.semi_axes.map(|(a, b)| [a, b]),
             spin_moment: [d.creep[0].mz, d.creep[1].mz],
+            tgamma_2m: [0.0; 2],
         }
+    }
+
+    /// Sets [`Self::tgamma_2m`] from the samples before this one (in order of arc length): the
+    /// mean of Tγ over those within 2 m behind it and itself.
+    pub fn set_wear_number_2m(&mut self, before: &[Sample]) {
+        let mut sum = self.wear_number();
+        let mut n = 1.0;
+        for p in before.iter().rev() {
+            if self.s - p.s >= WINDOW_M {
+                break;
+            }
+            let w = p.wear_number();
+            sum = [sum[0] + w[0], sum[1] + w[1]];
+            n += 1.0;
+        }
+        self.tgamma_2m = sum.map(|x| x / n);
     }
 
     /// Each wheel's maximum Hertz pressure p0 = 3N / (2π a b), Pa (Johnson, *Contact Mechanics*,
@@ -267,10 +291,12 @@ pub enum Panel {
     Forces,
     /// Where the wheels touch the rails.
     Contact,
+    /// Contact stress and wear.
+    Wear,
 }
 
 impl Panel {
-    pub const ALL: [Panel; 3] = [Panel::Kinematics, Panel::Forces, Panel::Contact];
+    pub const ALL: [Panel; 4] = [Panel::Kinematics, Panel::Forces, Panel::Contact, Panel::Wear];
 }
 
 /// A quantity's series in the recording.
@@ -497,19 +523,25 @@ pub const QUANTITIES: &[Quantity] = &[
         name: "maximum Hertz pressure p0",
         value: Value::Wheels(Sample::max_pressure),
         csv: Csv::Columns("p0", Unit::MPA),
-        series: None,
+        series: plot("p0", Unit::MPA, "max. Hertz pressure p0", Panel::Wear),
     },
     Quantity {
         name: "wear number Tγ = |Fx ξx + Fy ξy|",
         value: Value::Wheels(Sample::wear_number),
         csv: Csv::Columns("tgamma", Unit::N),
-        series: None,
+        series: plot("tgamma", Unit::N, "wear number Tγ", Panel::Wear),
     },
     Quantity {
         name: "the wear number's spin term |Mz φ|",
         value: Value::Wheels(Sample::wear_number_spin),
         csv: Csv::Columns("tgamma_spin", Unit::N),
         series: None,
+    },
+    Quantity {
+        name: "the wear number's 2 m sliding mean",
+        value: Value::Wheels(|s| s.tgamma_2m),
+        csv: Csv::Columns("tgamma_2m", Unit::N),
+        series: plot("tgamma_2m", Unit::N, "wear number Tγ, 2 m mean", Panel::Wear),
     },
     Quantity {
         name: "the smaller wheel load",
@@ -565,6 +597,7 @@ impl Sample {
             creepage: [[0.0; 3]; 2],
             semi_axes: [[0.0; 2]; 2],
             spin_moment: [0.0; 2],
+            tgamma_2m: [0.0; 2],
         }
     }
 
@@ -593,6 +626,7 @@ impl Sample {
             creepage: [[1.1e-3, -2.1e-3, 0.31], [-1.3e-3, 2.3e-3, -0.37]],
             semi_axes: [[6.1e-3, 4.1e-3], [7.1e-3, 3.1e-3]],
             spin_moment: [11.0, -13.0],
+            tgamma_2m: [7.5, 12.5],
         }
     }
 }

@@ -183,6 +183,27 @@ pub struct BodySample {
     pub q_dot: [f64; 6],
 }
 
+/// A carbody's floor point where ride comfort is read (EN 12299: above each bogie and at the
+/// middle of each module).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FloorPoint {
+    /// The carbody's name.
+    pub carbody: String,
+    /// `middle`, or `over_BOGIE` above a bogie away from the middle.
+    pub point: String,
+    /// The bogie under it, if any (the middle of a module on a bogie is over that bogie).
+    pub over_bogie: Option<String>,
+    /// Along the vehicle (the scene's x), m, and above the rail top, m.
+    pub x_m: f64,
+    pub height_m: f64,
+    /// The carbody's index among the bodies.
+    #[serde(skip)]
+    pub body: usize,
+    /// Its arm from the carbody's centre, body axes, m.
+    #[serde(skip)]
+    pub arm: [f64; 3],
+}
+
 /// Everything one evaluation of a vehicle knows, for output.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct VehicleSample {
@@ -192,6 +213,9 @@ pub struct VehicleSample {
     pub elements: Vec<(Vector3<f64>, Vector3<f64>)>,
     /// Per spherical joint: the position violation |G_b − G_a|, m.
     pub joint_error: Vec<f64>,
+    /// Per floor point ([`VehicleModel::floor_points`]): what an accelerometer on the floor reads,
+    /// in the carbody's axes, less the static 1 g on z: (x, y, z), m/s².
+    pub floor: Vec<[f64; 3]>,
 }
 
 /// A vehicle system: the constant model. Its state vector is laid out by the system (see each
@@ -234,6 +258,11 @@ pub trait VehicleModel: Send + Sync {
     /// The static settling behind the elements' preloads (multibody vehicles).
     fn settling(&self) -> Option<&Settling> {
         None
+    }
+    /// The carbodies' floor points where ride comfort is read (none without carbodies); each
+    /// sample's [`VehicleSample::floor`] holds their accelerations in this order.
+    fn floor_points(&self) -> Vec<FloorPoint> {
+        Vec::new()
     }
     /// Per wheelset: its states (offset, count; see [`WheelsetState::read`]).
     fn wheelset_slots(&self) -> Vec<(usize, usize)>;

@@ -718,6 +718,9 @@ mod tests {
             ("s_rail_mm".into(), lr(), vec![6.0, -7.0]),
             ("s_knife_mm".into(), lr(), vec![8.5, -9.5]),
             ("lift_mm".into(), lr(), vec![0.0, 12.5]),
+            ("p0_mpa".into(), lr(), vec![916.3659258389814, 1128.040487157459]),
+            ("tgamma_n".into(), lr(), vec![9.0, 13.6]),
+            ("tgamma_2m_n".into(), lr(), vec![7.5, 12.5]),
         ];
         let mut got = recorded_wheelset_series(QUANTITIES);
         pinned.sort_by(|a, b| a.0.cmp(&b.0));
@@ -776,6 +779,11 @@ mod tests {
                     ("contact on rail s^r [mm]", "s_rail_mm"),
                     ("KEC contact s^k [mm]", "s_knife_mm"),
                     ("wheel lift [mm]", "lift_mm"),
+                ],
+                vec![
+                    ("max. Hertz pressure p0 [MPa]", "p0_mpa"),
+                    ("wear number Tγ [N]", "tgamma_n"),
+                    ("wear number Tγ, 2 m mean [N]", "tgamma_2m_n"),
                 ],
             ]
             .into_iter()

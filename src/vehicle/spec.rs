@@ -10,6 +10,7 @@
 //! mass_kg = 2615.0
 //! inertia_kg_m2 = [1722.0, 1476.0, 3067.0]   # about x (roll), y (pitch), z (yaw)
 //! position_m = [0.0, 0.0, 0.6]               # x along the vehicle, y = 0, CG height above rail
+//! # floor_height_m = 0.35                     # a carbody's floor above the rail (ride comfort)
 //! [[vehicle.wheelsets]]
 //! name = "wheelset_1"
 //! x_m = 1.28
@@ -370,6 +371,10 @@ pub struct BodySpec {
     pub inertia_kg_m2: [f64; 3],
     /// Nominal centre: [x along the vehicle, 0, height above the rail top], m.
     pub position_m: [f64; 3],
+    /// A carbody's floor height above the rail top, m: where ride comfort is read (EN 12299's
+    /// floor points). Absent: the centre's height.
+    #[serde(default)]
+    pub floor_height_m: Option<f64>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -673,6 +678,9 @@ impl MultibodySpec {
                 -200.0,
                 200.0,
             );
+            if let Some(h) = b.floor_height_m {
+                check(format!("bodies[{}].floor_height_m", b.name), h, 0.0, 10.0);
+            }
         }
         for w in &self.wheelsets {
             check(format!("wheelsets[{}].mass_kg", w.name), w.mass_kg, 1.0, 1e5);
