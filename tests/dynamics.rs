@@ -1451,3 +1451,61 @@ fn a_run_reports_wear_contact_stress_and_ride_comfort() {
         );
     }
 }
+
+/// Issue 37's study extracts read the run's wear, contact stress and comfort figures: on 6 s of the
+/// default scene each named extract is the summary's figure (the largest over wheels or floor
+/// points), and N_MV exists (a 5 s block).
+#[test]
+fn studies_extract_wear_contact_stress_and_comfort() {
+    use kecsim::study::extract::Extract;
+    let sc = scene("ms_vehicle_tab6.toml");
+    let out = run_ok(&sc, "kec", |s| s.duration_s = 6.0);
+    let s = &out.summary;
+    let (wear, stress, comfort) = (
+        s.wear.as_ref().unwrap(),
+        s.contact_stress.as_ref().unwrap(),
+        s.comfort.as_ref().unwrap(),
+    );
+    let max = |v: Vec<f64>| v.into_iter().fold(f64::NEG_INFINITY, f64::max);
+    let want = [
+        (
+            "max_wear_mg_per_km",
+            max(wear.wheels.iter().map(|w| w.mass_mg_per_km).collect()),
+        ),
+        (
+            "max_tgamma_2m_n",
+            max(wear.wheels.iter().map(|w| w.max_tgamma_2m_n).collect()),
+        ),
+        (
+            "max_p0_mpa",
+            max(stress.wheels.iter().map(|w| w.max_p0_mpa).collect()),
+        ),
+        (
+            "max_ratchetting_share",
+            max(stress.wheels.iter().map(|w| w.share_ratchetting).collect()),
+        ),
+        (
+            "max_n_mv",
+            max(comfort.points.iter().map(|p| p.n_mv.unwrap()).collect()),
+        ),
+        ("max_wz_y", max(comfort.points.iter().map(|p| p.wz_y).collect())),
+        ("max_wz_z", max(comfort.points.iter().map(|p| p.wz_z).collect())),
+        (
+            "max_cc_y_m_s2",
+            max(comfort.points.iter().map(|p| p.cc_y_max_m_s2.unwrap()).collect()),
+        ),
+        (
+            "max_cc_z_m_s2",
+            max(comfort.points.iter().map(|p| p.cc_z_max_m_s2.unwrap()).collect()),
+        ),
+    ];
+    for (name, value) in want {
+        let got = Extract::parse(name).unwrap().value(&out, None).unwrap();
+        let positive = name != "max_ratchetting_share";
+        assert!(
+            value.is_finite() && got == value && (value > 0.0 || !positive),
+            "{name}: {got} vs {value}"
+        );
+    }
+    assert_eq!(comfort.blocks, 1);
+}

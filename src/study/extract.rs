@@ -11,6 +11,9 @@
 //! | `critical_speed_m_s` | a speed ramp's hunting onset or extinction (empty where none) |
 //! | `derailed` | 1 where the run ended in a derailment, else 0 |
 //! | `simulated_s` | how far the run got |
+//! | `max_wear_mg_per_km`, `max_tgamma_2m_n` | the most worn wheel's wear per km (USFD function, [`crate::dynamics::wear`]) and the largest 2 m mean of a wheel's wear number Tγ |
+//! | `max_p0_mpa`, `max_ratchetting_share` | the largest maximum Hertz pressure of a wheel, and the largest share of a wheel's distance in surface ratchetting on the shakedown map ([`crate::dynamics::contact_stress`]) |
+//! | `max_n_mv`, `max_wz_y`, `max_wz_z`, `max_cc_y_m_s2`, `max_cc_z_m_s2` | ride comfort at the carbodies' floor points ([`crate::dynamics::ride`]): the largest EN 12299 N_MV (empty for a run shorter than 5 s or without carbodies), Sperling's Wz lateral and vertical, the largest continuous comfort Cc_y, Cc_z |
 //! | `linear_max_real_1_s`, `linear_hunting_hz`, `linear_damping_ratio` | the least-damped oscillatory mode (above 0.2 Hz) of the vehicle linearised at its undisturbed initial state — centred on ideal track at the case's speed ([`crate::dynamics::linear`]): Re λ (> 0: unstable), its frequency and damping ratio |
 //! | `F(W.COLUMN)` | F of a wheelset CSV column (`y_mm`, `yaw_mrad`, `q_left_n`, … see `kecsim run --csv`); F = `max`, `min`, `maxabs`, `mean`, `rms` or `amplitude`; W a wheelset or `*` (the largest over the wheelsets, the smallest for `min`) |
 //!
@@ -39,9 +42,18 @@ pub enum Named {
     LinearMaxReal,
     LinearHz,
     LinearDamping,
+    MaxWear,
+    MaxTgamma2m,
+    MaxP0,
+    MaxShareRatchetting,
+    MaxNmv,
+    MaxWzY,
+    MaxWzZ,
+    MaxCcY,
+    MaxCcZ,
 }
 
-const NAMED: [(&str, Named); 14] = [
+const NAMED: [(&str, Named); 23] = [
     ("max_abs_y_mm", Named::MaxAbsY),
     ("max_abs_yaw_mrad", Named::MaxAbsYaw),
     ("max_y_over_q", Named::MaxYOverQ),
@@ -56,6 +68,15 @@ const NAMED: [(&str, Named); 14] = [
     ("linear_max_real_1_s", Named::LinearMaxReal),
     ("linear_hunting_hz", Named::LinearHz),
     ("linear_damping_ratio", Named::LinearDamping),
+    ("max_wear_mg_per_km", Named::MaxWear),
+    ("max_tgamma_2m_n", Named::MaxTgamma2m),
+    ("max_p0_mpa", Named::MaxP0),
+    ("max_ratchetting_share", Named::MaxShareRatchetting),
+    ("max_n_mv", Named::MaxNmv),
+    ("max_wz_y", Named::MaxWzY),
+    ("max_wz_z", Named::MaxWzZ),
+    ("max_cc_y_m_s2", Named::MaxCcY),
+    ("max_cc_z_m_s2", Named::MaxCcZ),
 ];
 
 /// A statistic of a sampled signal.
@@ -194,6 +215,24 @@ impl Extract {
                 Named::LinearMaxReal => linear.map(|l| l.max_real_1_s),
                 Named::LinearHz => linear.map(|l| l.frequency_hz),
                 Named::LinearDamping => linear.map(|l| l.damping_ratio),
+                Named::MaxWear => s.wear.as_ref().map(|w| w.max_mass_mg_per_km),
+                Named::MaxTgamma2m => s
+                    .wear
+                    .as_ref()
+                    .map(|w| w.wheels.iter().map(|x| x.max_tgamma_2m_n).fold(0.0, f64::max)),
+                Named::MaxP0 => s.contact_stress.as_ref().map(|c| c.max_p0_mpa),
+                Named::MaxShareRatchetting => s.contact_stress.as_ref().map(|c| c.max_share_ratchetting),
+                Named::MaxNmv => s.comfort.as_ref().and_then(|c| c.max_n_mv),
+                Named::MaxWzY => s.comfort.as_ref().map(|c| c.max_wz_y),
+                Named::MaxWzZ => s.comfort.as_ref().map(|c| c.max_wz_z),
+                Named::MaxCcY => s
+                    .comfort
+                    .as_ref()
+                    .and_then(|c| c.points.iter().filter_map(|p| p.cc_y_max_m_s2).reduce(f64::max)),
+                Named::MaxCcZ => s
+                    .comfort
+                    .as_ref()
+                    .and_then(|c| c.points.iter().filter_map(|p| p.cc_z_max_m_s2).reduce(f64::max)),
             },
             Extract::Stat {
                 stat,
