@@ -1450,6 +1450,47 @@ fn a_run_reports_wear_contact_stress_and_ride_comfort() {
             "{c}: mean lateral {mean} vs {uncompensated} m/s²"
         );
     }
+    // The recording: the wear number, its 2 m mean and p0 per wheelset, the shakedown map with
+    // every wheelset's contacts, every floor point's accelerations and continuous comfort (the
+    // floor point's lateral acceleration as in its CSV).
+    let chunks = kecsim::inspect::readback::recording_chunks(&dir.join("r.rrd")).unwrap();
+    let entities: std::collections::BTreeSet<String> =
+        chunks.iter().map(|c| c.entity_path().to_string()).collect();
+    let mut want: Vec<String> = [
+        "/run/shakedown/limit",
+        "/run/shakedown/w1",
+        "/run/shakedown/w6",
+        "/run/w3/tgamma_n",
+        "/run/w3/tgamma_2m_n",
+        "/run/w3/p0_mpa",
+    ]
+    .map(str::to_string)
+    .to_vec();
+    for (c, p) in &names {
+        for stem in ["acc_y_m_s2", "acc_z_m_s2", "cc_y_m_s2", "cc_z_m_s2"] {
+            want.push(format!("/run/comfort/{stem}/{c}_{p}"));
+        }
+    }
+    for e in &want {
+        assert!(entities.contains(e), "the recording lacks {e}");
+    }
+    let recorded: Vec<f64> =
+        kecsim::inspect::readback::scalar_rows(&chunks, "/run/comfort/acc_y_m_s2/c3_middle")
+            .into_iter()
+            .flatten()
+            .collect();
+    let (header, rows, pts) = read_csv(&dir.join("csv").join("c3.csv"));
+    let ay = header.iter().position(|h| h == "acc_y_m_s2").unwrap();
+    let from_csv: Vec<f64> = rows
+        .iter()
+        .zip(&pts)
+        .filter(|(_, p)| *p == "middle")
+        .map(|(r, _)| r[ay])
+        .collect();
+    assert_eq!(recorded.len(), from_csv.len());
+    for (a, b) in recorded.iter().zip(&from_csv) {
+        assert!((a - b).abs() <= 1e-8 * b.abs().max(1e-3), "{a} vs {b}");
+    }
 }
 
 /// Issue 37's study extracts read the run's wear, contact stress and comfort figures: on 6 s of the

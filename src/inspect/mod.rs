@@ -15,6 +15,7 @@
 //! The `.rrd` file footer is written only when every handle of the stream is dropped; commands
 //! keep the stream in a local so that early returns (errors) still drop it and flush the file.
 
+pub mod assessment;
 pub mod bands;
 pub mod compare;
 pub mod contact;

@@ -38,8 +38,11 @@
 //! | `run/track/plan`, `run/track/position` | LineStrips2D static / Points2D | track plan (m, `[X, −Y]`) and the wheelset on it |
 //! | `run/summary` | TextDocument | the run summary |
 //!
-//! and the 3D view of the vehicle on its track, `run/world/**` ([`super::world3d`]), and the
-//! running bands on both rails, `run/bands/**` ([`super::bands`]).
+//! and the 3D view of the vehicle on its track, `run/world/**` ([`super::world3d`]), the
+//! running bands on both rails, `run/bands/**` ([`super::bands`]), the shakedown map and the
+//! ride comfort at the carbodies' floor points, `run/shakedown/**`, `run/comfort/**`
+//! ([`super::assessment`]). The wear number, its 2 m mean and p0 per wheel are the table's
+//! series `run/NAME/{tgamma_n, tgamma_2m_n, p0_mpa}`.
 
 use std::time::{Duration, Instant};
 
@@ -49,6 +52,7 @@ use rerun::blueprint::{
 };
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines, TextDocument, TimeColumn};
 
+use super::assessment;
 use super::bands::RunningBands;
 use super::world3d::{World3d, World3dSettings};
 use super::{log_static, open_recording, section_mm, send_scalar_values, InspectError, Sink};
@@ -198,6 +202,21 @@ pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings, band_unit_m
         .into(),
     );
     shares.push(2.0);
+    let mut assessment_row: Vec<ContainerLike> =
+        vec![
+            Spatial2DView::new("Shakedown map: p0/k against μ (every wheel's contact, R260)")
+                .with_origin("/run/shakedown")
+                .into(),
+        ];
+    for (stem, title) in assessment::COMFORT_SERIES {
+        assessment_row.push(
+            TimeSeriesView::new(format!("every floor point: {title}"))
+                .with_origin(format!("/run/comfort/{stem}"))
+                .into(),
+        );
+    }
+    rows.push(Horizontal::new(assessment_row).into());
+    shares.push(2.0);
     let plots = plot_rows(QUANTITIES, wheelsets);
     let last = plots.len().saturating_sub(1);
     for (k, row) in plots.into_iter().enumerate() {
@@ -317,6 +336,12 @@ pub struct LiveRecorder {
     world: World3d,
     /// The running bands' batches.
     bands: RunningBands,
+    /// Per wheelset: its wheels' contacts on the shakedown map, drawn ([`assessment`]).
+    shakedown: Vec<Vec<[f32; 2]>>,
+    /// The carbodies' floor points, the sample times and each point's accelerations.
+    floor_points: Vec<crate::dynamics::system::FloorPoint>,
+    floor_t: Vec<f64>,
+    floor_acc: Vec<Vec<[f64; 3]>>,
 }
 
 impl LiveRecorder {
@@ -382,8 +407,13 @@ impl LiveRecorder {
             sent: 0,
             world: World3d::new(scene, *world),
             bands: RunningBands::new(band_unit(scene)),
+            shakedown: vec![Vec::new(); wheelsets.len()],
+            floor_points: Vec::new(),
+            floor_t: Vec::new(),
+            floor_acc: Vec::new(),
         };
         r.log_statics()?;
+        assessment::log_statics(&r.rec)?;
         r.world.log_statics(&r.rec)?;
         Ok(r)
     }
@@ -640,12 +670,26 @@ impl RunObserver for LiveRecorder {
             .into());
         }
         self.last_batch = Instant::now();
+        self.floor_points = run.floor_points.to_vec();
+        self.floor_acc = vec![Vec::new(); run.floor_points.len()];
         Ok(())
     }
 
     fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
-        for (p, s) in self.pending.iter_mut().zip(sample.wheelsets) {
+        for ((p, m), s) in self
+            .pending
+            .iter_mut()
+            .zip(&mut self.shakedown)
+            .zip(sample.wheelsets)
+        {
             p.push(*s);
+            m.extend(assessment::shakedown_points(s));
+        }
+        if !self.floor_points.is_empty() {
+            self.floor_t.push(sample.t);
+            for (f, a) in self.floor_acc.iter_mut().zip(sample.floor) {
+                f.push(*a);
+            }
         }
         if let Some(first) = sample.wheelsets.first() {
             self.log_section(first);
@@ -659,6 +703,16 @@ impl RunObserver for LiveRecorder {
     }
 
     fn finish(&mut self, summary: &RunSummary) -> Result<(), ObserverError> {
+        for (k, (name, points)) in self.names.iter().zip(&self.shakedown).enumerate() {
+            assessment::log_shakedown_points(&self.rec, name, points, palette(k))?;
+        }
+        let n = self.floor_t.len();
+        if n > 1 {
+            let fs = (n - 1) as f64 / (self.floor_t[n - 1] - self.floor_t[0]);
+            for (p, a) in self.floor_points.iter().zip(&self.floor_acc) {
+                assessment::log_floor_series(&self.rec, p, &self.floor_t, a, fs)?;
+            }
+        }
         Ok(self.log_summary(summary)?)
     }
 }

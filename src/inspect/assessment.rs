@@ -1,0 +1,135 @@
+//! What an engineer reads off a run beside the safety figures, in the recording: the contact
+//! stress on **Johnson's shakedown map** and the **ride comfort** at the carbodies' floor points
+//! (the wear number and p0 per wheel are series of the run's table, `run/NAME/tgamma_n`, …).
+//!
+//! | entity | archetype | what |
+//! |---|---|---|
+//! | `run/shakedown/limit` | LineStrips2D static | the elastic shakedown limit p0/k = min(4, 1/μ) (drawn `[20 μ, −p0/k]`: μ 0.6 is 12 wide, p0/k up) |
+//! | `run/shakedown/axes` | LineStrips2D + Points2D static | axes with ticks (μ 0.1 … 0.6, p0/k 1 … 12) |
+//! | `run/shakedown/NAME` | Points2D static | every sample's contact of wheelset NAME's wheels, (μ, p0/k), at the run's end |
+//! | `run/comfort/{acc_y_m_s2, acc_z_m_s2}/CARBODY_POINT` | Scalars | the floor accelerations (carbody axes, less 1 g on z) |
+//! | `run/comfort/{cc_y_m_s2, cc_z_m_s2}/CARBODY_POINT` | Scalars | EN 12299's continuous comfort Cc_y (Wd), Cc_z (Wb), 5 s r.m.s. |
+//!
+//! The comfort series are sent at the run's end (the weightings filter the whole signal), on the
+//! `time` timeline.
+
+use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TimeColumn};
+
+use super::{log_static, send_scalar_values, InspectError};
+use crate::dynamics::contact_stress::{map_point, shakedown_limit, R260};
+use crate::dynamics::ride::continuous_comfort;
+use crate::dynamics::sample::Sample;
+use crate::dynamics::system::FloorPoint;
+
+/// The shakedown map's drawing scale of μ (so that μ 0.6 spans as much as p0/k 12).
+pub const MU_SCALE: f32 = 20.0;
+
+/// The comfort series (entity stems under `run/comfort/`) and their plots' titles.
+pub const COMFORT_SERIES: [(&str, &str); 4] = [
+    ("acc_y_m_s2", "floor lateral acceleration [m/s²]"),
+    ("acc_z_m_s2", "floor vertical acceleration − g [m/s²]"),
+    ("cc_y_m_s2", "continuous comfort Cc_y (Wd, 5 s) [m/s²]"),
+    ("cc_z_m_s2", "continuous comfort Cc_z (Wb, 5 s) [m/s²]"),
+];
+
+/// A floor point's series `stem` (one of [`COMFORT_SERIES`]).
+pub fn floor_entity(stem: &str, p: &FloorPoint) -> String {
+    format!("run/comfort/{stem}/{}_{}", p.carbody, p.point)
+}
+
+/// The map's point of (μ, p0/k).
+fn map_xy(mu: f64, p0_over_k: f64) -> [f32; 2] {
+    [MU_SCALE * mu as f32, -(p0_over_k as f32)]
+}
+
+/// The statics of the shakedown map: the limit and the axes with their ticks.
+pub fn log_statics(rec: &RecordingStream) -> Result<(), InspectError> {
+    let limit: Vec<[f32; 2]> = (0..=120)
+        .map(|k| k as f64 * 0.005)
+        .map(|mu| map_xy(mu, shakedown_limit(mu)))
+        .collect();
+    log_static(
+        rec,
+        "run/shakedown/limit",
+        &LineStrips2D::new([limit])
+            .with_colors([Color::from_rgb(220, 40, 40)])
+            .with_labels(["shakedown limit min(4, 1/μ) (R260, k 300 MPa)"]),
+    )?;
+    let axes = [vec![map_xy(0.0, 13.0), map_xy(0.0, 0.0), map_xy(0.6, 0.0)]];
+    log_static(
+        rec,
+        "run/shakedown/axes",
+        &LineStrips2D::new(axes).with_colors([Color::from_rgb(150, 150, 150)]),
+    )?;
+    let mut ticks = Vec::new();
+    let mut labels = Vec::new();
+    for k in 1..=6 {
+        let mu = k as f64 * 0.1;
+        ticks.push(map_xy(mu, 0.0));
+        labels.push(format!("μ {mu:.1}"));
+    }
+    for p in [1.0, 2.0, 4.0, 8.0, 12.0] {
+        ticks.push(map_xy(0.0, p));
+        labels.push(format!("p0/k {p}"));
+    }
+    log_static(
+        rec,
+        "run/shakedown/ticks",
+        &Points2D::new(ticks)
+            .with_labels(labels)
+            .with_colors([Color::from_rgb(150, 150, 150)])
+            .with_radii([Radius::new_ui_points(2.0)]),
+    )
+}
+
+/// A sample's wheels on the map (drawn; off the rail: none).
+pub fn shakedown_points(s: &Sample) -> Vec<[f32; 2]> {
+    [0, 1]
+        .into_iter()
+        .filter_map(|w| map_point(s, w, R260))
+        .map(|(mu, pk)| map_xy(mu, pk))
+        .collect()
+}
+
+/// One wheelset's [`shakedown_points`] over the run, coloured `color`.
+pub fn log_shakedown_points(
+    rec: &RecordingStream,
+    name: &str,
+    points: &[[f32; 2]],
+    color: Color,
+) -> Result<(), InspectError> {
+    log_static(
+        rec,
+        &format!("run/shakedown/{name}"),
+        &Points2D::new(points.iter().copied())
+            .with_colors([color])
+            .with_radii([Radius::new_ui_points(1.5)]),
+    )
+}
+
+/// One floor point's accelerations and continuous comfort as series, at the sample times `t`
+/// (rate `fs_hz`).
+pub fn log_floor_series(
+    rec: &RecordingStream,
+    point: &FloorPoint,
+    t: &[f64],
+    acc: &[[f64; 3]],
+    fs_hz: f64,
+) -> Result<(), InspectError> {
+    let n = t.len().min(acc.len());
+    if n == 0 {
+        return Ok(());
+    }
+    let [cy, cz] = continuous_comfort(&acc[..n], fs_hz);
+    let values = [
+        acc[..n].iter().map(|a| a[1]).collect::<Vec<f64>>(),
+        acc[..n].iter().map(|a| a[2]).collect(),
+        cy,
+        cz,
+    ];
+    for ((stem, _), values) in COMFORT_SERIES.iter().zip(values) {
+        let time = TimeColumn::new_duration_secs(super::run::TIME, t[..n].iter().copied());
+        send_scalar_values(rec, vec![time], n, &floor_entity(stem, point), values, 1)?;
+    }
+    Ok(())
+}
