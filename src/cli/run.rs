@@ -31,8 +31,9 @@ pub(super) struct RunArgs {
     /// Initial forward speed, m/s, overriding the scenario's.
     #[arg(long, value_name = "M_S")]
     speed: Option<f64>,
-    /// Write one CSV per wheelset into this directory (as the run goes, into .NAME.csv.part-PID,
-    /// renamed to NAME.csv when the run ends).
+    /// Write one CSV per wheelset into this directory, and one per carbody with its floor
+    /// accelerations (as the run goes, into .NAME.csv.part-PID, renamed to NAME.csv when the run
+    /// ends).
     #[arg(long, value_name = "DIR")]
     csv: Option<PathBuf>,
     /// Write the run summary as JSON.

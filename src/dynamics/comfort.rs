@@ -221,7 +221,7 @@ pub fn sperling_wz_harmonic(peak_m_s2: f64, f_hz: f64, dir: SperlingDirection) -
 }
 
 /// r.m.s. over a sliding window of `window_s` ending at each sample (EN 12299's continuous
-/// comfort Cc(t) with [`CC_WINDOW_S`] on a weighted signal): out[i] = √(mean of x_j² over the
+/// comfort Cc(t) with [`CC_WINDOW_S`] on a weighted signal): out\[i\] = √(mean of x_j² over the
 /// samples j with t_i − window < t_j ≤ t_i), t = j/fs; the first samples' windows hold what there
 /// is. Same length as input; empty if fs or fs·window is not finite and > 0. From prefix sums: a
 /// non-finite sample makes every later value non-finite.

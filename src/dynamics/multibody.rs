@@ -142,7 +142,7 @@ pub struct Multibody {
     pub reference: Reference,
     /// The static settling behind the elements' preloads.
     pub settling: Settling,
-    /// The carbodies' floor points where ride comfort is read ([`Multibody::find_floor_points`]).
+    /// The carbodies' floor points where ride comfort is read (EN 12299: above each bogie and at the middle of each module).
     pub floor_points: Vec<FloorPoint>,
 }
 
