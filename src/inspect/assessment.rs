@@ -7,19 +7,22 @@
 //! | `run/shakedown/limit` | LineStrips2D static | the elastic shakedown limit p0/k = min(4, 1/μ) (drawn `[20 μ, −p0/k]`: μ 0.6 is 12 wide, p0/k up) |
 //! | `run/shakedown/axes` | LineStrips2D + Points2D static | axes with ticks (μ 0.1 … 0.6, p0/k 1 … 12) |
 //! | `run/shakedown/NAME` | Points2D static | every sample's contact of wheelset NAME's wheels, (μ, p0/k), at the run's end |
+//! | `run/wear/{wheel,rail}/NAME_SIDE` | BarChart static | where wheel NAME's SIDE wheel wears: the mass lost (mg) in 2 mm bins of s^w, of s^r, at the run's end |
+//! | `run/wear/{wheel,rail}/most_worn` | BarChart static | the same of the wheel with the largest wear per km |
 //! | `run/comfort/{acc_y_m_s2, acc_z_m_s2}/CARBODY_POINT` | Scalars | the floor accelerations (carbody axes, less 1 g on z) |
 //! | `run/comfort/{cc_y_m_s2, cc_z_m_s2}/CARBODY_POINT` | Scalars | EN 12299's continuous comfort Cc_y (Wd), Cc_z (Wb), 5 s r.m.s. |
 //!
 //! The comfort series are sent at the run's end (the weightings filter the whole signal), on the
-//! `time` timeline.
+//! run's `time` timeline.
 
-use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TimeColumn};
+use rerun::{BarChart, Color, LineStrips2D, Points2D, Radius, RecordingStream, TimeColumn};
 
 use super::{log_static, send_scalar_values, InspectError};
 use crate::dynamics::contact_stress::{map_point, shakedown_limit, R260};
 use crate::dynamics::ride::continuous_comfort;
 use crate::dynamics::sample::Sample;
 use crate::dynamics::system::FloorPoint;
+use crate::dynamics::wear::{Wear, WearBin, BIN_MM};
 
 /// The shakedown map's drawing scale of μ (so that μ 0.6 spans as much as p0/k 12).
 pub const MU_SCALE: f32 = 20.0;
@@ -108,9 +111,10 @@ pub fn log_shakedown_points(
 }
 
 /// One floor point's accelerations and continuous comfort as series, at the sample times `t`
-/// (rate `fs_hz`).
+/// (rate `fs_hz`) on the duration timeline `timeline`.
 pub fn log_floor_series(
     rec: &RecordingStream,
+    timeline: &'static str,
     point: &FloorPoint,
     t: &[f64],
     acc: &[[f64; 3]],
@@ -128,8 +132,54 @@ pub fn log_floor_series(
         cz,
     ];
     for ((stem, _), values) in COMFORT_SERIES.iter().zip(values) {
-        let time = TimeColumn::new_duration_secs(super::run::TIME, t[..n].iter().copied());
+        let time = TimeColumn::new_duration_secs(timeline, t[..n].iter().copied());
         send_scalar_values(rec, vec![time], n, &floor_entity(stem, point), values, 1)?;
+    }
+    Ok(())
+}
+
+/// One wear histogram as a bar chart over the profile's coordinate (mm), bars [`BIN_MM`] wide.
+fn wear_chart(bins: &[WearBin], color: Color) -> BarChart {
+    let values: Vec<f64> = bins.iter().map(|b| b.mass_mg).collect();
+    let abscissa: Vec<f64> = bins.iter().map(|b| b.s_mm).collect();
+    BarChart::new(values.as_slice())
+        .with_abscissa(abscissa.as_slice())
+        .with_widths(std::iter::repeat_n(BIN_MM as f32, bins.len()))
+        .with_color(color)
+}
+
+/// Where every wheel wears, on the wheel (s^w) and on the rail (s^r), and the most worn wheel's
+/// (the layout's charts).
+pub fn log_wear_histograms(rec: &RecordingStream, wear: &Wear) -> Result<(), InspectError> {
+    let (wheel, rail) = (Color::from_rgb(70, 130, 200), Color::from_rgb(200, 110, 40));
+    for w in &wear.wheels {
+        let name = format!("{}_{}", w.wheelset, w.wheel);
+        log_static(
+            rec,
+            &format!("run/wear/wheel/{name}"),
+            &wear_chart(&w.wheel_histogram, wheel),
+        )?;
+        log_static(
+            rec,
+            &format!("run/wear/rail/{name}"),
+            &wear_chart(&w.rail_histogram, rail),
+        )?;
+    }
+    if let Some(w) = wear
+        .wheels
+        .iter()
+        .max_by(|a, b| a.mass_mg_per_km.total_cmp(&b.mass_mg_per_km))
+    {
+        log_static(
+            rec,
+            "run/wear/wheel/most_worn",
+            &wear_chart(&w.wheel_histogram, wheel),
+        )?;
+        log_static(
+            rec,
+            "run/wear/rail/most_worn",
+            &wear_chart(&w.rail_histogram, rail),
+        )?;
     }
     Ok(())
 }

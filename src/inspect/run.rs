@@ -47,8 +47,8 @@
 use std::time::{Duration, Instant};
 
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, TextDocumentView, TimePanel,
-    TimeSeriesView, Vertical,
+    BarChartView, Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, TextDocumentView,
+    TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines, TextDocument, TimeColumn};
 
@@ -215,6 +215,16 @@ pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings, band_unit_m
                 .into(),
         );
     }
+    assessment_row.push(
+        BarChartView::new("Most worn wheel: wear over the wheel profile s^w [mm] (mg per 2 mm)")
+            .with_origin("/run/wear/wheel/most_worn")
+            .into(),
+    );
+    assessment_row.push(
+        BarChartView::new("… and over the rail profile s^r [mm]")
+            .with_origin("/run/wear/rail/most_worn")
+            .into(),
+    );
     rows.push(Horizontal::new(assessment_row).into());
     shares.push(2.0);
     let plots = plot_rows(QUANTITIES, wheelsets);
@@ -706,11 +716,14 @@ impl RunObserver for LiveRecorder {
         for (k, (name, points)) in self.names.iter().zip(&self.shakedown).enumerate() {
             assessment::log_shakedown_points(&self.rec, name, points, palette(k))?;
         }
+        if let Some(wear) = &summary.wear {
+            assessment::log_wear_histograms(&self.rec, wear)?;
+        }
         let n = self.floor_t.len();
         if n > 1 {
             let fs = (n - 1) as f64 / (self.floor_t[n - 1] - self.floor_t[0]);
             for (p, a) in self.floor_points.iter().zip(&self.floor_acc) {
-                assessment::log_floor_series(&self.rec, p, &self.floor_t, a, fs)?;
+                assessment::log_floor_series(&self.rec, TIME, p, &self.floor_t, a, fs)?;
             }
         }
         Ok(self.log_summary(summary)?)

@@ -466,6 +466,33 @@ mod tests {
         assert!((h.max_pressure - 3.0 * n / (2.0 * PI * a * a)).abs() < 1e-3);
     }
 
+    /// Hertz's cylinder (line contact; Johnson, *Contact Mechanics*, Eq. 4.45: a² = 4P′R/(πE*),
+    /// p₀ = 2P′/(πa), so p₀ = a E*/(2R)) as the limit of a long ellipse: a wheel-like curvature
+    /// 1/(2R) across the patch and almost none along it (ratio 1e-3, 1e-4) gives p₀ = b E*/(2R)
+    /// with b the minor semi-axis, to the ellipse's end effects (b/a)² ln(a/b).
+    #[test]
+    fn a_long_ellipse_is_hertz_cylinder() {
+        let m = Material::STEEL;
+        let e_star = m.contact_modulus(&m);
+        let r = 0.3;
+        for (ratio, tol) in [(1e-3, 2e-2), (1e-4, 3e-3)] {
+            let curv = RelativeCurvature {
+                a: ratio * 0.5 / r,
+                b: 0.5 / r,
+            };
+            let h = HertzContact::solve(curv, 60e3, &m, &m).unwrap();
+            let minor = h.a.min(h.b);
+            let cylinder = minor * e_star / (2.0 * r);
+            let err = (h.max_pressure - cylinder).abs() / cylinder;
+            println!(
+                "ratio {ratio}: p0 {:.1} MPa vs cylinder {:.1} MPa ({err:.1e})",
+                h.max_pressure * 1e-6,
+                cylinder * 1e-6
+            );
+            assert!(err < tol, "ratio {ratio}: {err}");
+        }
+    }
+
     #[test]
     fn axes_follow_the_smaller_curvature_and_scale_with_load() {
         let m = Material::STEEL;
