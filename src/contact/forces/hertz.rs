@@ -469,13 +469,13 @@ mod tests {
     /// Hertz's cylinder (line contact; Johnson, *Contact Mechanics*, Eq. 4.45: a² = 4P′R/(πE*),
     /// p₀ = 2P′/(πa), so p₀ = a E*/(2R)) as the limit of a long ellipse: a wheel-like curvature
     /// 1/(2R) across the patch and almost none along it (ratio 1e-3, 1e-4) gives p₀ = b E*/(2R)
-    /// with b the minor semi-axis, to the ellipse's end effects (b/a)² ln(a/b).
+    /// with b the minor semi-axis, to the ellipse's end effects (b/a)² ln(a/b): measured 4.5e-4 and 4.6e-5.
     #[test]
     fn a_long_ellipse_is_hertz_cylinder() {
         let m = Material::STEEL;
         let e_star = m.contact_modulus(&m);
         let r = 0.3;
-        for (ratio, tol) in [(1e-3, 2e-2), (1e-4, 3e-3)] {
+        for (ratio, tol) in [(1e-3, 1e-3), (1e-4, 1e-4)] {
             let curv = RelativeCurvature {
                 a: ratio * 0.5 / r,
                 b: 0.5 / r,
