@@ -1550,3 +1550,41 @@ fn studies_extract_wear_contact_stress_and_comfort() {
     }
     assert_eq!(comfort.blocks, 1);
 }
+
+/// The carbodies where ride comfort is read, from the scenes' structure: the MS tram's five modules
+/// (the end modules and the middle one over their bogies), the Manchester vehicle's and the
+/// Cooperrider car's one body on two bogies, and none on the bogie scene (its carbody is a carried
+/// mass).
+#[test]
+fn carbodies_are_found_from_the_vehicles_structure() {
+    use kecsim::vehicle::spec::VehicleSpec;
+    let carbodies = |file: &str| -> Vec<(String, Vec<String>)> {
+        let sc = scene(file);
+        let Some((_, VehicleSpec::Multibody(m))) = &sc.simulation else {
+            panic!("{file}: not a multibody vehicle")
+        };
+        m.carbodies()
+            .into_iter()
+            .map(|(c, b)| {
+                (
+                    m.bodies[c].name.clone(),
+                    b.into_iter().map(|k| m.bodies[k].name.clone()).collect(),
+                )
+            })
+            .collect()
+    };
+    let ms = carbodies("ms_vehicle_tab6.toml");
+    let names: Vec<&str> = ms.iter().map(|c| c.0.as_str()).collect();
+    assert_eq!(names, ["c1", "c2", "c3", "c4", "c5"]);
+    assert_eq!(ms[0].1, ["b1"]);
+    assert!(ms[1].1.is_empty() && ms[3].1.is_empty());
+    assert_eq!(
+        (ms[2].1.as_slice(), ms[4].1.as_slice()),
+        (&["b2".to_string()][..], &["b3".to_string()][..])
+    );
+    for file in ["manchester_vehicle1_tab6.toml", "cooperrider_car.toml"] {
+        let c = carbodies(file);
+        assert!(c.len() == 1 && c[0].1.len() == 2, "{file}: {c:?}");
+    }
+    assert!(carbodies("bogie_tab6_curve.toml").is_empty());
+}

@@ -234,7 +234,7 @@ impl Multibody {
             .iter()
             .map(|b| b.floor_height_m.unwrap_or(b.position_m[2]))
             .collect();
-        sys.floor_points = sys.find_floor_points(&floor_heights);
+        sys.floor_points = sys.find_floor_points(&spec.carbodies(), &floor_heights);
         sys.settling = sys.settle()?;
         Ok(sys)
     }
@@ -243,38 +243,15 @@ impl Multibody {
         12 * i
     }
 
-    /// EN 12299's floor points: on each carbody, at its middle (its centre's x) and above each
-    /// bogie joined to it by an element (the bogie's x; a bogie within 0.5 m of the middle makes
-    /// the middle point "over" it), at the floor height `floor_heights[i]` above the rail top. A
-    /// bogie is a body that carries a wheelset (an element to one) and is joined by an element
-    /// to a body that carries none; a carbody is a body that is neither a bogie nor carries a
-    /// mass (a bogie scene's half carbody): a two-axle vehicle's body on its wheelsets is one.
-    fn find_floor_points(&self, floor_heights: &[f64]) -> Vec<FloorPoint> {
-        let nb = self.bodies.len();
-        let index = |r: BodyRef| match r {
-            BodyRef::Body(i) => Some(i),
-            BodyRef::Track => None,
-        };
-        let joined = |i: usize, k: usize| {
-            self.elements.iter().any(|e| {
-                let (a, b) = e.ends();
-                (index(a), index(b)) == (Some(i), Some(k)) || (index(a), index(b)) == (Some(k), Some(i))
-            })
-        };
-        let carries_wheelset = |i: usize| (nb..nb + self.wheelsets.len()).any(|k| joined(i, k));
-        let carries_mass = |i: usize| {
-            self.elements
-                .iter()
-                .any(|e| matches!(e, Element::CarriedMass { body: BodyRef::Body(b), .. } if *b == i))
-        };
-        let bogie =
-            |i: usize| carries_wheelset(i) && (0..nb).any(|k| k != i && joined(i, k) && !carries_wheelset(k));
+    /// EN 12299's floor points: on each carbody ([`MultibodySpec::carbodies`]), at its middle
+    /// (its centre's x) and above each bogie joined to it (the bogie's x; a bogie within 0.5 m of
+    /// the middle makes the middle point "over" it), at the floor height `floor_heights[i]` above
+    /// the rail top.
+    fn find_floor_points(&self, carbodies: &[(usize, Vec<usize>)], floor_heights: &[f64]) -> Vec<FloorPoint> {
         let mut points = Vec::new();
-        for (i, c) in self.bodies.iter().enumerate() {
-            if bogie(i) || carries_mass(i) {
-                continue;
-            }
-            let height = floor_heights.get(i).copied().unwrap_or(c.h);
+        for (i, bogies) in carbodies {
+            let Some(c) = self.bodies.get(*i) else { continue };
+            let height = floor_heights.get(*i).copied().unwrap_or(c.h);
             let mut point = |name: String, over: Option<&RigidBody>, x: f64| {
                 points.push(FloorPoint {
                     carbody: c.name.clone(),
@@ -282,14 +259,11 @@ impl Multibody {
                     over_bogie: over.map(|b| b.name.clone()),
                     x_m: x,
                     height_m: height,
-                    body: i,
+                    body: *i,
                     arm: [x - c.d, 0.0, height - c.h],
                 })
             };
-            let bogies: Vec<&RigidBody> = (0..nb)
-                .filter(|&k| k != i && bogie(k) && joined(i, k))
-                .map(|k| &self.bodies[k])
-                .collect();
+            let bogies: Vec<&RigidBody> = bogies.iter().filter_map(|&k| self.bodies.get(k)).collect();
             let middle = bogies.iter().find(|b| (b.d - c.d).abs() < FLOOR_POINT_MERGE_M);
             point("middle".to_string(), middle.copied(), c.d);
             for b in bogies.iter().filter(|b| (b.d - c.d).abs() >= FLOOR_POINT_MERGE_M) {

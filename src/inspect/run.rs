@@ -61,6 +61,7 @@ use crate::dynamics::sample::{Panel, Quantity, Sample, Series, QUANTITIES, WHEEL
 use crate::dynamics::RunSummary;
 use crate::profile::Side;
 use crate::scenario::Scene;
+use crate::vehicle::spec::VehicleSpec;
 
 /// The simulated-time timeline.
 pub const TIME: &str = "time";
@@ -149,7 +150,7 @@ pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Pl
 /// The layout for the run of `wheelsets` (by name) with the default 3D view
 /// ([`blueprint_with`]).
 pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
-    blueprint_with(wheelsets, &World3dSettings::default(), 1.0)
+    blueprint_with(wheelsets, &World3dSettings::default(), 1.0, false)
 }
 
 /// The running bands' track unit for `scene`'s run ([`RunningBands::unit_for`] the distance it
@@ -167,8 +168,15 @@ fn band_unit(scene: &Scene) -> f64 {
 /// The layout for the run of `wheelsets` (by name), read top-down: the 3D view of the vehicle on
 /// its track (following the front wheelset), the first wheelset's cross-sections and the track
 /// plan; the running bands on both rails (the track in units of `band_unit_m`); then the
-/// [`plot_rows`] of [`QUANTITIES`], the last with the summary.
-pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings, band_unit_m: f64) -> Blueprint {
+/// [`plot_rows`] of [`QUANTITIES`]; the ride comfort at the floor points (where the vehicle has
+/// carbodies: `comfort`); the shakedown map, the
+/// most worn wheel's wear over both profiles and the summary.
+pub fn blueprint_with(
+    wheelsets: &[String],
+    world: &World3dSettings,
+    band_unit_m: f64,
+    comfort: bool,
+) -> Blueprint {
     let mut rows: Vec<ContainerLike> = vec![Horizontal::new([
         Spatial3DView::new(World3d::title(world))
             .with_origin("/run/world/follow")
@@ -202,48 +210,46 @@ pub fn blueprint_with(wheelsets: &[String], world: &World3dSettings, band_unit_m
         .into(),
     );
     shares.push(2.0);
-    let mut assessment_row: Vec<ContainerLike> =
-        vec![
-            Spatial2DView::new("Shakedown map: p0/k against μ (every wheel's contact, R260)")
-                .with_origin("/run/shakedown")
-                .into(),
-        ];
-    for (stem, title) in assessment::COMFORT_SERIES {
-        assessment_row.push(
-            TimeSeriesView::new(format!("every floor point: {title}"))
-                .with_origin(format!("/run/comfort/{stem}"))
-                .into(),
-        );
-    }
-    assessment_row.push(
-        BarChartView::new("Most worn wheel: wear over the wheel profile s^w [mm] (mg per 2 mm)")
-            .with_origin("/run/wear/wheel/most_worn")
-            .into(),
-    );
-    assessment_row.push(
-        BarChartView::new("… and over the rail profile s^r [mm]")
-            .with_origin("/run/wear/rail/most_worn")
-            .into(),
-    );
-    rows.push(Horizontal::new(assessment_row).into());
-    shares.push(2.0);
-    let plots = plot_rows(QUANTITIES, wheelsets);
-    let last = plots.len().saturating_sub(1);
-    for (k, row) in plots.into_iter().enumerate() {
-        let mut views: Vec<ContainerLike> = row
+    for row in plot_rows(QUANTITIES, wheelsets) {
+        let views: Vec<ContainerLike> = row
             .into_iter()
             .map(|p| TimeSeriesView::new(p.title).with_origin(p.origin).into())
             .collect();
-        if k == last {
-            views.push(
-                TextDocumentView::new("Summary")
-                    .with_origin("/run/summary")
-                    .into(),
-            );
-        }
         rows.push(Horizontal::new(views).into());
         shares.push(2.0);
     }
+    // Ride comfort at the floor points, then contact stress, wear and the summary (the safety
+    // figures) side by side.
+    let views: Vec<ContainerLike> = assessment::COMFORT_SERIES
+        .iter()
+        .map(|(stem, title)| {
+            TimeSeriesView::new(format!("every floor point: {title}"))
+                .with_origin(format!("/run/comfort/{stem}"))
+                .into()
+        })
+        .collect();
+    if comfort {
+        rows.push(Horizontal::new(views).into());
+        shares.push(2.0);
+    }
+    rows.push(
+        Horizontal::new([
+            Spatial2DView::new("Shakedown map: p0/k against μ, every wheel's contact (R260)")
+                .with_origin("/run/shakedown")
+                .into(),
+            BarChartView::new("Most worn wheel: wear [mg] in 2 mm of the wheel profile s^w [mm]")
+                .with_origin("/run/wear/wheel/most_worn")
+                .into(),
+            BarChartView::new("… and of the rail profile s^r [mm]")
+                .with_origin("/run/wear/rail/most_worn")
+                .into(),
+            TextDocumentView::new("Summary")
+                .with_origin("/run/summary")
+                .into(),
+        ])
+        .into(),
+    );
+    shares.push(3.0);
     Blueprint::new(Vertical::new(rows).with_row_shares(shares)).with_time_panel(
         TimePanel::new()
             .with_timeline(TIME)
@@ -374,7 +380,9 @@ impl LiveRecorder {
         world: &World3dSettings,
     ) -> Result<LiveRecorder, InspectError> {
         let unit = band_unit(scene);
-        let rec = open_recording("kecsim", sink, || blueprint_with(wheelsets, world, unit))?;
+        let comfort =
+            matches!(&scene.simulation, Some((_, VehicleSpec::Multibody(m))) if !m.carbodies().is_empty());
+        let rec = open_recording("kecsim", sink, || blueprint_with(wheelsets, world, unit, comfort))?;
         let mut r = Self::on_with(rec, scene, wheelsets, world)?;
         if matches!(sink, Sink::Save(_)) {
             r.batch_wall = BATCH_WALL_FILE;

@@ -586,6 +586,50 @@ impl MultibodySpec {
             .map(BodyRef::Body)
     }
 
+    /// The carbodies (indices into the bodies), each with the bogies joined to it by an element:
+    /// where ride comfort is read (EN 12299's floor points). A bogie is a body that carries a
+    /// wheelset (an element to one) and is joined by an element to a body that carries none; a
+    /// carbody is a body that is neither a bogie nor carries a mass (a bogie scene's half
+    /// carbody) — a two-axle vehicle's body on its wheelsets is one.
+    pub fn carbodies(&self) -> Vec<(usize, Vec<usize>)> {
+        let nb = self.bodies.len();
+        let index = |name: &str| match self.lookup(name) {
+            Some(BodyRef::Body(i)) => Some(i),
+            _ => None,
+        };
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
+        let mut carries_mass = vec![false; nb];
+        for e in &self.elements {
+            match e {
+                ElementSpec::Bushing { bodies, .. }
+                | ElementSpec::Axial { bodies, .. }
+                | ElementSpec::Rotational { bodies, .. } => {
+                    if let (Some(a), Some(b)) = (index(&bodies[0]), index(&bodies[1])) {
+                        pairs.push((a, b));
+                    }
+                }
+                ElementSpec::CarriedMass { body, .. } => {
+                    if let Some(i) = index(body).filter(|&i| i < nb) {
+                        carries_mass[i] = true;
+                    }
+                }
+            }
+        }
+        let joined = |i: usize, k: usize| pairs.iter().any(|&p| p == (i, k) || p == (k, i));
+        let carries_wheelset = |i: usize| (nb..nb + self.wheelsets.len()).any(|k| joined(i, k));
+        let bogie =
+            |i: usize| carries_wheelset(i) && (0..nb).any(|k| k != i && joined(i, k) && !carries_wheelset(k));
+        (0..nb)
+            .filter(|&i| !bogie(i) && !carries_mass[i])
+            .map(|i| {
+                (
+                    i,
+                    (0..nb).filter(|&k| k != i && bogie(k) && joined(i, k)).collect(),
+                )
+            })
+            .collect()
+    }
+
     /// The two rigid bodies of a validated joint (indices into the bodies).
     pub fn joint_bodies(&self, j: &JointSpec) -> (usize, usize) {
         let find = |n: &String| self.bodies.iter().position(|b| &b.name == n).expect("validated");
