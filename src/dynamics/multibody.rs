@@ -146,6 +146,21 @@ pub struct Multibody {
     pub floor_points: Vec<FloorPoint>,
 }
 
+/// The part of a body point's absolute acceleration (components in the body's track frame) without
+/// the body's own accelerations r̈, Θ̈: k = a_t + α_t × ρ + ω_t × (ω_t × ρ) + 2 ω_t × ρ̇ +
+/// Θ̇ × (Θ̇ × p), ρ the point in the body-track frame, p its arm (the joints' k,
+/// [`Multibody::apply_joints`], and the floor points').
+fn point_acceleration_part(pose: &Pose, m: &FrameMotion, p: &Vector3<f64>) -> Vector3<f64> {
+    let rho = pose.local_point(p);
+    let rho_dot = pose.centre_velocity + pose.theta_dot.cross(p);
+    let (w, al) = (v3(m.omega), v3(m.alpha));
+    v3(m.accel)
+        + al.cross(&rho)
+        + w.cross(&w.cross(&rho))
+        + 2.0 * w.cross(&rho_dot)
+        + pose.theta_dot.cross(&pose.theta_dot.cross(p))
+}
+
 /// A bogie closer than this to a carbody's middle (along the vehicle) is under the middle floor
 /// point, m.
 const FLOOR_POINT_MERGE_M: f64 = 0.5;
@@ -275,9 +290,9 @@ impl Multibody {
 
     /// What an accelerometer at each floor point reads, in its carbody's axes, less the static
     /// 1 g on z, m/s²: the specific force f = a − g of the point, its absolute acceleration (in
-    /// the body's track frame, ρ the point, p its arm) a = a_t + α_t × ρ + ω_t × (ω_t × ρ) +
-    /// 2 ω_t × ρ̇ + r̈ + Θ̈ × p + Θ̇ × (Θ̇ × p) (as the joints', [`Self::apply_joints`]), turned
-    /// into the body's axes to first order in its rotation Θ, f_b = f − Θ × f.
+    /// the body's track frame, p its arm) a = k + r̈ + Θ̈ × p with k the part without the body's
+    /// accelerations ([`point_acceleration_part`], as the joints'), turned into the body's axes
+    /// to first order in its rotation Θ, f_b = f − Θ × f.
     fn floor_accelerations(
         &self,
         poses: &[Pose],
@@ -289,17 +304,8 @@ impl Multibody {
             .filter_map(|fp| {
                 let (pose, m, q) = (poses.get(fp.body)?, motions.get(fp.body)?, qdd.get(fp.body)?);
                 let p = v3(fp.arm);
-                let rho = pose.local_point(&p);
-                let rho_dot = pose.centre_velocity + pose.theta_dot.cross(&p);
-                let (w, al, g) = (v3(m.omega), v3(m.alpha), v3(m.gravity));
-                let a = v3(m.accel)
-                    + al.cross(&rho)
-                    + w.cross(&w.cross(&rho))
-                    + 2.0 * w.cross(&rho_dot)
-                    + q[0]
-                    + q[1].cross(&p)
-                    + pose.theta_dot.cross(&pose.theta_dot.cross(&p));
-                let f = a - g;
+                let g = v3(m.gravity);
+                let f = point_acceleration_part(pose, m, &p) + q[0] + q[1].cross(&p) - g;
                 let fb = f - pose.theta.cross(&f);
                 Some([fb.x, fb.y, fb.z - g.norm()])
             })
@@ -793,17 +799,7 @@ impl Multibody {
             return Ok(Vec::new());
         }
         let skew = |p: &Vector3<f64>| p.cross_matrix();
-        let k_of = |i: usize, p: &Vector3<f64>| {
-            let (pose, m) = (&poses[i], &motions[i]);
-            let rho = pose.local_point(p);
-            let rho_dot = pose.centre_velocity + pose.theta_dot.cross(p);
-            let (w, al) = (v3(m.omega), v3(m.alpha));
-            v3(m.accel)
-                + al.cross(&rho)
-                + w.cross(&w.cross(&rho))
-                + 2.0 * w.cross(&rho_dot)
-                + pose.theta_dot.cross(&pose.theta_dot.cross(p))
-        };
+        let k_of = |i: usize, p: &Vector3<f64>| point_acceleration_part(&poses[i], &motions[i], p);
         // J (3 nj × 6 nb) is sparse: joint r's rows hold a 3×6 block [lin | ang] for each of its
         // two bodies. So S = J M⁻¹ Jᵀ is built block by block (joints r, s couple through a
         // shared body), with the same result as the dense products at a fraction of their cost.

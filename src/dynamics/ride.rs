@@ -67,9 +67,14 @@ pub struct Comfort {
 pub fn continuous_comfort(acc: &[[f64; 3]], fs_hz: f64) -> [Vec<f64>; 2] {
     let y: Vec<f64> = acc.iter().map(|a| a[1]).collect();
     let z: Vec<f64> = acc.iter().map(|a| a[2]).collect();
+    continuous_comfort_yz(&y, &z, fs_hz)
+}
+
+/// [`continuous_comfort`] of the lateral and vertical accelerations apart.
+fn continuous_comfort_yz(y: &[f64], z: &[f64], fs_hz: f64) -> [Vec<f64>; 2] {
     [
-        comfort::running_rms(&Weighting::Wd.apply(&y, fs_hz), fs_hz, CC_WINDOW_S),
-        comfort::running_rms(&Weighting::Wb.apply(&z, fs_hz), fs_hz, CC_WINDOW_S),
+        comfort::running_rms(&Weighting::Wd.apply(y, fs_hz), fs_hz, CC_WINDOW_S),
+        comfort::running_rms(&Weighting::Wb.apply(z, fs_hz), fs_hz, CC_WINDOW_S),
     ]
 }
 
@@ -89,7 +94,7 @@ pub fn floor_comfort(point: &FloorPoint, acc: &[[f64; 3]], fs_hz: f64) -> FloorC
     let n_mv = comfort::n_mv(&x, &y, &z, fs_hz);
     // Cc once its window is full.
     let full = (CC_WINDOW_S * fs_hz).ceil() as usize;
-    let [cy, cz] = continuous_comfort(acc, fs_hz);
+    let [cy, cz] = continuous_comfort_yz(&y, &z, fs_hz);
     let max_full =
         |c: &[f64]| (c.len() >= full && full > 0).then(|| c[full - 1..].iter().copied().fold(0.0, f64::max));
     let wz_y = comfort::sperling_wz(&y, fs_hz, SperlingDirection::Lateral);

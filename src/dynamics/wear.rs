@@ -159,44 +159,37 @@ fn histogram(parts: &[(f64, f64)]) -> Vec<WearBin> {
 
 /// One wheel's wear over its samples (in order of arc length).
 pub fn wheel_wear(wheelset: &str, wheel: usize, samples: &[Sample]) -> WheelWear {
+    // Each sample's wear index and mass rate, once.
+    let rates: Vec<(f64, f64)> = samples.iter().map(|s| wear_of(s, wheel)).collect();
     let mut mass_ug = 0.0;
     let mut share = [0.0; 3];
     let (mut on_wheel, mut on_rail) = (Vec::new(), Vec::new());
-    let (mut max_index, mut max_tg): (f64, f64) = (0.0, 0.0);
-    for pair in samples.windows(2) {
+    for (pair, r) in samples.windows(2).zip(rates.windows(2)) {
         let ds = (pair[1].s - pair[0].s).abs();
-        let (i0, m0) = wear_of(&pair[0], wheel);
-        let (i1, m1) = wear_of(&pair[1], wheel);
-        let m = 0.5 * (m0 + m1) * ds;
-        mass_ug += m;
         // The interval's mass goes half to each end's contact position.
-        for (p, mi) in [(&pair[0], m0), (&pair[1], m1)] {
-            let part = 0.5 * mi * ds;
+        for (p, &(index, rate)) in pair.iter().zip(r) {
+            let part = 0.5 * rate * ds;
+            mass_ug += part;
             on_wheel.push((p.s_wheel[wheel], part));
             on_rail.push((p.s_rail[wheel], part));
-        }
-        for (idx, wt) in [(i0, 0.5), (i1, 0.5)] {
-            if idx > 0.0 {
-                let r = match WearRegime::of(idx) {
+            if index > 0.0 {
+                let k = match WearRegime::of(index) {
                     WearRegime::Mild => 0,
                     WearRegime::Severe => 1,
                     WearRegime::Catastrophic => 2,
                 };
-                share[r] += wt * ds;
+                share[k] += 0.5 * ds;
             }
         }
     }
-    for s in samples {
-        let (idx, _) = wear_of(s, wheel);
-        max_index = max_index.max(idx);
-        max_tg = max_tg.max(s.wear_number()[wheel]);
-    }
+    let max_index = rates.iter().map(|r| r.0).fold(0.0, f64::max);
     let distance = match (samples.first(), samples.last()) {
         (Some(a), Some(b)) => (b.s - a.s).abs(),
         _ => 0.0,
     };
     let s: Vec<f64> = samples.iter().map(|p| p.s).collect();
     let tg: Vec<f64> = samples.iter().map(|p| p.wear_number()[wheel]).collect();
+    let max_tg = tg.iter().copied().fold(0.0, f64::max);
     let first = s.first().copied().unwrap_or(0.0);
     let max_tgamma_2m_n = sliding_mean(&s, &tg, WINDOW_M)
         .iter()
