@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use crate::common;
-use common::{kecsim, kecsim_ok, rerun_verify, run_ok, scene, tmpdir};
+use common::{kecsim, kecsim_ok, rerun_verify, run_ok, scene, tmpdir, write_ms_scene};
 
 use kecsim::contact::forces::{ContactForceSettings, CreepModel, Material};
 use kecsim::contact::geometry::ContactGeometry;
@@ -1160,12 +1160,7 @@ fn the_output_worker_records_what_the_run_computes() {
 #[test]
 fn the_csv_carries_creepages_contact_ellipses_and_wear_numbers() {
     let dir = tmpdir("contact-quantities");
-    let ms = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
-    )
-    .unwrap()
-    .replacen("duration_s = 51.0", "duration_s = 0.3", 1);
-    std::fs::write(dir.join("ms.toml"), ms).unwrap();
+    write_ms_scene(&dir, "0.3");
     kecsim_ok(&["run", "ms.toml", "--csv", "csv", "--save", "r.rrd"], &dir);
     for w in ["w1", "w4", "w6"] {
         let text = std::fs::read_to_string(dir.join("csv").join(format!("{w}.csv"))).unwrap();
@@ -1272,12 +1267,7 @@ fn usfd_published(index: f64) -> f64 {
 #[test]
 fn a_run_reports_wear_contact_stress_and_ride_comfort() {
     let dir = tmpdir("wear-stress-comfort");
-    let ms = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
-    )
-    .unwrap()
-    .replacen("duration_s = 51.0", "duration_s = 16.0", 1);
-    std::fs::write(dir.join("ms.toml"), ms).unwrap();
+    write_ms_scene(&dir, "16.0");
     let out = kecsim_ok(
         &[
             "run", "ms.toml", "--csv", "csv", "--json", "s.json", "--save", "r.rrd",

@@ -490,12 +490,7 @@ fn transform_rows<const N: usize>(
 fn the_3d_view_follows_the_simulated_states() {
     use rerun::Transform3D;
     let dir = tmpdir("world3d");
-    let ms = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
-    )
-    .unwrap()
-    .replacen("duration_s = 51.0", "duration_s = 0.5", 1);
-    std::fs::write(dir.join("ms.toml"), ms).unwrap();
+    common::write_ms_scene(&dir, "0.5");
     let e = 40.0;
     common::kecsim_ok(
         &[

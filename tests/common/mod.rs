@@ -97,6 +97,17 @@ pub fn run_ok(
     out
 }
 
+/// Writes `dir/ms.toml`: the default scene (the MS vehicle on the Tab. 6 kilometre) cut to
+/// `duration` seconds (as written in TOML, e.g. `"0.5"`).
+pub fn write_ms_scene(dir: &Path, duration: &str) {
+    let ms = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ms_vehicle_tab6.toml"),
+    )
+    .unwrap()
+    .replacen("duration_s = 51.0", &format!("duration_s = {duration}"), 1);
+    std::fs::write(dir.join("ms.toml"), ms).unwrap();
+}
+
 /// [`run_scene`], which must run to its end (outcome `completed`).
 pub fn run_completed(
     sc: &kecsim::scenario::Scene,
