@@ -125,6 +125,7 @@ fn energy_is_conserved_without_creep() {
                     initial_m_s: 10.0,
                     ramp_m_s2: 0.0,
                 },
+                frame_model: Default::default(),
             },
         };
         let mut sys = Evaluator::new(&model);

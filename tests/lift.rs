@@ -124,6 +124,7 @@ fn lift_off_is_continuous_at_zero_normal_force() {
         let load = Load {
             force: [0.0, 0.0, -weight],
             moment: [m_x, 0.0, 0.0],
+            ..Load::default()
         };
         evaluate(
             &INERTIA,
@@ -159,6 +160,7 @@ fn lift_off_is_continuous_at_zero_normal_force() {
     let load = Load {
         force: [0.0, 0.0, 2.0 * INERTIA.mass_kg * G],
         moment: [0.0; 3],
+        ..Load::default()
     };
     let flight = evaluate(
         &INERTIA,
@@ -212,6 +214,7 @@ fn thrown_wheelset(axle_load: f64) -> SingleWheelset {
                 initial_m_s: 10.0,
                 ramp_m_s2: 0.0,
             },
+            frame_model: Default::default(),
         },
     }
 }

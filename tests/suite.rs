@@ -22,6 +22,7 @@ mod paper;
 mod recording;
 mod reference_profiles;
 mod reliability;
+mod speed;
 mod study;
 mod track;
 mod track_flexibility;

@@ -38,6 +38,7 @@ fn multibody(sc: &Scene, kind: &str, with_track: bool) -> Multibody {
                 initial_m_s: 19.0,
                 ramp_m_s2: 0.0,
             },
+            frame_model: Default::default(),
         }
     };
     Multibody::new(

@@ -114,18 +114,18 @@ pub fn evaluate_free(
     let [ix, _, iz] = inertia.inertia_kg_m2;
     let (z, phi) = (kin.z, kin.phi);
     let axle = axle_direction(state.psi, phi);
-    let centre = Vector3::new(state.x, state.y, z);
     let r_dot = Vector3::new(state.x_dot, state.y_dot, kin.z_dot);
     let w_t = Vector3::from(frame.omega);
     let irw = inertia.irw.is_some();
     let omega_wheel = [state.omega, if irw { state.omega_right } else { state.omega }];
     let w_axle = w_t + Vector3::new(kin.phi_dot, 0.0, state.psi_dot);
-    let v_c = Vector3::new(frame.speed, 0.0, 0.0) + r_dot + w_t.cross(&centre);
+    let (v_c, rolling_speed) = super::wheelset::centre_velocity(frame, &r_dot, state.y, z);
     let g = Vector3::from(frame.gravity);
     let a_t = Vector3::from(frame.accel);
     let mut f = Vector3::from(load.force) + m * g - m * (a_t + 2.0 * w_t.cross(&r_dot));
     let m_load = Vector3::from(load.moment);
-    let mut mo = m_load - axle * axle.dot(&m_load);
+    let [drive_l, drive_r] = load.drive_torque;
+    let mut mo = m_load - axle * axle.dot(&m_load) + axle * (drive_l + drive_r);
     let mut mo_wheel = [Vector3::zeros(); 2];
     let mut out = WheelsetDynamics::default();
     let mut contact_y = 0.0;
@@ -145,7 +145,7 @@ pub fn evaluate_free(
                 Vector3::zeros(),
                 w_wheel,
                 Vector3::zeros(),
-                frame.speed,
+                rolling_speed,
                 crate::contact::forces::creepage::REGULARISATION_SPEED,
             );
             if deepest {
@@ -174,7 +174,7 @@ pub fn evaluate_free(
             .map_err(|e| err(e.to_string()))?;
             let creep = forces
                 .model
-                .forces(&patch, &creepage, frame.speed)
+                .forces(&patch, &creepage, rolling_speed)
                 .map_err(|e| err(e.to_string()))?;
             let fc = frame_c.force_to_global(creep.fx, creep.fy, normal);
             let mc = arm.cross(&fc) + frame_c.moment_to_global(creep.mz);
@@ -201,8 +201,8 @@ pub fn evaluate_free(
     // accelerations' gyroscopic coupling I_y Ω̇ a.
     let (spin_l, spin_r, spin_sum) = match inertia.irw {
         Some(w) => {
-            let l = axle.dot(&mo_wheel[0]) / w.wheel_spin_kg_m2;
-            let r = axle.dot(&mo_wheel[1]) / w.wheel_spin_kg_m2;
+            let l = (axle.dot(&mo_wheel[0]) + drive_l) / w.wheel_spin_kg_m2;
+            let r = (axle.dot(&mo_wheel[1]) + drive_r) / w.wheel_spin_kg_m2;
             (l, r, w.wheel_spin_kg_m2 * (l + r))
         }
         None => {

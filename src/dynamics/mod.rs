@@ -39,6 +39,7 @@ pub mod safety;
 pub mod sample;
 pub mod single_wheelset;
 pub mod system;
+pub mod traction;
 pub mod wear;
 pub mod wheelset;
 

@@ -44,6 +44,9 @@ use super::system::{
     BodySample, DynamicsError, FloorPoint, InitialDisturbance, PartTimes, Settling, VehicleData,
     VehicleModel, VehicleSample, WheelsetSample,
 };
+use super::traction::{
+    DriveInfo, SpeedLoop, TractionLaw, TractionState, DEFAULT_BANDWIDTH_HZ, LOST_SPEED_FRACTION,
+};
 use super::wheelset::{
     FrameMotion, IrwInertia, Landing, Load, WheelsetDynamics, WheelsetInertia, WheelsetState,
 };
@@ -144,6 +147,28 @@ pub struct Multibody {
     pub settling: Settling,
     /// The carbodies' floor points where ride comfort is read (EN 12299: above each bogie and at the middle of each module).
     pub floor_points: Vec<FloorPoint>,
+    /// What drives the vehicle along the track ([`super::traction`]).
+    pub drive: Drive,
+}
+
+/// The vehicle's drive: its law and the wheels it acts through ([`super::traction`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Drive {
+    pub law: TractionLaw,
+    /// The driven wheelsets (the motored ones, every one where none is marked), each with the
+    /// body that carries its motors and takes their reaction (the body its suspension joins it
+    /// to; none: the reaction is not modelled).
+    pub driven: Vec<(usize, Option<usize>)>,
+    /// What the speed loop reads (bodies first, then wheelsets, as [`BodyRef::Body`]): the driven
+    /// wheelsets and their carriers, each once.
+    pub sensed: Vec<usize>,
+}
+
+/// Why a traction law does not fit a vehicle (the scene's key is named by the caller).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DriveError {
+    #[error("the vehicle is tied to the track frame by {elements}, which holds its speed: it cannot {what}")]
+    Tied { elements: String, what: &'static str },
 }
 
 /// The part of a body point's absolute acceleration (components in the body's track frame) without
@@ -243,6 +268,25 @@ impl Multibody {
                 axle_loads: Vec::new(),
             },
             floor_points: Vec::new(),
+            drive: Drive {
+                law: TractionLaw::Coast,
+                driven: Vec::new(),
+                sensed: Vec::new(),
+            },
+        };
+        sys.drive.driven = sys.driven_wheelsets(spec);
+        let nb = sys.bodies.len();
+        for &(j, carrier) in &sys.drive.driven {
+            for k in carrier.into_iter().chain([nb + j]) {
+                if !sys.drive.sensed.contains(&k) {
+                    sys.drive.sensed.push(k);
+                }
+            }
+        }
+        sys.drive.law = if sys.ties().is_empty() {
+            TractionLaw::HoldSpeed(sys.speed_loop(DEFAULT_BANDWIDTH_HZ, None))
+        } else {
+            TractionLaw::Tied
         };
         let floor_heights: Vec<f64> = spec
             .bodies
@@ -256,6 +300,233 @@ impl Multibody {
 
     fn body_offset(&self, i: usize) -> usize {
         12 * i
+    }
+
+    /// The driven wheelsets ([`Drive::driven`]): those marked `motored`, else all; each with the
+    /// first body an element joins it to.
+    fn driven_wheelsets(&self, spec: &MultibodySpec) -> Vec<(usize, Option<usize>)> {
+        let nb = self.bodies.len();
+        let marked: Vec<usize> = (0..self.wheelsets.len())
+            .filter(|&j| spec.wheelsets.get(j).is_some_and(|w| w.motored))
+            .collect();
+        let driven = if marked.is_empty() {
+            (0..self.wheelsets.len()).collect()
+        } else {
+            marked
+        };
+        driven
+            .into_iter()
+            .map(|j| {
+                let carrier = self.elements.iter().find_map(|e| match e.ends() {
+                    (BodyRef::Body(a), BodyRef::Body(b)) if b == nb + j && a < nb => Some(a),
+                    (BodyRef::Body(a), BodyRef::Body(b)) if a == nb + j && b < nb => Some(b),
+                    _ => None,
+                });
+                (j, carrier)
+            })
+            .collect()
+    }
+
+    /// The elements that tie the vehicle to the track frame (an end on `track`), by index.
+    pub fn ties(&self) -> Vec<usize> {
+        self.elements
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| {
+                let (a, b) = e.ends();
+                !matches!(e, Element::CarriedMass { .. }) && (a == BodyRef::Track || b == BodyRef::Track)
+            })
+            .map(|(k, _)| k)
+            .collect()
+    }
+
+    /// The translating masses: bodies', then wheelsets', kg.
+    fn translating_masses(&self) -> impl Iterator<Item = f64> + '_ {
+        self.bodies
+            .iter()
+            .map(|b| b.mass_kg)
+            .chain(self.wheelsets.iter().map(|w| w.inertia.mass_kg))
+    }
+
+    /// M_e of the speed loop: the translating masses plus each wheel's spin inertia over r₀²
+    /// (a solid axle's I_y for its two wheels), kg.
+    pub fn effective_mass_kg(&self) -> f64 {
+        let rotating: f64 = self
+            .wheelsets
+            .iter()
+            .map(|w| match w.inertia.irw {
+                Some(irw) => 2.0 * irw.wheel_spin_kg_m2,
+                None => w.inertia.inertia_kg_m2[1],
+            })
+            .sum();
+        self.translating_masses().sum::<f64>() + rotating / (self.r0 * self.r0)
+    }
+
+    /// The speed loop of this vehicle at bandwidth `bandwidth_hz` with the drive's limit.
+    pub fn speed_loop(&self, bandwidth_hz: f64, max_force_n: Option<f64>) -> SpeedLoop {
+        SpeedLoop {
+            bandwidth_hz,
+            effective_mass_kg: self.effective_mass_kg(),
+            max_force_n,
+        }
+    }
+
+    /// Sets the traction law. A vehicle tied to the track frame ([`Self::ties`]) keeps its tie's
+    /// speed: it takes [`TractionLaw::Tied`] for a held speed and refuses coasting or a given
+    /// force; a free vehicle cannot be [`TractionLaw::Tied`].
+    pub fn set_traction(&mut self, law: TractionLaw) -> Result<(), DriveError> {
+        let ties = self.ties();
+        let names = || {
+            ties.iter()
+                .map(|&k| format!("'{}'", self.elements[k].name()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        self.drive.law = match (law, ties.is_empty()) {
+            (TractionLaw::HoldSpeed(_) | TractionLaw::Tied, false) => TractionLaw::Tied,
+            (TractionLaw::Coast, false) => {
+                return Err(DriveError::Tied {
+                    elements: names(),
+                    what: "coast",
+                })
+            }
+            (TractionLaw::Force { .. }, false) => {
+                return Err(DriveError::Tied {
+                    elements: names(),
+                    what: "be driven by a given force",
+                })
+            }
+            (TractionLaw::Tied, true) => TractionLaw::HoldSpeed(self.speed_loop(DEFAULT_BANDWIDTH_HZ, None)),
+            (law, true) => law,
+        };
+        Ok(())
+    }
+
+    /// The drive at (t, x): the law's force, each driven wheel's torque T = F r₀ / n, the
+    /// reaction −2T on each carrier about its y axis (the axle's direction to first order), the
+    /// ties' longitudinal force from the element loads `loads` at the poses `poses`, and the
+    /// power. Returns the state, the motors' torques per wheelset (left, right) and the ramp's
+    /// prescribed acceleration V̇ (0 but for a held speed's ramp).
+    fn drive_at(
+        &self,
+        t: f64,
+        x: &[f64],
+        loads: &[ElementLoad],
+        poses: &[Pose],
+    ) -> (TractionState, Vec<[f64; 2]>, f64) {
+        let (v, v_dot) = self.reference.speed_at(t);
+        let nb = self.bodies.len();
+        // The centre of mass's offset and speed error along the track.
+        let (mut m_sum, mut mx, mut mxd) = (0.0, 0.0, 0.0);
+        for (k, m) in self.translating_masses().enumerate() {
+            let (xk, xdk) = if k < nb {
+                let o = self.body_offset(k);
+                (x[o], x[o + 6])
+            } else {
+                let o = self.wheelset_offset(k - nb);
+                (x[o], x[o + 3])
+            };
+            m_sum += m;
+            mx += m * xk;
+            mxd += m * xdk;
+        }
+        let (x_g, x_g_dot) = (mx / m_sum, mxd / m_sum);
+        // The loop reads the position and speed of the driven wheelsets and the bodies carrying
+        // their motors (collocated with the drive; see the traction module).
+        let (mut m_d, mut mx_d, mut mxd_d) = (0.0, 0.0, 0.0);
+        for &k in &self.drive.sensed {
+            let (m, xk, xdk) = if k < nb {
+                let o = self.body_offset(k);
+                (self.bodies[k].mass_kg, x[o], x[o + 6])
+            } else {
+                let o = self.wheelset_offset(k - nb);
+                (self.wheelsets[k - nb].inertia.mass_kg, x[o], x[o + 3])
+            };
+            m_d += m;
+            mx_d += m * xk;
+            mxd_d += m * xdk;
+        }
+        let demand = match self.drive.law {
+            TractionLaw::Coast | TractionLaw::Tied => 0.0,
+            TractionLaw::Force { force_n } => force_n,
+            TractionLaw::HoldSpeed(l) if m_d > 0.0 => l.demand(mx_d / m_d, mxd_d / m_d),
+            TractionLaw::HoldSpeed(_) => 0.0,
+        };
+        let drive = match self.drive.law {
+            TractionLaw::HoldSpeed(SpeedLoop {
+                max_force_n: Some(limit),
+                ..
+            }) => demand.clamp(-limit, limit),
+            _ => demand,
+        };
+        let mut torques = vec![[0.0; 2]; self.wheelsets.len()];
+        let mut power = 0.0;
+        if drive != 0.0 && !self.drive.driven.is_empty() {
+            let per_wheel = drive * self.r0 / (2 * self.drive.driven.len()) as f64;
+            for &(j, _) in &self.drive.driven {
+                torques[j] = [per_wheel; 2];
+                let o = self.wheelset_offset(j);
+                let st = WheelsetState::read(&x[o..], self.is_irw(j));
+                power += per_wheel * (st.omega + st.omega_right);
+            }
+        }
+        // The ties' longitudinal force on the vehicle, in the tied body's axes.
+        let mut tie = 0.0;
+        for k in self.ties() {
+            let (a, b) = self.elements[k].ends();
+            let l = &loads[k];
+            let (body, sign) = match (a, b) {
+                (BodyRef::Track, BodyRef::Body(i)) => (i, 1.0),
+                (BodyRef::Body(i), _) => (i, -1.0),
+                _ => continue,
+            };
+            if let Some(p) = poses.get(body) {
+                tie += (p.rotation.transpose() * (sign * l.force)).x;
+            }
+        }
+        power += tie * v;
+        // A held speed's ramp: its inertia prescribed to every mass and wheel.
+        let ramp = match self.drive.law {
+            TractionLaw::HoldSpeed(_) => v_dot,
+            _ => 0.0,
+        };
+        let ramp_n = self.effective_mass_kg() * ramp;
+        power += ramp_n * v;
+        let state = TractionState {
+            demand_n: demand,
+            drive_n: drive,
+            ramp_n,
+            tie_n: tie,
+            power_w: power,
+            offset_m: x_g,
+            speed_m_s: v + x_g_dot,
+        };
+        (state, torques, ramp)
+    }
+
+    /// A held speed that cannot be held: the drive's limit passed, or the speed lost.
+    fn check_drive(&self, t: f64, traction: &TractionState) -> Result<(), DynamicsError> {
+        let TractionLaw::HoldSpeed(l) = self.drive.law else {
+            return Ok(());
+        };
+        let (v, _) = self.reference.speed_at(t);
+        if let Some(limit) = l.max_force_n {
+            if traction.demand_n.abs() > limit {
+                return Err(DynamicsError::TractionLimit {
+                    demand_n: traction.demand_n,
+                    limit_n: limit,
+                    speed_m_s: v,
+                });
+            }
+        }
+        if (traction.speed_m_s - v).abs() > LOST_SPEED_FRACTION * v.max(1.0) {
+            return Err(DynamicsError::SpeedLost {
+                speed_m_s: traction.speed_m_s,
+                reference_m_s: v,
+                bandwidth_hz: l.bandwidth_hz,
+            });
+        }
+        Ok(())
     }
 
     /// EN 12299's floor points: on each carbody ([`MultibodySpec::carbodies`]), at its middle
@@ -667,6 +938,31 @@ impl Multibody {
         let loads = self.element_loads(&poses, &frames, s_ref, v, v_dot)?;
         let mut acc = vec![(Vector3::zeros(), Vector3::zeros()); nb + nw];
         self.accumulate(&poses, &loads, &mut acc);
+        let (traction, mut torques, ramp) = self.drive_at(t, x, &loads, &poses);
+        if sampling {
+            self.check_drive(t, &traction)?;
+        }
+        for &(j, carrier) in &self.drive.driven {
+            if let Some(i) = carrier {
+                acc[i].1.y -= torques[j][0] + torques[j][1];
+            }
+        }
+        if ramp != 0.0 {
+            // The ramp's inertia, prescribed: m V̇ on every mass, I V̇ / r₀ on every wheel.
+            for (i, b) in self.bodies.iter().enumerate() {
+                acc[i].0.x += b.mass_kg * ramp;
+            }
+            for (j, w) in self.wheelsets.iter().enumerate() {
+                acc[nb + j].0.x += w.inertia.mass_kg * ramp;
+                let per_wheel = match w.inertia.irw {
+                    Some(irw) => irw.wheel_spin_kg_m2,
+                    None => 0.5 * w.inertia.inertia_kg_m2[1],
+                } * ramp
+                    / self.r0;
+                torques[j][0] += per_wheel;
+                torques[j][1] += per_wheel;
+            }
+        }
         lap_into(&mut data.part_times, &mut lap, |p| &mut p.elements_s);
         let mut dxdt = dxdt;
         let mut qdd: Vec<[Vector3<f64>; 2]> = Vec::with_capacity(nb);
@@ -726,6 +1022,7 @@ impl Multibody {
                 let load = Load {
                     force: f.into(),
                     moment: mo.into(),
+                    drive_torque: torques[j],
                 };
                 kins[j]
                     .0
@@ -758,7 +1055,9 @@ impl Multibody {
                 state: ws_states[j],
                 kin: pose,
                 dynamics,
-                speed: v,
+                speed: v + ws_states[j].x_dot,
+                reference_speed: v,
+                drive_torque: torques[j],
                 s: ws_s[j],
                 rails: ws_rails[j],
             });
@@ -778,6 +1077,7 @@ impl Multibody {
                 Vec::new()
             },
             joint_error,
+            traction,
         })
     }
 
@@ -1211,6 +1511,31 @@ impl VehicleModel for Multibody {
 
     fn settling(&self) -> Option<&Settling> {
         Some(&self.settling)
+    }
+
+    fn drive_info(&self) -> DriveInfo {
+        let (mode, controller_hz) = match self.drive.law {
+            TractionLaw::Coast => ("coast", None),
+            TractionLaw::Force { .. } => ("force", None),
+            TractionLaw::HoldSpeed(l) => ("hold_speed", Some(l.bandwidth_hz)),
+            TractionLaw::Tied => ("tied", None),
+        };
+        let driven = match self.drive.law {
+            TractionLaw::Tied => Vec::new(),
+            _ => self
+                .drive
+                .driven
+                .iter()
+                .map(|&(j, _)| self.wheelsets[j].name.clone())
+                .collect(),
+        };
+        DriveInfo {
+            mode,
+            controller_hz,
+            driven_wheelsets: driven,
+            weight_n: self.settling.axle_loads.iter().sum(),
+            effective_mass_kg: self.effective_mass_kg(),
+        }
     }
 
     fn floor_points(&self) -> Vec<FloorPoint> {

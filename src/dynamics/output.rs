@@ -84,6 +84,9 @@ pub struct RunSummary {
     pub contact_stress: Option<super::contact_stress::ContactStress>,
     /// Ride comfort at the carbodies' floor points (EN 12299, Sperling; [`super::ride`]).
     pub comfort: Option<super::ride::Comfort>,
+    /// What held the speed and what it took: traction, power, the curving resistance
+    /// ([`super::traction`]).
+    pub traction: Option<super::traction::TractionSummary>,
     /// Physically doubtful input the run went on with (the scenario's warnings).
     pub warnings: Vec<String>,
 }
@@ -138,6 +141,9 @@ impl fmt::Display for RunSummary {
                 self.max_landing_speed_m_s,
                 self.max_landing_impulse_n_s
             )?;
+        }
+        if let Some(traction) = &self.traction {
+            write!(f, "{traction}")?;
         }
         match (self.critical_speed_m_s, self.critical_speed_decelerating) {
             (Some(v), false) => writeln!(
@@ -437,7 +443,7 @@ mod tests {
     /// name and position): pinned here, name by name and in order.
     #[test]
     fn csv_header_is_pinned() {
-        const PINNED: [&str; 46] = [
+        const PINNED: [&str; 52] = [
             "t_s",
             "s_m",
             "speed_m_s",
@@ -485,6 +491,13 @@ mod tests {
             "tgamma_spin_right_n",
             "tgamma_2m_left_n",
             "tgamma_2m_right_n",
+            // Issue 46: the speed held and what it took.
+            "reference_speed_m_s",
+            "vehicle_speed_m_s",
+            "drive_torque_left_n_m",
+            "drive_torque_right_n_m",
+            "traction_n",
+            "traction_power_kw",
         ];
         let header: Vec<&str> = CSV_COLUMNS.iter().copied().collect();
         assert_eq!(header, PINNED);
@@ -544,6 +557,12 @@ mod tests {
             4.81,
             7.5,
             12.5,
+            19.25,
+            19.125,
+            55.0,
+            65.0,
+            450.0,
+            8.55,
         ];
         assert_eq!(row.len(), pinned.len());
         for (k, (a, b)) in row.iter().zip(pinned).enumerate() {

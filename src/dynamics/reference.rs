@@ -8,7 +8,7 @@ use std::sync::Arc;
 use nalgebra::{Matrix3, Vector3};
 
 use super::wheelset::FrameMotion;
-use crate::track::{RailMotion, Track, TrackError};
+use crate::track::{FrameModel, RailMotion, Track, TrackError};
 
 /// Gravity, m/s².
 pub const G: f64 = 9.81;
@@ -59,6 +59,9 @@ pub struct Reference {
     /// Arc length of the reference at t = 0, m.
     pub s0: f64,
     pub speed: SpeedProfile,
+    /// The track frame's rotation and motion: the whole (default) or the paper's Eq. (2)–(4)
+    /// ([`FrameModel`]).
+    pub frame_model: FrameModel,
 }
 
 impl Reference {
@@ -108,16 +111,16 @@ impl Reference {
                     (Some(i), true) => i.eval(s)?.rail_motion(v, v_dot),
                     _ => RailMotion::default(),
                 };
-                let m = tf.motion(v, v_dot);
+                let m = tf.motion_of(self.frame_model, v, v_dot);
                 Ok(FrameAt {
                     origin: tf.position,
-                    rotation: tf.rotation,
+                    rotation: tf.rotation_of(self.frame_model),
                     motion: FrameMotion {
                         speed: v,
                         accel: m.acceleration.into(),
                         omega: m.angular_velocity.into(),
                         alpha: m.angular_acceleration.into(),
-                        gravity: tf.gravity(G).into(),
+                        gravity: tf.gravity_of(self.frame_model, G).into(),
                     },
                     rails,
                 })

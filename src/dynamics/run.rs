@@ -407,7 +407,11 @@ impl Recorder<'_, '_, '_> {
     /// Samples (t, x), keeps the samples and hands them to every observer; the wheelsets' row.
     fn record(&mut self, t: f64, x: &[f64]) -> Result<Vec<Sample>, RecordFailure> {
         let s = self.out.sample(t, x).map_err(RecordFailure::Sample)?;
-        let mut row: Vec<Sample> = s.wheelsets.iter().map(|w| Sample::new(t, w, self.r0)).collect();
+        let mut row: Vec<Sample> = s
+            .wheelsets
+            .iter()
+            .map(|w| Sample::new(t, w, self.r0).with_traction(&s.traction))
+            .collect();
         for (k, w) in row.iter_mut().enumerate() {
             w.set_wear_number_2m(&self.wheelsets[k].1);
             self.wheelsets[k].1.push(*w);
@@ -640,6 +644,23 @@ fn run_here(
         ));
     }
     summary.comfort = super::ride::assess(&floor, settings.record_rate_hz);
+    let curves: Vec<super::traction::Curve> = vehicle
+        .reference()
+        .track
+        .as_ref()
+        .map(|t| {
+            t.centreline
+                .sections()
+                .0
+                .iter()
+                .filter(|h| {
+                    h.kind == crate::track::sections::HorizontalKind::Curve && h.curvature_1pm[0] != 0.0
+                })
+                .map(|h| (h.from_m, h.to_m, 1.0 / h.curvature_1pm[0].abs()))
+                .collect()
+        })
+        .unwrap_or_default();
+    summary.traction = super::traction::assess(vehicle.drive_info(), &wheelsets, &curves);
     let mut end = end;
     for o in observers.iter_mut() {
         if let Err(e) = o.finish(&summary) {
@@ -744,6 +765,7 @@ fn summarise(
         wear: None,
         contact_stress: None,
         comfort: None,
+        traction: None,
         derailment_max_y_over_q_2m: match end {
             RunEnd::Failed(e) => e.derailment().and_then(|name| {
                 let w = &wheelsets.iter().find(|w| w.0 == name)?.1;

@@ -28,7 +28,20 @@ pub struct Sample {
     pub t: f64,
     /// Arc length of the wheelset, m.
     pub s: f64,
+    /// The wheelset's forward speed along the track, ṡ = V + ẋ, m/s.
     pub speed: f64,
+    /// The reference's speed V (the scene's V(t)), m/s.
+    pub reference_speed: f64,
+    /// The drive's torque on each wheel (left, right), N m ([`super::traction`]).
+    pub drive_torque: [f64; 2],
+    /// The vehicle's traction (the drive's force and the ties' to the track frame), N: the same
+    /// in every wheelset's sample ([`Sample::with_traction`]).
+    pub traction: f64,
+    /// The vehicle's traction power at the wheels, W (as `traction`).
+    pub traction_power: f64,
+    /// The vehicle's speed along the track, its centre of mass's (the masses' mean ṡ), m/s (as
+    /// `traction`).
+    pub vehicle_speed: f64,
     pub y: f64,
     pub yaw: f64,
     /// Centre height minus r0, m.
@@ -78,6 +91,11 @@ impl Sample {
             t,
             s: s.s,
             speed: s.speed,
+            reference_speed: s.reference_speed,
+            drive_torque: s.drive_torque,
+            traction: 0.0,
+            traction_power: 0.0,
+            vehicle_speed: s.speed,
             y: s.state.y,
             yaw: s.state.psi,
             z: s.kin.z - r0,
@@ -99,6 +117,14 @@ impl Sample {
             spin_moment: [d.creep[0].mz, d.creep[1].mz],
             tgamma_2m: [0.0; 2],
         }
+    }
+
+    /// The sample with the vehicle's traction (force and power) and speed of its evaluation.
+    pub fn with_traction(mut self, traction: &super::traction::TractionState) -> Sample {
+        self.traction = traction.traction_n();
+        self.traction_power = traction.power_w;
+        self.vehicle_speed = traction.speed_m_s;
+        self
     }
 
     /// Sets [`Self::tgamma_2m`] from the samples before this one (in order of arc length): the
@@ -182,6 +208,10 @@ impl Unit {
     pub const PER_M: Unit = Unit::new("1pm", "1/m", 1.0);
     /// Megapascal (contact pressure).
     pub const MPA: Unit = Unit::new("mpa", "MPa", 1e-6);
+    /// Newton metre (torque).
+    pub const N_M: Unit = Unit::new("n_m", "N m", 1.0);
+    /// Kilowatt (power).
+    pub const KW: Unit = Unit::new("kw", "kW", 1e-3);
 
     const fn new(suffix: &'static str, label: &'static str, per_si: f64) -> Unit {
         Unit {
@@ -314,6 +344,10 @@ pub struct Series {
     /// Recorded under `run/vehicle/` too, one line per wheelset, and plotted in the layout's
     /// every-wheelset row, when the vehicle has more than one wheelset (one-value quantities).
     pub vehicle: bool,
+    /// The vehicle's own quantity, the same in every wheelset's sample (its traction): recorded
+    /// once, under `run/vehicle/`, from the first wheelset's samples, and plotted in the layout's
+    /// every-wheelset row whatever the number of wheelsets (one-value quantities).
+    pub once: bool,
 }
 
 impl Series {
@@ -349,6 +383,7 @@ const fn plot(stem: &'static str, unit: Unit, title: &'static str, panel: Panel)
         title,
         panel: Some(panel),
         vehicle: false,
+        once: false,
     })
 }
 
@@ -370,10 +405,17 @@ pub const QUANTITIES: &[Quantity] = &[
         series: None,
     },
     Quantity {
-        name: "forward speed",
+        name: "forward speed along the track (ṡ = V + ẋ)",
         value: Value::One(|s| s.speed),
         csv: Csv::Columns("speed", Unit::M_S),
-        series: None,
+        series: Some(Series {
+            stem: "speed",
+            unit: Unit::M_S,
+            title: "speed",
+            panel: None,
+            vehicle: true,
+            once: false,
+        }),
     },
     Quantity {
         name: "lateral displacement",
@@ -385,6 +427,7 @@ pub const QUANTITIES: &[Quantity] = &[
             title: "y",
             panel: Some(Panel::Kinematics),
             vehicle: true,
+            once: false,
         }),
     },
     Quantity {
@@ -397,6 +440,7 @@ pub const QUANTITIES: &[Quantity] = &[
             title: "yaw",
             panel: Some(Panel::Kinematics),
             vehicle: true,
+            once: false,
         }),
     },
     Quantity {
@@ -553,6 +597,7 @@ pub const QUANTITIES: &[Quantity] = &[
             title: "smaller wheel load",
             panel: None,
             vehicle: true,
+            once: false,
         }),
     },
     Quantity {
@@ -565,6 +610,59 @@ pub const QUANTITIES: &[Quantity] = &[
             title: "larger |Y/Q|",
             panel: None,
             vehicle: true,
+            once: false,
+        }),
+    },
+    // Issue 46: the speed held and what it took (appended: the columns before keep their places).
+    Quantity {
+        name: "the reference's speed V",
+        value: Value::One(|s| s.reference_speed),
+        csv: Csv::Columns("reference_speed", Unit::M_S),
+        series: None,
+    },
+    Quantity {
+        name: "the vehicle's speed along the track (its centre of mass's)",
+        value: Value::One(|s| s.vehicle_speed),
+        csv: Csv::Columns("vehicle_speed", Unit::M_S),
+        series: Some(Series {
+            stem: "vehicle_speed",
+            unit: Unit::M_S,
+            title: "speed (centre of mass)",
+            panel: None,
+            vehicle: false,
+            once: true,
+        }),
+    },
+    Quantity {
+        name: "the drive's torque on each wheel",
+        value: Value::Wheels(|s| s.drive_torque),
+        csv: Csv::Columns("drive_torque", Unit::N_M),
+        series: None,
+    },
+    Quantity {
+        name: "the vehicle's traction (drive and ties)",
+        value: Value::One(|s| s.traction),
+        csv: Csv::Columns("traction", Unit::N),
+        series: Some(Series {
+            stem: "traction",
+            unit: Unit::KN,
+            title: "traction",
+            panel: None,
+            vehicle: false,
+            once: true,
+        }),
+    },
+    Quantity {
+        name: "the vehicle's traction power at the wheels",
+        value: Value::One(|s| s.traction_power),
+        csv: Csv::Columns("traction_power", Unit::KW),
+        series: Some(Series {
+            stem: "traction_power",
+            unit: Unit::KW,
+            title: "traction power",
+            panel: None,
+            vehicle: false,
+            once: true,
         }),
     },
 ];
@@ -578,6 +676,11 @@ impl Sample {
             t,
             s,
             speed,
+            reference_speed: speed,
+            drive_torque: [0.0; 2],
+            traction: 0.0,
+            traction_power: 0.0,
+            vehicle_speed: speed,
             y: 0.0,
             yaw: 0.0,
             z: 0.0,
@@ -607,6 +710,11 @@ impl Sample {
             t: 1.5,
             s: 23.25,
             speed: 19.0,
+            reference_speed: 19.25,
+            drive_torque: [55.0, 65.0],
+            traction: 450.0,
+            traction_power: 8550.0,
+            vehicle_speed: 19.125,
             y: 0.002,
             yaw: -0.0015,
             z: 0.0007,
@@ -650,8 +758,17 @@ mod tests {
                 previous_csv = Some(q);
             }
             if let Some(s) = q.series {
-                assert!(s.panel.is_some() || s.vehicle, "{}: recorded nowhere", q.name);
-                if s.vehicle {
+                assert!(
+                    s.panel.is_some() || s.vehicle || s.once,
+                    "{}: recorded nowhere",
+                    q.name
+                );
+                assert!(
+                    !(s.once && (s.vehicle || s.panel.is_some())),
+                    "{}: a vehicle's own quantity is recorded once",
+                    q.name
+                );
+                if s.vehicle || s.once {
                     assert!(q.value.width() == 1 && !q.value.is_conditional(), "{}", q.name);
                 }
                 assert!(!s.stem.ends_with(&format!("_{}", s.unit.suffix)), "{}", q.name);

@@ -17,6 +17,7 @@ use super::reference::{Reference, G};
 use super::system::{
     DynamicsError, InitialDisturbance, VehicleData, VehicleModel, VehicleSample, WheelsetSample,
 };
+use super::traction::{DriveInfo, TractionState};
 use super::wheelset::{Landing, Load, WheelsetInertia, WheelsetState};
 use crate::contact::forces::ContactForceSettings;
 use crate::contact::ContactModel;
@@ -82,6 +83,17 @@ impl SingleWheelset {
         t: f64,
         x: &[f64],
     ) -> Result<WheelsetSample, DynamicsError> {
+        self.evaluate_with_tie(data, t, x).map(|(s, _)| s)
+    }
+
+    /// [`Self::evaluate`] and the tie's longitudinal force on the wheelset (the traction that
+    /// holds its speed), N.
+    fn evaluate_with_tie(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &[f64],
+    ) -> Result<(WheelsetSample, f64), DynamicsError> {
         let st = Self::unpack(x);
         let (kin, frame, s) = self.kinematics(data, t, &st)?;
         let v = frame.motion.speed;
@@ -89,7 +101,7 @@ impl SingleWheelset {
         let tie = &self.tie;
         let mut load = Load {
             force: [0.0, 0.0, -self.axle_load_n],
-            moment: [0.0; 3],
+            ..Load::default()
         };
         for b in [tie.half_spacing_m, -tie.half_spacing_m] {
             // Axle-box displacement relative to the frame (linearised rotation about z).
@@ -114,14 +126,17 @@ impl SingleWheelset {
             )
             .map_err(DynamicsError::wheelset(&self.name, st.y))?;
         let kin = kin.pose(&st).map_err(DynamicsError::wheelset(&self.name, st.y))?;
-        Ok(WheelsetSample {
+        let sample = WheelsetSample {
             state: st,
             kin,
             dynamics,
-            speed: v,
+            speed: v + st.x_dot,
+            reference_speed: v,
+            drive_torque: [0.0; 2],
             s,
             rails: rails.q,
-        })
+        };
+        Ok((sample, load.force[0]))
     }
 }
 
@@ -181,15 +196,37 @@ impl VehicleModel for SingleWheelset {
         Ok(())
     }
 
+    /// The frame at the reference speed holds the wheelset through its tie: the tie's longitudinal
+    /// force is the traction ([`super::traction::TractionLaw::Tied`]).
     fn sample(&self, data: &mut VehicleData, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError> {
+        let (w, tie) = self.evaluate_with_tie(data, t, x)?;
+        let traction = TractionState {
+            tie_n: tie,
+            power_w: tie * w.reference_speed,
+            offset_m: w.state.x,
+            speed_m_s: w.speed,
+            ..TractionState::default()
+        };
         Ok(VehicleSample {
-            wheelsets: vec![self.evaluate(data, t, x)?],
+            wheelsets: vec![w],
+            traction,
             ..VehicleSample::default()
         })
     }
 
     fn wheelset_slots(&self) -> Vec<(usize, usize)> {
         vec![(0, self.dim())]
+    }
+
+    /// Tied to its frame; the weight on the rails is the axle load and the wheelset's own.
+    fn drive_info(&self) -> DriveInfo {
+        DriveInfo {
+            mode: "tied",
+            controller_hz: None,
+            driven_wheelsets: Vec::new(),
+            weight_n: self.axle_load_n + self.inertia.mass_kg * G,
+            effective_mass_kg: self.inertia.mass_kg + self.inertia.inertia_kg_m2[1] / (self.r0 * self.r0),
+        }
     }
 
     /// None with the elastic model (its slots hold the free pose; no landing events).

@@ -54,6 +54,20 @@ pub enum DynamicsError {
     StaticsSingular { bodies: String },
     #[error("centred contact: {0}")]
     CentredContact(#[source] ContactModelError),
+    /// A held speed needs more than the drive's limit.
+    #[error("simulation.traction.max_force_n = {limit_n} N cannot hold {speed_m_s} m/s: the speed loop asks for {demand_n:.0} N (the vehicle's running and curving resistance, and the ramp's inertia); raise max_force_n, or let the vehicle coast (simulation.traction.mode = \"coast\")")]
+    TractionLimit {
+        demand_n: f64,
+        limit_n: f64,
+        speed_m_s: f64,
+    },
+    /// The speed loop lost the speed (an unstable loop).
+    #[error("the speed loop lost the speed: {speed_m_s:.3} m/s against the reference's {reference_m_s:.3} m/s (more than 1 % apart) with simulation.traction.controller_hz = {bandwidth_hz}: lower it (0.1–1 Hz holds the speed)")]
+    SpeedLost {
+        speed_m_s: f64,
+        reference_m_s: f64,
+        bandwidth_hz: f64,
+    },
 }
 
 impl DynamicsError {
@@ -167,7 +181,12 @@ pub struct WheelsetSample {
     pub state: WheelsetState,
     pub kin: WheelsetKinematics,
     pub dynamics: WheelsetDynamics,
+    /// Its forward speed along the track, ṡ = V + ẋ, m/s.
     pub speed: f64,
+    /// The reference's speed V, m/s.
+    pub reference_speed: f64,
+    /// The drive's torque on each wheel (left, right), N m.
+    pub drive_torque: [f64; 2],
     /// Arc length of the wheelset, m.
     pub s: f64,
     /// Rail irregularities at the wheelset [y_lir, z_lir, y_rir, z_rir], m.
@@ -216,6 +235,8 @@ pub struct VehicleSample {
     /// Per floor point ([`VehicleModel::floor_points`]): what an accelerometer on the floor reads,
     /// in the carbody's axes, less the static 1 g on z: (x, y, z), m/s².
     pub floor: Vec<[f64; 3]>,
+    /// The vehicle's drive ([`super::traction`]).
+    pub traction: super::traction::TractionState,
 }
 
 /// A vehicle system: the constant model. Its state vector is laid out by the system (see each
@@ -259,6 +280,8 @@ pub trait VehicleModel: Send + Sync {
     fn settling(&self) -> Option<&Settling> {
         None
     }
+    /// What drives the vehicle along the track, for the run's summary ([`super::traction`]).
+    fn drive_info(&self) -> super::traction::DriveInfo;
     /// The carbodies' floor points where ride comfort is read (none without carbodies); each
     /// sample's [`VehicleSample::floor`] holds their accelerations in this order.
     fn floor_points(&self) -> Vec<FloorPoint> {

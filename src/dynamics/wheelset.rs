@@ -221,11 +221,16 @@ impl WheelsetState {
     }
 }
 
-/// Applied force and moment about the wheelset centre (suspension, loads), track components.
+/// Applied force and moment about the wheelset centre (suspension, loads), track components, and
+/// the drive's torques.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Load {
     pub force: [f64; 3],
     pub moment: [f64; 3],
+    /// The motor torque on each wheel (left, right) about the axle, N m, > 0 driving forward
+    /// ([`super::traction`]): the vector T a on the wheelset, in each wheel's spin row (a solid
+    /// axle's one row takes both); its reaction is on the body carrying the motor.
+    pub drive_torque: [f64; 2],
 }
 
 /// What one evaluation gives.
@@ -457,7 +462,6 @@ pub struct Landing {
 
 /// Points, normals and frames of one pose.
 struct Geometry {
-    centre: Vector3<f64>,
     axle: Vector3<f64>,
     arm: [Vector3<f64>; 2],
     normal: [Vector3<f64>; 2],
@@ -467,12 +471,10 @@ struct Geometry {
 impl Geometry {
     /// `kin`: the pose kinematics (lift applied).
     fn new(state: &WheelsetState, kin: &WheelsetKinematics) -> Result<Geometry, WheelsetError> {
-        let centre = Vector3::new(state.x, state.y, kin.z);
         let axle = axle_direction(state.psi, kin.phi);
         let [(a0, n0, f0), (a1, n1, f1)] =
             [0, 1].map(|i| contact_geometry(state, kin.z, kin.phi, axle, &kin.contacts[i], i));
         Ok(Geometry {
-            centre,
             axle,
             arm: [a0, a1],
             normal: [n0, n1],
@@ -601,6 +603,22 @@ fn matrix(
     a
 }
 
+/// The ground velocity of the wheelset's centre in its track frame and the rolling speed the
+/// creepages are normalised by (its forward component). The frame sits at the wheelset's own
+/// arc length s_ref + d + x and moves along the track at V + ẋ, so the centre is at (0, y, z) in
+/// it: v_c = (V + ẋ, ẏ, ż) + ω_t × (0, y, z). (Before issue 46 the centre was taken at (x, y, z):
+/// on a curve a wheelset x metres behind its reference gained a lateral velocity ρ_h V x.)
+pub(crate) fn centre_velocity(
+    frame: &FrameMotion,
+    r_dot: &Vector3<f64>,
+    y: f64,
+    z: f64,
+) -> (Vector3<f64>, f64) {
+    let w_t = Vector3::from(frame.omega);
+    let v_c = Vector3::new(frame.speed, 0.0, 0.0) + r_dot + w_t.cross(&Vector3::new(0.0, y, z));
+    (v_c, v_c.x)
+}
+
 fn spin_inertia(inertia: &WheelsetInertia) -> f64 {
     match inertia.irw {
         Some(irw) => irw.wheel_spin_kg_m2,
@@ -709,7 +727,7 @@ fn solve(
     let kin = apply_lifts(lifts, kin2);
     let m = inertia.mass_kg;
     let geo = Geometry::new(state, &kin)?;
-    let (centre, axle, arm) = (geo.centre, geo.axle, geo.arm);
+    let (axle, arm) = (geo.axle, geo.arm);
     let r_dot = Vector3::new(state.x_dot, state.y_dot, kin.z_dot);
     let w_t = Vector3::from(frame.omega);
     // Angular velocity of each wheel (ground, track components): the axle's or, on an
@@ -724,8 +742,7 @@ fn solve(
     ];
     let w_axle = w_t + Vector3::new(kin.phi_dot, 0.0, state.psi_dot);
     let w_wheel = [w_axle + axle * omega_wheel[0], w_axle + axle * omega_wheel[1]];
-    // Ground velocity of the centre: frame speed + relative (Coriolis of r dropped, see doc).
-    let v_c = Vector3::new(frame.speed, 0.0, 0.0) + r_dot + w_t.cross(&centre);
+    let (v_c, rolling_speed) = centre_velocity(frame, &r_dot, state.y, kin.z);
     let on_rail = |i: usize| lifts[i].is_none();
     let mut creepage = [Creepage::default(); 2];
     for i in 0..2 {
@@ -736,7 +753,7 @@ fn solve(
             Vector3::zeros(),
             w_wheel[i],
             Vector3::zeros(),
-            frame.speed,
+            rolling_speed,
             crate::contact::forces::creepage::REGULARISATION_SPEED,
         );
     }
@@ -749,7 +766,8 @@ fn solve(
     // remove that component (else e.g. a yaw spring's moment would spin the wheels through the
     // roll angle, φ M_z). On an IRW-wheelset it pitches the bridge instead.
     let m_load = Vector3::from(load.moment);
-    let m_known = m_load - axle * axle.dot(&m_load);
+    let [drive_l, drive_r] = load.drive_torque;
+    let m_known = m_load - axle * axle.dot(&m_load) + axle * (drive_l + drive_r);
     // The ellipse shape depends on the curvatures only: solve Hertz once per wheel at the guessed
     // load, look up its Kalker coefficients (a/b fixed), and scale the patch (a, b ∝ N^⅓) in
     // every pass.
@@ -795,7 +813,7 @@ fn solve(
             semi_axes[i] = (patch.a, patch.b);
             creep[i] = forces
                 .model
-                .forces(&patch, &creepage[i], frame.speed)
+                .forces(&patch, &creepage[i], rolling_speed)
                 .map_err(|e| WheelsetError::Contact {
                     side,
                     message: e.to_string(),
@@ -817,8 +835,8 @@ fn solve(
         match inertia.irw {
             None => b[5] = axle.dot(&mo),
             Some(_) => {
-                b[5] = axle.dot(&mo_wheel[0]);
-                b[9] = axle.dot(&mo_wheel[1]);
+                b[5] = axle.dot(&mo_wheel[0]) + drive_l;
+                b[9] = axle.dot(&mo_wheel[1]) + drive_r;
             }
         }
         b[6] = kin.c_z;

@@ -106,6 +106,13 @@ fn vehicle_series(table: &'static [Quantity]) -> impl Iterator<Item = (&'static 
         .filter_map(|q| q.series.as_ref().filter(|s| s.vehicle).map(|s| (q, s)))
 }
 
+/// The vehicle's own series of `table` (recorded once under `run/vehicle/`), in its order.
+fn once_series(table: &'static [Quantity]) -> impl Iterator<Item = (&'static Quantity, &'static Series)> {
+    table
+        .iter()
+        .filter_map(|q| q.series.as_ref().filter(|s| s.once).map(|s| (q, s)))
+}
+
 /// The line names of a per-wheelset series: its title for one value, else the wheels.
 fn line_names(q: &Quantity, series: &Series) -> Vec<&'static str> {
     match q.value.width() {
@@ -114,20 +121,24 @@ fn line_names(q: &Quantity, series: &Series) -> Vec<&'static str> {
     }
 }
 
-/// The time-series plots of the run's layout, row by row, made from `table`: with more than one
-/// wheelset a row with every wheelset side by side (its [`Series::vehicle`] series), then the first
-/// wheelset's series, a row per [`Panel`].
+/// The time-series plots of the run's layout, row by row, made from `table`: a row with every
+/// wheelset side by side (its [`Series::vehicle`] series, with more than one wheelset) and the
+/// vehicle's own series ([`Series::once`]), then the first wheelset's series, a row per [`Panel`].
 pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Plot>> {
     let mut rows = Vec::new();
+    let mut vehicle: Vec<Plot> = Vec::new();
     if wheelsets.len() > 1 {
-        rows.push(
-            vehicle_series(table)
-                .map(|(_, s)| Plot {
-                    title: format!("every wheelset: {}", s.title()),
-                    origin: format!("/run/vehicle/{}", s.entity()),
-                })
-                .collect(),
-        );
+        vehicle.extend(vehicle_series(table).map(|(_, s)| Plot {
+            title: format!("every wheelset: {}", s.title()),
+            origin: format!("/run/vehicle/{}", s.entity()),
+        }));
+    }
+    vehicle.extend(once_series(table).map(|(_, s)| Plot {
+        title: format!("vehicle: {}", s.title()),
+        origin: format!("/run/vehicle/{}", s.entity()),
+    }));
+    if !vehicle.is_empty() {
+        rows.push(vehicle);
     }
     let w = detail_origin(wheelsets);
     // The detailed views' titles name their wheelset.
@@ -442,6 +453,15 @@ impl LiveRecorder {
                 self.log_style(name, q, series)?;
             }
         }
+        for (_, series) in once_series(QUANTITIES) {
+            log_static(
+                &self.rec,
+                &format!("run/vehicle/{}", series.entity()),
+                &SeriesLines::new()
+                    .with_names([series.title])
+                    .with_colors([Color::from_rgb(60, 180, 120)]),
+            )?;
+        }
         if self.names.len() > 1 {
             let colors: Vec<Color> = (0..self.names.len()).map(palette).collect();
             for (_, series) in vehicle_series(QUANTITIES) {
@@ -551,6 +571,21 @@ impl LiveRecorder {
                 }
                 self.send_series(name, samples, q, series)?;
             }
+        }
+        for (q, series) in once_series(QUANTITIES) {
+            let first = &self.pending[0];
+            let value = |s: &Sample| q.value.of(s, series.unit).map_or(f64::NAN, |v| v[0]);
+            send_scalar_values(
+                &self.rec,
+                vec![
+                    TimeColumn::new_duration_secs(TIME, first.iter().map(|s| s.t)),
+                    TimeColumn::new_sequence(DISTANCE, first.iter().map(|s| (s.s * 1e3).round() as i64)),
+                ],
+                n,
+                &format!("run/vehicle/{}", series.entity()),
+                first.iter().map(value).collect(),
+                1,
+            )?;
         }
         if self.names.len() > 1 {
             let pending = &self.pending;
@@ -759,6 +794,14 @@ mod tests {
             .collect()
     }
 
+    /// The vehicle's own series under `run/vehicle/`: entity, value of [`Sample::distinct`].
+    fn recorded_once_series(table: &'static [Quantity]) -> Vec<(String, f64)> {
+        let s = Sample::distinct();
+        once_series(table)
+            .map(|(q, series)| (series.entity(), q.value.of(&s, series.unit).unwrap()[0]))
+            .collect()
+    }
+
     /// The every-wheelset series under `run/vehicle/`: entity, value of [`Sample::distinct`].
     fn recorded_vehicle_series(table: &'static [Quantity]) -> Vec<(String, f64)> {
         let s = Sample::distinct();
@@ -809,11 +852,23 @@ mod tests {
         let pinned = [
             ("max_abs_y_over_q", 0.16),
             ("min_normal_kn", 48.0),
+            ("speed_m_s", 19.0),
             ("y_mm", 2.0),
             ("yaw_mrad", -1.5),
         ];
         assert_eq!(vehicle.len(), pinned.len(), "{vehicle:?}");
         for (g, p) in vehicle.iter().zip(pinned) {
+            assert!(g.0 == p.0 && near(&[g.1], &[p.1]), "{g:?} vs {p:?}");
+        }
+        // Issue 46: the vehicle's traction and its power, once.
+        let once = recorded_once_series(QUANTITIES);
+        let pinned = [
+            ("vehicle_speed_m_s", 19.125),
+            ("traction_kn", 0.45),
+            ("traction_power_kw", 8.55),
+        ];
+        assert_eq!(once.len(), pinned.len(), "{once:?}");
+        for (g, p) in once.iter().zip(pinned) {
             assert!(g.0 == p.0 && near(&[g.1], &[p.1]), "{g:?} vs {p:?}");
         }
         // A sample without the KEC parameters records no `s_knife_mm` (NaN in no CSV column).
@@ -869,8 +924,27 @@ mod tests {
             })
             .collect()
         };
-        assert_eq!(rows(&["wheelset_1"]), detail("wheelset_1"));
-        let vehicle: Vec<(String, String)> = [
+        let own = || -> Vec<(String, String)> {
+            vec![
+                (
+                    "vehicle: speed (centre of mass) [m/s]".to_string(),
+                    "/run/vehicle/vehicle_speed_m_s".to_string(),
+                ),
+                (
+                    "vehicle: traction [kN]".to_string(),
+                    "/run/vehicle/traction_kn".to_string(),
+                ),
+                (
+                    "vehicle: traction power [kW]".to_string(),
+                    "/run/vehicle/traction_power_kw".to_string(),
+                ),
+            ]
+        };
+        let mut single = vec![own()];
+        single.extend(detail("wheelset_1"));
+        assert_eq!(rows(&["wheelset_1"]), single);
+        let mut vehicle: Vec<(String, String)> = [
+            ("every wheelset: speed [m/s]", "/run/vehicle/speed_m_s"),
             ("every wheelset: y [mm]", "/run/vehicle/y_mm"),
             ("every wheelset: yaw [mrad]", "/run/vehicle/yaw_mrad"),
             (
@@ -882,6 +956,7 @@ mod tests {
         .into_iter()
         .map(|(t, e)| (t.to_string(), e.to_string()))
         .collect();
+        vehicle.extend(own());
         let mut expected = vec![vehicle];
         expected.extend(detail("w1"));
         assert_eq!(rows(&["w1", "w2"]), expected);
@@ -921,6 +996,7 @@ mod tests {
         let plots: Vec<Plot> = plot_rows(table, &names).into_iter().flatten().collect();
         let per_wheelset = recorded_wheelset_series(table);
         let vehicle = recorded_vehicle_series(table);
+        let once = recorded_once_series(table);
         let mut entities: Vec<&String> = per_wheelset.iter().map(|s| &s.0).collect();
         entities.sort();
         entities.dedup();
@@ -942,16 +1018,17 @@ mod tests {
             let expected = usize::from(series.panel.is_some());
             assert_eq!((recorded, plotted), (expected, expected), "{}: {entity}", q.name);
             let (recorded, plotted) = (
-                vehicle.iter().filter(|s| s.0 == entity).count(),
+                vehicle.iter().chain(&once).filter(|s| s.0 == entity).count(),
                 shown(&format!("/run/vehicle/{entity}")),
             );
-            let expected = usize::from(series.vehicle);
+            let expected = usize::from(series.vehicle || series.once);
             assert_eq!((recorded, plotted), (expected, expected), "{}: {entity}", q.name);
         }
         let series = table.iter().filter_map(|q| q.series);
         assert_eq!(
             plots.len(),
-            series.clone().filter(|s| s.panel.is_some()).count() + series.filter(|s| s.vehicle).count()
+            series.clone().filter(|s| s.panel.is_some()).count()
+                + series.filter(|s| s.vehicle || s.once).count()
         );
     }
 
@@ -973,6 +1050,7 @@ mod tests {
                 title: "spin",
                 panel: Some(Panel::Kinematics),
                 vehicle: false,
+                once: false,
             }),
         });
         let table: &'static [Quantity] = table.leak();

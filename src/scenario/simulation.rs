@@ -20,13 +20,14 @@ use crate::dynamics::output::RunObserver;
 use crate::dynamics::reference::{Reference, SpeedProfile};
 use crate::dynamics::safety::SafetyBasis;
 use crate::dynamics::single_wheelset::{SingleWheelset, Tie};
+use crate::dynamics::traction::{TractionLaw, DEFAULT_BANDWIDTH_HZ, MAX_BANDWIDTH_HZ};
 use crate::dynamics::wheelset::WheelsetInertia;
 use crate::dynamics::{
     run, CancelToken, DynamicsError, InitialDisturbance, RunLabels, RunOutput, RunPool, RunSettings,
     StopConditions, Threads, VehicleModel,
 };
 use crate::profile::placement::WheelRailPair;
-use crate::track::Track;
+use crate::track::{FrameModel, Track};
 use crate::vehicle::VehicleSpec;
 
 /// `[simulation]`: what to run and how.
@@ -65,6 +66,122 @@ pub struct SimulationSpec {
     /// track's start).
     #[serde(default)]
     pub start_m: Option<f64>,
+    /// The track frame's rotation and motion: `"whole"` (default: the exact rotation and the
+    /// motion derived from it) or `"paper"` (Eq. 2 linearised, Eq. 3–4 as printed); see
+    /// [`crate::track::centreline`].
+    #[serde(default)]
+    pub track_frame: FrameModel,
+    /// `[simulation.traction]`: what holds the vehicle's speed.
+    #[serde(default)]
+    pub traction: TractionSpec,
+}
+
+/// `[simulation.traction]`: what drives the vehicle along the track ([`crate::dynamics::traction`]).
+///
+/// ```toml
+/// [simulation.traction]
+/// mode = "hold_speed"   # default: a speed loop on the motored wheels holds V(t); or "coast", "force"
+/// controller_hz = 0.2   # hold_speed: the loop's bandwidth (0 < f ≤ 2 Hz; default 0.2)
+/// max_force_n = 20e3    # hold_speed: the drive's limit (a demand beyond it ends the run)
+/// # force_n = -5e3      # force: the given traction (> 0) or braking (< 0) force, N
+/// ```
+#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TractionSpec {
+    #[serde(default)]
+    pub mode: TractionMode,
+    /// `mode = "force"`: the force through the driven wheels, N.
+    #[serde(default)]
+    pub force_n: Option<f64>,
+    /// `mode = "hold_speed"`: the drive's largest force, N (none: unlimited).
+    #[serde(default)]
+    pub max_force_n: Option<f64>,
+    /// `mode = "hold_speed"`: the speed loop's bandwidth, Hz (default 0.2).
+    #[serde(default)]
+    pub controller_hz: Option<f64>,
+}
+
+/// `[simulation.traction] mode`.
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum TractionMode {
+    /// The speed held at the reference's V(t) by a speed loop on the motored wheels (a vehicle
+    /// tied to the track frame: by its tie).
+    #[default]
+    HoldSpeed,
+    /// No drive: the vehicle rolls on, slowed by its resistance (the behaviour before issue 46).
+    Coast,
+    /// A given force through the motored wheels (`force_n`).
+    Force,
+}
+
+impl TractionMode {
+    /// Its name in a scenario.
+    pub fn name(self) -> &'static str {
+        match self {
+            TractionMode::HoldSpeed => "hold_speed",
+            TractionMode::Coast => "coast",
+            TractionMode::Force => "force",
+        }
+    }
+}
+
+impl TractionSpec {
+    /// Problems with the values (each naming its key).
+    pub fn problems(&self) -> Vec<String> {
+        let mut p = Vec::new();
+        let mode = self.mode.name();
+        let not_with = |key: &str, given: bool, modes: &str, p: &mut Vec<String>| {
+            if given {
+                p.push(format!(
+                    "simulation.traction.{key}: only with mode = {modes} (the scene's mode is \"{mode}\")"
+                ));
+            }
+        };
+        match self.mode {
+            TractionMode::Force => match self.force_n {
+                None => p.push(
+                    "simulation.traction.mode = \"force\" needs force_n (N: traction > 0, braking < 0)"
+                        .to_string(),
+                ),
+                Some(f) if !(f.is_finite() && f.abs() <= 1e7) => p.push(format!(
+                    "simulation.traction.force_n = {f}: expected a force in [-1e7, 1e7] N"
+                )),
+                Some(_) => {}
+            },
+            _ => not_with("force_n", self.force_n.is_some(), "\"force\"", &mut p),
+        }
+        if self.mode == TractionMode::HoldSpeed {
+            if let Some(f) = self.max_force_n {
+                if !(f.is_finite() && f > 0.0) {
+                    p.push(format!(
+                        "simulation.traction.max_force_n = {f}: expected a force > 0 N (the drive's limit, traction and braking)"
+                    ));
+                }
+            }
+            if let Some(h) = self.controller_hz {
+                if !(h.is_finite() && h > 0.0 && h <= MAX_BANDWIDTH_HZ) {
+                    p.push(format!(
+                        "simulation.traction.controller_hz = {h}: expected a bandwidth in (0, {MAX_BANDWIDTH_HZ}] Hz — above it the speed loop reaches the longitudinal suspension's and the wheels' spin–creep modes and the run goes unstable; 0.1–1 Hz holds the speed"
+                    ));
+                }
+            }
+        } else {
+            not_with(
+                "max_force_n",
+                self.max_force_n.is_some(),
+                "\"hold_speed\"",
+                &mut p,
+            );
+            not_with(
+                "controller_hz",
+                self.controller_hz.is_some(),
+                "\"hold_speed\"",
+                &mut p,
+            );
+        }
+        p
+    }
 }
 
 fn default_rate() -> f64 {
@@ -290,6 +407,14 @@ impl SimulationSpec {
             Ok(c) => p.extend(c.problems()),
             Err(e) => p.push(e.to_string()),
         }
+        p.extend(self.traction.problems());
+        if self.speed_ramp_m_s2 != 0.0 && self.traction.mode != TractionMode::HoldSpeed {
+            p.push(format!(
+                "simulation.speed_ramp_m_s2 = {} with simulation.traction.mode = \"{}\": only a held speed follows a ramp (mode = \"hold_speed\"); a vehicle that coasts or is driven by a given force goes at its own speed",
+                self.speed_ramp_m_s2,
+                self.traction.mode.name()
+            ));
+        }
         p.extend(late);
         p
     }
@@ -394,6 +519,9 @@ pub enum BuildError {
     },
     #[error("vehicle: {0}")]
     Vehicle(#[from] DynamicsError),
+    /// The traction law does not fit the vehicle (names the key).
+    #[error("{problem}")]
+    Traction { problem: String },
 }
 
 /// The objects of one run: the vehicle system (with its contact model and reference motion), the
@@ -448,7 +576,16 @@ pub fn build_vehicle(
     forces: &ContactForceSettings,
     r0: f64,
     reference: Reference,
-) -> Result<Box<dyn VehicleModel>, DynamicsError> {
+    traction: &TractionSpec,
+) -> Result<Box<dyn VehicleModel>, BuildError> {
+    if matches!(spec, VehicleSpec::WheelsetOnFrame(_)) && traction.mode != TractionMode::HoldSpeed {
+        return Err(BuildError::Traction {
+            problem: format!(
+                "simulation.traction.mode = \"{}\": a wheelset-on-frame vehicle runs tied to its frame, which moves at the reference speed (the tie's longitudinal force is the traction): only \"hold_speed\" applies",
+                traction.mode.name()
+            ),
+        });
+    }
     Ok(match spec {
         VehicleSpec::WheelsetOnFrame(w) => Box::new(SingleWheelset {
             name: crate::vehicle::spec::SINGLE_WHEELSET_NAME.to_string(),
@@ -470,7 +607,23 @@ pub fn build_vehicle(
             r0,
             reference,
         }),
-        VehicleSpec::Multibody(m) => Box::new(Multibody::new(m, contact, forces.clone(), r0, reference)?),
+        VehicleSpec::Multibody(m) => {
+            let mut sys = Multibody::new(m, contact, forces.clone(), r0, reference)?;
+            let law = match traction.mode {
+                TractionMode::HoldSpeed => TractionLaw::HoldSpeed(sys.speed_loop(
+                    traction.controller_hz.unwrap_or(DEFAULT_BANDWIDTH_HZ),
+                    traction.max_force_n,
+                )),
+                TractionMode::Coast => TractionLaw::Coast,
+                TractionMode::Force => TractionLaw::Force {
+                    force_n: traction.force_n.unwrap_or(0.0),
+                },
+            };
+            sys.set_traction(law).map_err(|e| BuildError::Traction {
+                problem: format!("simulation.traction.mode = \"{}\": {e}", traction.mode.name()),
+            })?;
+            Box::new(sys)
+        }
     })
 }
 
@@ -496,6 +649,7 @@ pub fn reference(
             initial_m_s: speed_m_s,
             ramp_m_s2: sim.speed_ramp_m_s2,
         },
+        frame_model: sim.track_frame,
     }
 }
 
@@ -676,6 +830,7 @@ impl Scene {
             &self.contact_forces,
             self.pair.wheelset.nominal_radius_m,
             reference,
+            &sim.traction,
         )?;
         let mut notes = notes;
         let axle_loads: Vec<f64> = match (vehicle.settling(), spec) {

@@ -23,7 +23,7 @@ pub mod report;
 pub mod sections;
 pub mod spectrum;
 
-pub use centreline::{Centreline, FrameMotion, Start, TrackFrame};
+pub use centreline::{Centreline, FrameModel, FrameMotion, Start, TrackFrame};
 pub use error::TrackError;
 pub use irregularity::{Generation, Irregularities, IrregularityState};
 pub use psd::{Channel, Psd};

@@ -389,6 +389,10 @@ pub struct WheelsetBodySpec {
     /// Present: an IRW-wheelset, two independently rotating wheels on a non-rotating bridge.
     #[serde(default)]
     pub independent_wheels: Option<IrwSpec>,
+    /// Its wheels are motored: the drive that holds the speed ([`crate::dynamics::traction`])
+    /// acts through the motored wheels, or through every wheel where no wheelset is marked.
+    #[serde(default)]
+    pub motored: bool,
 }
 
 /// `independent_wheels = { wheel_spin_inertia_kg_m2 = … }`.
