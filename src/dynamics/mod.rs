@@ -9,6 +9,9 @@
 //! * [`kinematics`]: a wheelset's contact kinematics, constrained or free, and each kind's
 //!   equations behind one interface (the vehicle systems use it, not the two above);
 //! * [`reference`](mod@reference): the reference motion along the track and the frames it gives;
+//! * [`traction`]: what drives the vehicle along the track (the speed loop on the motored wheels,
+//!   coasting, a given force, a tie to the track frame); [`resistance`]: the run's traction
+//!   summary and each curve's curving resistance;
 //! * [`integrator`]: DOPRI5, ROS3, ROS34PW2, BDF with dense output and diagnosed failures;
 //! * [`sample`]: a wheelset's output sample and the one table of what a run records of it (the
 //!   CSV's columns, the recording's series and layout are made from it);
@@ -33,6 +36,7 @@ pub mod multibody;
 pub mod output;
 mod reactions;
 pub mod reference;
+pub mod resistance;
 pub mod ride;
 pub mod run;
 pub mod safety;

@@ -86,7 +86,7 @@ pub struct RunSummary {
     pub comfort: Option<super::ride::Comfort>,
     /// What held the speed and what it took: traction, power, the curving resistance
     /// ([`super::traction`]).
-    pub traction: Option<super::traction::TractionSummary>,
+    pub traction: Option<super::resistance::TractionSummary>,
     /// Physically doubtful input the run went on with (the scenario's warnings).
     pub warnings: Vec<String>,
 }

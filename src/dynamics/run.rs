@@ -644,7 +644,7 @@ fn run_here(
         ));
     }
     summary.comfort = super::ride::assess(&floor, settings.record_rate_hz);
-    let curves: Vec<super::traction::Curve> = vehicle
+    let curves: Vec<super::resistance::Curve> = vehicle
         .reference()
         .track
         .as_ref()
@@ -660,7 +660,7 @@ fn run_here(
                 .collect()
         })
         .unwrap_or_default();
-    summary.traction = super::traction::assess(vehicle.drive_info(), &wheelsets, &curves);
+    summary.traction = super::resistance::assess(vehicle.drive_info(), &wheelsets, &curves);
     let mut end = end;
     for o in observers.iter_mut() {
         if let Err(e) = o.finish(&summary) {

@@ -1067,9 +1067,10 @@ mod tests {
                 vec![1500.0, 19000.0]
             )
         );
+        // (The first row is the vehicle's own: speed and traction.)
         let rows = plot_rows(table, &["w1".to_string()]);
         assert_eq!(
-            rows[0].last().unwrap(),
+            rows[1].last().unwrap(),
             &Plot {
                 title: "w1: spin [mm]".into(),
                 origin: "/run/w1/spin_mm".into()
