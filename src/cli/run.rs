@@ -164,6 +164,20 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
         s.integrator.method,
         s.integrator.rtol
     );
+    let drive = built.vehicle.drive_info();
+    println!(
+        "traction: {}",
+        match drive.mode {
+            "hold_speed" => format!(
+                "the speed held by a {} Hz loop on the motored wheels of {} (the actual speed is the CSV's speed_m_s)",
+                drive.controller_hz.unwrap_or_default(),
+                drive.driven_wheelsets.join(", ")
+            ),
+            "tied" => "the speed held by the vehicle's tie to the track frame".to_string(),
+            "coast" => "none: the vehicle coasts, slowed by its resistance".to_string(),
+            _ => format!("a given force on {}", drive.driven_wheelsets.join(", ")),
+        }
+    );
     if let Some(st) = built.vehicle.settling() {
         println!(
             "static settling: axle loads {} kN (elements preloaded; residual {:.1e} N)",

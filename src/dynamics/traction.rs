@@ -157,7 +157,6 @@ pub struct DriveInfo {
     pub effective_mass_kg: f64,
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
