@@ -143,12 +143,11 @@ fn hard_cases_end_in_physical_answers() {
     }
     // The alignment kink: the rails drag the wheelset against its ties by the right flange; the
     // elastic wheel climbs past the flange's largest angle — a derailment, the wheel named, its Y/Q
-    // over the last 2 m beyond Nadal's limit. KEC's constraint holds the wheel at the flange's
-    // largest angle (its profiles end there only in y), so it completes — but its own running
-    // safety figures flag the exceedance.
-    // Over the scene's own 4 s, not the suite's 2 s window: where the elastic flange climbs is a
-    // bifurcation (1.4 s apart between two builds that differ by round-off in the creep forces),
-    // while that it climbs is not.
+    // over the last 2 m beyond Nadal's limit. KEC derails there too, or (with softer ties, before
+    // issue 46) holds the wheel at the flange's largest angle and completes; either way its own
+    // running safety figures flag the exceedance. Over the scene's own 4 s, not the suite's 2 s
+    // window (with 2 × 2 MN/m ties the climb was a bifurcation, 1.4 s apart between two builds
+    // that differed by round-off in the creep forces; at 2 × 2.5 MN/m it climbs at the kink).
     let kink_scene = HARD_SCENES.iter().find(|h| h.name == "alignment_kink").unwrap();
     let kink_scene = compile(kink_scene, None).unwrap();
     let kink_run = |model: &str| {

@@ -190,6 +190,7 @@ fn ms_in_the_curve(traction: TractionSpec) -> RunOutput {
 /// - the held run's traction power against the power the creep forces dissipate in the contact
 ///   patches, Σ −(Fx ξx + Fy ξy) V over the wheels (Polach's creep forces carry no spin moment),
 ///   recomputed from the samples, within 2 %.
+///
 /// Measured (2026-12-04): held 574 N, coasting M_e a 568 N (−1.1 %; it runs 0.3 % slower),
 /// dissipation 569 N × V.
 #[test]
@@ -281,6 +282,9 @@ fn a_coasting_vehicle_decelerates_by_the_curving_resistance_a_held_one_reports()
         "{}",
         resistance(&coast)
     );
+    // A study's extract reads the same figure.
+    let extract = kecsim::study::extract::Extract::parse("curving_resistance_n").unwrap();
+    assert_eq!(extract.value(&held, None), Some(resistance(&held)));
     assert_eq!(coast.summary.traction.as_ref().unwrap().mode, "coast");
     assert!(coast.summary.traction.as_ref().unwrap().mean_traction_n.abs() < 1e-9);
 }

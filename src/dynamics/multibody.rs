@@ -11,7 +11,7 @@
 //! I (Θ̈ + α_t) + ω × (I ω) = M,    ω = ω_t + Θ̇
 //! ```
 //!
-//! with a_t, ω_t, α_t the track frame's motion at V (Eq. 3–4) and g_t gravity in track components
+//! with a_t, ω_t, α_t the track frame's motion at V (whole, or Eq. 3–4: [`crate::track::FrameModel`]) and g_t gravity in track components
 //! (Eq. 2); the mass matrix is diagonal, so each body's accelerations are explicit.
 //!
 //! **Wheelsets**: [`super::wheelset::evaluate`] (the 10×10 Newton–Euler + normal-force solve of
@@ -162,6 +162,10 @@ pub struct Drive {
     /// What the speed loop reads (bodies first, then wheelsets, as [`BodyRef::Body`]): the driven
     /// wheelsets and their carriers, each once.
     pub sensed: Vec<usize>,
+    /// The elements tying the vehicle to the track frame ([`Multibody::ties`]).
+    pub ties: Vec<usize>,
+    /// M_e ([`Multibody::effective_mass_kg`]), kg.
+    pub effective_mass_kg: f64,
 }
 
 /// Why a traction law does not fit a vehicle (the scene's key is named by the caller).
@@ -272,8 +276,12 @@ impl Multibody {
                 law: TractionLaw::Coast,
                 driven: Vec::new(),
                 sensed: Vec::new(),
+                ties: Vec::new(),
+                effective_mass_kg: 0.0,
             },
         };
+        sys.drive.ties = sys.ties();
+        sys.drive.effective_mass_kg = sys.effective_mass_kg();
         sys.drive.driven = sys.driven_wheelsets(spec);
         let nb = sys.bodies.len();
         for &(j, carrier) in &sys.drive.driven {
@@ -472,7 +480,7 @@ impl Multibody {
         }
         // The ties' longitudinal force on the vehicle, in the tied body's axes.
         let mut tie = 0.0;
-        for k in self.ties() {
+        for &k in &self.drive.ties {
             let (a, b) = self.elements[k].ends();
             let l = &loads[k];
             let (body, sign) = match (a, b) {
@@ -490,7 +498,7 @@ impl Multibody {
             TractionLaw::HoldSpeed(_) => v_dot,
             _ => 0.0,
         };
-        let ramp_n = self.effective_mass_kg() * ramp;
+        let ramp_n = self.drive.effective_mass_kg * ramp;
         power += ramp_n * v;
         let state = TractionState {
             demand_n: demand,

@@ -1,6 +1,6 @@
 //! The vehicle reference: the point that moves along the track centreline at the prescribed speed
 //! (DYNAMICS.md §1), s₀(t) with ṡ₀ = V(t), and what a body-track frame at arc length s sees of the
-//! track: its position and orientation (Eq. 1–2), its motion (Eq. 3–4), gravity in its components,
+//! track: its position and orientation (Eq. 1–2), its motion (the whole motion, or Eq. 3–4 as printed: [`crate::track::FrameModel`]), gravity in its components,
 //! and the rail irregularities with their time derivatives (METHOD.md §2).
 
 use std::sync::Arc;
@@ -46,7 +46,7 @@ pub struct FrameAt {
     /// R(s), m, and A(s) (Eq. 1–2).
     pub origin: Vector3<f64>,
     pub rotation: Matrix3<f64>,
-    /// The frame's motion at the reference speed (Eq. 3–4) and gravity.
+    /// The frame's motion at the reference speed (whole, or Eq. 3–4) and gravity.
     pub motion: FrameMotion,
     /// The rail displacements there and their time derivatives.
     pub rails: RailMotion,

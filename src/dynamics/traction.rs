@@ -110,9 +110,14 @@ pub const DAMPING_RATIO: f64 = 1.0;
 /// the curve 310 N at 0.2 Hz, 1.2 kN at 1 Hz, about a 0.58 kN mean; measured 2026-12-04).
 pub const DEFAULT_BANDWIDTH_HZ: f64 = 0.2;
 
-/// The largest bandwidth accepted, Hz: above it the loop comes within a decade of the
-/// longitudinal suspension modes and the wheels' spin–creep dynamics, which the integrator's
-/// Newton matrix does not couple to it.
+/// The largest bandwidth accepted, Hz. A traction controller's speed loop is slow against the
+/// vehicle's dynamics, and this one, collocated, stays stable far beyond it — but not for any
+/// gain (measured 2026-12-04 on 14 s of the MS vehicle and 12 s of the Manchester vehicle into the
+/// Tab. 6 curve): above ~2 Hz the traction follows the bogies' longitudinal vibration (its swing
+/// grows with the gain), from ~20 Hz it costs right-hand sides (1.8× the 0.2 Hz run's at 20 Hz,
+/// 36× at 1000 Hz), and at hundreds of Hz it reaches the wheels' spin–creep time constants (~1
+/// ms) and turns unstable: the Manchester vehicle at 500 Hz threw a wheel 5 mm off its rail within
+/// 1 s.
 pub const MAX_BANDWIDTH_HZ: f64 = 2.0;
 
 /// The speed error beyond which a held speed is declared lost (the run stops with the

@@ -18,7 +18,7 @@
 //!
 //! with the normal forces at the **real** contact points u_i (relative to the wheelset centre)
 //! along the real rail normals n_i (Eq. 53), F and M the applied forces (suspension, creep)
-//! about the centre, a_t, ω_t, α_t the track frame's motion (Eq. 3–4) and g_t gravity in track
+//! about the centre, a_t, ω_t, α_t the track frame's motion (whole, or Eq. 3–4) and g_t gravity in track
 //! components. Dropped, by choice: α_t × r and ω_t × (ω_t × r) (r is millimetres; on R ≥ 100 m at
 //! 30 m/s they are < 1e-3 m/s²) and products of small rates other than the gyroscopic ones; kept:
 //! the gyroscopic moments I_y Ω (ψ̇ + ω_tz), I_y Ω (φ̇ + ω_tx), and Coriolis.
@@ -59,7 +59,7 @@ pub struct IrwInertia {
     pub wheel_spin_kg_m2: f64,
 }
 
-/// The motion of the wheelset-track frame (Eq. 3–4) and gravity, in its own components.
+/// The motion of the wheelset-track frame (whole, or Eq. 3–4) and gravity, in its own components.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FrameMotion {
     /// Forward speed V, m/s.

@@ -154,6 +154,9 @@ pub struct TrackFrame {
     pub drho_tw: f64,
     /// (cos ψ, sin ψ), from the same series as the position.
     pub heading_cos_sin: (f64, f64),
+    /// (sin θ, cos θ) and (sin φ, cos φ), computed once for the rotation and the motion.
+    pub slope_sin_cos: (f64, f64),
+    pub cant_sin_cos: (f64, f64),
 }
 
 /// Motion of a frame sliding along the centreline at speed V with acceleration V̇, components in
@@ -187,8 +190,8 @@ impl TrackFrame {
     /// α = V̇ w + V² w', a = Aᵀ (V̇ R' + V² R'') with R' = [cos ψ, sin ψ, −θ] and
     /// R'' = [−ρ_h sin ψ, ρ_h cos ψ, −ρ_v].
     pub fn motion(&self, v: f64, v_dot: f64) -> FrameMotion {
-        let (st, ct) = self.slope_rad.sin_cos();
-        let (sp, cp) = self.cant_rad.sin_cos();
+        let (st, ct) = self.slope_sin_cos;
+        let (sp, cp) = self.cant_sin_cos;
         let (th, rh, rv, rt) = (self.slope_rad, self.rho_h, self.rho_v, self.rho_tw);
         let (drh, drv, drt) = (self.drho_h, self.drho_v, self.drho_tw);
         let w = Vector3::new(rt - rh * st, rv * cp + rh * ct * sp, rh * ct * cp - rv * sp);
@@ -260,12 +263,15 @@ impl TrackFrame {
     }
 }
 
-/// The exact rotation R_z(ψ) R_y(θ) R_x(φ) from the azimuth (as cos, sin), slope and cant; its
-/// first-order expansion in θ, φ is Eq. (2) ([`rotation_eq2`]).
+/// The exact rotation R_z(ψ) R_y(θ) R_x(φ) from the azimuth (as cos, sin), slope and cant (as
+/// sin, cos); its first-order expansion in θ, φ is Eq. (2) ([`rotation_eq2`]).
 #[inline]
-pub fn rotation_exact(cos_psi: f64, sin_psi: f64, theta: f64, phi: f64) -> Matrix3<f64> {
-    let (st, ct) = theta.sin_cos();
-    let (sp, cp) = phi.sin_cos();
+pub fn rotation_exact(
+    cos_psi: f64,
+    sin_psi: f64,
+    (st, ct): (f64, f64),
+    (sp, cp): (f64, f64),
+) -> Matrix3<f64> {
     Matrix3::new(
         cos_psi * ct,
         cos_psi * st * sp - sin_psi * cp,
@@ -466,10 +472,12 @@ impl Centreline {
         let w = s - vs.s0;
         let theta = vs.theta0 + vs.rho_v * w;
         let z = vs.z0 - w * (vs.theta0 + 0.5 * vs.rho_v * w);
+        let sin_cos = |a: f64| if a == 0.0 { (0.0, 1.0) } else { a.sin_cos() };
+        let (slope_sin_cos, cant_sin_cos) = (sin_cos(theta), sin_cos(phi));
         Ok(TrackFrame {
             s,
             position: Vector3::new(x, y, z),
-            rotation: rotation_exact(cos_psi, sin_psi, theta, phi),
+            rotation: rotation_exact(cos_psi, sin_psi, slope_sin_cos, cant_sin_cos),
             heading_rad: psi,
             slope_rad: theta,
             cant_rad: phi,
@@ -480,6 +488,8 @@ impl Centreline {
             drho_v: 0.0,
             drho_tw: 0.0,
             heading_cos_sin: (cos_psi, sin_psi),
+            slope_sin_cos,
+            cant_sin_cos,
         })
     }
 }

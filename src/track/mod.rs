@@ -4,7 +4,7 @@
 //!   (straight, transition) sections, Tab. 1–2, and the checks a list of them must pass.
 //! * [`clothoid`]: position along a curve of linear curvature (Fresnel integral by its series).
 //! * [`centreline`]: R^t(s), A^t(s) (Eq. 1–2), curvatures and their derivatives, the sliding
-//!   frame's velocity and acceleration terms (Eq. 3–4).
+//!   frame's motion: the exact rotation's whole motion, or Eq. 2–4 as printed ([`FrameModel`]).
 //! * [`psd`]: FRA and German irregularity spectra; [`irregularity`]: generation (sum of cosines),
 //!   C² interpolation with derivatives, rail displacements and rail-frame placement (METHOD.md §2);
 //!   [`measured`]: irregularity CSV files; [`spectrum`]: PSD estimates to check them.
