@@ -408,14 +408,9 @@ pub const QUANTITIES: &[Quantity] = &[
         name: "forward speed along the track (ṡ = V + ẋ)",
         value: Value::One(|s| s.speed),
         csv: Csv::Columns("speed", Unit::M_S),
-        series: Some(Series {
-            stem: "speed",
-            unit: Unit::M_S,
-            title: "speed",
-            panel: None,
-            vehicle: true,
-            once: false,
-        }),
+        // (Recorded as the vehicle's own speed, `vehicle_speed`: the wheelsets' differ from it by
+        // their millimetre swings on the suspension.)
+        series: None,
     },
     Quantity {
         name: "lateral displacement",

@@ -852,7 +852,6 @@ mod tests {
         let pinned = [
             ("max_abs_y_over_q", 0.16),
             ("min_normal_kn", 48.0),
-            ("speed_m_s", 19.0),
             ("y_mm", 2.0),
             ("yaw_mrad", -1.5),
         ];
@@ -944,7 +943,6 @@ mod tests {
         single.extend(detail("wheelset_1"));
         assert_eq!(rows(&["wheelset_1"]), single);
         let mut vehicle: Vec<(String, String)> = [
-            ("every wheelset: speed [m/s]", "/run/vehicle/speed_m_s"),
             ("every wheelset: y [mm]", "/run/vehicle/y_mm"),
             ("every wheelset: yaw [mrad]", "/run/vehicle/yaw_mrad"),
             (
