@@ -166,17 +166,8 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     );
     let drive = built.vehicle.drive_info();
     println!(
-        "traction: {}",
-        match drive.mode {
-            "hold_speed" => format!(
-                "the speed held by a {} Hz loop on the motored wheels of {} (the actual speed is the CSV's speed_m_s)",
-                drive.controller_hz.unwrap_or_default(),
-                drive.driven_wheelsets.join(", ")
-            ),
-            "tied" => "the speed held by the vehicle's tie to the track frame".to_string(),
-            "coast" => "none: the vehicle coasts, slowed by its resistance".to_string(),
-            _ => format!("a given force on {}", drive.driven_wheelsets.join(", ")),
-        }
+        "traction: {} (the actual speed is the CSV's speed_m_s)",
+        kecsim::dynamics::traction::describe(drive.mode, drive.controller_hz, &drive.driven_wheelsets)
     );
     if let Some(st) = built.vehicle.settling() {
         println!(

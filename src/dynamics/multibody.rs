@@ -291,7 +291,7 @@ impl Multibody {
                 }
             }
         }
-        sys.drive.law = if sys.ties().is_empty() {
+        sys.drive.law = if sys.drive.ties.is_empty() {
             TractionLaw::HoldSpeed(sys.speed_loop(DEFAULT_BANDWIDTH_HZ, None))
         } else {
             TractionLaw::Tied
@@ -356,6 +356,32 @@ impl Multibody {
             .chain(self.wheelsets.iter().map(|w| w.inertia.mass_kg))
     }
 
+    /// The mass-weighted offset along the track and its rate of the masses `k` (bodies first,
+    /// then wheelsets, as [`BodyRef::Body`]) at state `x`: (Σ m, Σ m x / Σ m, Σ m ẋ / Σ m).
+    fn longitudinal(&self, x: &[f64], masses: impl Iterator<Item = usize>) -> (f64, f64, f64) {
+        let nb = self.bodies.len();
+        let (mut m_sum, mut mx, mut mxd) = (0.0, 0.0, 0.0);
+        for k in masses {
+            let (m, o, rate) = if k < nb {
+                (self.bodies[k].mass_kg, self.body_offset(k), 6)
+            } else {
+                (
+                    self.wheelsets[k - nb].inertia.mass_kg,
+                    self.wheelset_offset(k - nb),
+                    3,
+                )
+            };
+            m_sum += m;
+            mx += m * x[o];
+            mxd += m * x[o + rate];
+        }
+        if m_sum > 0.0 {
+            (m_sum, mx / m_sum, mxd / m_sum)
+        } else {
+            (0.0, 0.0, 0.0)
+        }
+    }
+
     /// M_e of the speed loop: the translating masses plus each wheel's spin inertia over r₀²
     /// (a solid axle's I_y for its two wheels), kg.
     pub fn effective_mass_kg(&self) -> f64 {
@@ -374,7 +400,7 @@ impl Multibody {
     pub fn speed_loop(&self, bandwidth_hz: f64, max_force_n: Option<f64>) -> SpeedLoop {
         SpeedLoop {
             bandwidth_hz,
-            effective_mass_kg: self.effective_mass_kg(),
+            effective_mass_kg: self.drive.effective_mass_kg,
             max_force_n,
         }
     }
@@ -383,7 +409,7 @@ impl Multibody {
     /// speed: it takes [`TractionLaw::Tied`] for a held speed and refuses coasting or a given
     /// force; a free vehicle cannot be [`TractionLaw::Tied`].
     pub fn set_traction(&mut self, law: TractionLaw) -> Result<(), DriveError> {
-        let ties = self.ties();
+        let ties = &self.drive.ties;
         let names = || {
             ties.iter()
                 .map(|&k| format!("'{}'", self.elements[k].name()))
@@ -423,41 +449,15 @@ impl Multibody {
         poses: &[Pose],
     ) -> (TractionState, Vec<[f64; 2]>, f64) {
         let (v, v_dot) = self.reference.speed_at(t);
-        let nb = self.bodies.len();
         // The centre of mass's offset and speed error along the track.
-        let (mut m_sum, mut mx, mut mxd) = (0.0, 0.0, 0.0);
-        for (k, m) in self.translating_masses().enumerate() {
-            let (xk, xdk) = if k < nb {
-                let o = self.body_offset(k);
-                (x[o], x[o + 6])
-            } else {
-                let o = self.wheelset_offset(k - nb);
-                (x[o], x[o + 3])
-            };
-            m_sum += m;
-            mx += m * xk;
-            mxd += m * xdk;
-        }
-        let (x_g, x_g_dot) = (mx / m_sum, mxd / m_sum);
+        let (_, x_g, x_g_dot) = self.longitudinal(x, 0..self.bodies.len() + self.wheelsets.len());
         // The loop reads the position and speed of the driven wheelsets and the bodies carrying
         // their motors (collocated with the drive; see the traction module).
-        let (mut m_d, mut mx_d, mut mxd_d) = (0.0, 0.0, 0.0);
-        for &k in &self.drive.sensed {
-            let (m, xk, xdk) = if k < nb {
-                let o = self.body_offset(k);
-                (self.bodies[k].mass_kg, x[o], x[o + 6])
-            } else {
-                let o = self.wheelset_offset(k - nb);
-                (self.wheelsets[k - nb].inertia.mass_kg, x[o], x[o + 3])
-            };
-            m_d += m;
-            mx_d += m * xk;
-            mxd_d += m * xdk;
-        }
+        let (m_d, x_d, x_d_dot) = self.longitudinal(x, self.drive.sensed.iter().copied());
         let demand = match self.drive.law {
             TractionLaw::Coast | TractionLaw::Tied => 0.0,
             TractionLaw::Force { force_n } => force_n,
-            TractionLaw::HoldSpeed(l) if m_d > 0.0 => l.demand(mx_d / m_d, mxd_d / m_d),
+            TractionLaw::HoldSpeed(l) if m_d > 0.0 => l.demand(x_d, x_d_dot),
             TractionLaw::HoldSpeed(_) => 0.0,
         };
         let drive = match self.drive.law {
@@ -1542,7 +1542,7 @@ impl VehicleModel for Multibody {
             controller_hz,
             driven_wheelsets: driven,
             weight_n: self.settling.axle_loads.iter().sum(),
-            effective_mass_kg: self.effective_mass_kg(),
+            effective_mass_kg: self.drive.effective_mass_kg,
         }
     }
 

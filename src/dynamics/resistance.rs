@@ -4,7 +4,9 @@
 //! accelerated the vehicle (held: the traction; coasting: the deceleration's M_e a).
 
 use super::sample::Sample;
-use super::traction::{DriveInfo, DEFAULT_BANDWIDTH_HZ};
+use super::traction::{describe, DriveInfo};
+use crate::track::sections::HorizontalKind;
+use crate::track::Track;
 
 /// What holds a run's speed, and what it took (`traction` in the JSON summary; the keys are a
 /// documented interface).
@@ -63,6 +65,21 @@ pub struct CurveResistance {
 
 /// A circular curve of the track: from, to (m), radius (m).
 pub type Curve = (f64, f64, f64);
+
+/// The circular curves of `track` (none without one).
+pub fn curves(track: Option<&Track>) -> Vec<Curve> {
+    let Some(track) = track else {
+        return Vec::new();
+    };
+    track
+        .centreline
+        .sections()
+        .0
+        .iter()
+        .filter(|h| h.kind == HorizontalKind::Curve && h.curvature_1pm[0] != 0.0)
+        .map(|h| (h.from_m, h.to_m, 1.0 / h.curvature_1pm[0].abs()))
+        .collect()
+}
 
 /// The summary of a run's traction from its samples (every wheelset's, in time order; the
 /// vehicle's traction is in each), the vehicle's drive and the track's circular curves.
@@ -171,16 +188,7 @@ pub fn assess(
 impl std::fmt::Display for TractionSummary {
     /// The lines `kecsim run` prints.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let how = match self.mode {
-            "hold_speed" => format!(
-                "speed held by a {} Hz loop on {}",
-                self.controller_hz.unwrap_or(DEFAULT_BANDWIDTH_HZ),
-                self.driven_wheelsets.join(", ")
-            ),
-            "tied" => "speed held by the vehicle's tie to the track frame".to_string(),
-            "coast" => "coasting: nothing drives".to_string(),
-            _ => format!("a given force on {}", self.driven_wheelsets.join(", ")),
-        };
+        let how = describe(self.mode, self.controller_hz, &self.driven_wheelsets);
         writeln!(
             f,
             "traction ({how}): {:.3} kN mean, {:.3} .. {:.3} kN, {:.2} kW mean ({:.4} kWh); speed {:.3} .. {:.3} m/s, within {:.3} % of the reference {} m/s",
@@ -197,7 +205,7 @@ impl std::fmt::Display for TractionSummary {
         for c in &self.curves {
             writeln!(
                 f,
-                "  curve R {} m (s {:.0}–{:.0} m; the whole vehicle in it over {:.0}–{:.0} m): curving resistance {:.3} kN = {:.3} N/kN of the weight (traction {:.3} kN, {:.2} kW; {:.3} m/s, accelerating {:.2} mm/s²)",
+                "  curve R {:.2} m (s {:.0}–{:.0} m; the whole vehicle in it over {:.0}–{:.0} m): curving resistance {:.3} kN = {:.3} N/kN of the weight (traction {:.3} kN, {:.2} kW; {:.3} m/s, accelerating {:.2} mm/s²)",
                 c.radius_m,
                 c.from_m,
                 c.to_m,

@@ -644,22 +644,7 @@ fn run_here(
         ));
     }
     summary.comfort = super::ride::assess(&floor, settings.record_rate_hz);
-    let curves: Vec<super::resistance::Curve> = vehicle
-        .reference()
-        .track
-        .as_ref()
-        .map(|t| {
-            t.centreline
-                .sections()
-                .0
-                .iter()
-                .filter(|h| {
-                    h.kind == crate::track::sections::HorizontalKind::Curve && h.curvature_1pm[0] != 0.0
-                })
-                .map(|h| (h.from_m, h.to_m, 1.0 / h.curvature_1pm[0].abs()))
-                .collect()
-        })
-        .unwrap_or_default();
+    let curves = super::resistance::curves(vehicle.reference().track.as_deref());
     summary.traction = super::resistance::assess(vehicle.drive_info(), &wheelsets, &curves);
     let mut end = end;
     for o in observers.iter_mut() {

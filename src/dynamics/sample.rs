@@ -387,6 +387,18 @@ const fn plot(stem: &'static str, unit: Unit, title: &'static str, panel: Panel)
     })
 }
 
+/// A vehicle's own series ([`Series::once`]): recorded once under `run/vehicle/`.
+const fn vehicle_own(stem: &'static str, unit: Unit, title: &'static str) -> Option<Series> {
+    Some(Series {
+        stem,
+        unit,
+        title,
+        panel: None,
+        vehicle: false,
+        once: true,
+    })
+}
+
 /// **What a run records of each wheelset**, in the order of the CSV's columns and of the layout's
 /// plots: the one place a recorded quantity is declared (see the module's documentation). The CSV
 /// columns and series names it makes are interfaces: [`crate::dynamics::output`]'s and
@@ -619,14 +631,7 @@ pub const QUANTITIES: &[Quantity] = &[
         name: "the vehicle's speed along the track (its centre of mass's)",
         value: Value::One(|s| s.vehicle_speed),
         csv: Csv::Columns("vehicle_speed", Unit::M_S),
-        series: Some(Series {
-            stem: "vehicle_speed",
-            unit: Unit::M_S,
-            title: "speed (centre of mass)",
-            panel: None,
-            vehicle: false,
-            once: true,
-        }),
+        series: vehicle_own("vehicle_speed", Unit::M_S, "speed (centre of mass)"),
     },
     Quantity {
         name: "the drive's torque on each wheel",
@@ -638,27 +643,13 @@ pub const QUANTITIES: &[Quantity] = &[
         name: "the vehicle's traction (drive and ties)",
         value: Value::One(|s| s.traction),
         csv: Csv::Columns("traction", Unit::N),
-        series: Some(Series {
-            stem: "traction",
-            unit: Unit::KN,
-            title: "traction",
-            panel: None,
-            vehicle: false,
-            once: true,
-        }),
+        series: vehicle_own("traction", Unit::KN, "traction"),
     },
     Quantity {
         name: "the vehicle's traction power at the wheels",
         value: Value::One(|s| s.traction_power),
         csv: Csv::Columns("traction_power", Unit::KW),
-        series: Some(Series {
-            stem: "traction_power",
-            unit: Unit::KW,
-            title: "traction power",
-            panel: None,
-            vehicle: false,
-            once: true,
-        }),
+        series: vehicle_own("traction_power", Unit::KW, "traction power"),
     },
 ];
 

@@ -162,6 +162,21 @@ pub struct DriveInfo {
     pub effective_mass_kg: f64,
 }
 
+/// What drives the vehicle, in words, from a [`DriveInfo`]'s mode, bandwidth and driven wheelsets
+/// (the run's printed lines).
+pub fn describe(mode: &str, controller_hz: Option<f64>, driven: &[String]) -> String {
+    match mode {
+        "hold_speed" => format!(
+            "speed held by a {} Hz loop on {}",
+            controller_hz.unwrap_or(DEFAULT_BANDWIDTH_HZ),
+            driven.join(", ")
+        ),
+        "tied" => "speed held by the vehicle's tie to the track frame".to_string(),
+        "coast" => "coasting: nothing drives".to_string(),
+        _ => format!("a given force on {}", driven.join(", ")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
