@@ -43,11 +43,14 @@ pub(super) struct RunArgs {
     /// default: as fast as it computes.
     #[arg(long, value_name = "X")]
     pace: Option<f64>,
-    /// The 3D view's factor on the lateral and yaw motion relative to the track (and on the rails'
-    /// lateral irregularities), so that millimetres show on a 30 m vehicle; 1 = true scale. The
-    /// cross-sections stay true scale.
+    /// The 3D view's factor on the wheelsets' lateral and yaw motion relative to the track (and on
+    /// the rails' lateral irregularities), so that their millimetres show; the bodies and the
+    /// cross-sections stay true scale; 1 (the default) = true scale.
     #[arg(long, value_name = "FACTOR", default_value_t = kecsim::inspect::world3d::DEFAULT_EXAGGERATION)]
     exaggerate: f64,
+    /// The tab of the recording's layout the viewer opens on.
+    #[arg(long, value_enum, default_value_t = kecsim::inspect::run::RunTab::Overview)]
+    tab: kecsim::inspect::run::RunTab,
     #[command(flatten)]
     sink: SinkArgs,
 }
@@ -191,7 +194,7 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     let world = kecsim::inspect::world3d::World3dSettings {
         exaggerate: a.exaggerate,
     };
-    let mut recorder = LiveRecorder::open_with(&sink, scene, &names, &world)?;
+    let mut recorder = LiveRecorder::open_on(&sink, scene, &names, &world, a.tab)?;
     let mut progress = Progress::new();
     let mut pace = a.pace.map(|x| Pace::new(x, cancel.clone()));
     let out = {

@@ -11,9 +11,7 @@
 //! | `compare/summary` | TextDocument | the report |
 //! | `compare/world/MODEL/**` | as `run/world/**` ([`super::world3d`]) | every model's vehicle in one 3D view: the first with the track, the others ghosted in their series colour |
 
-use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial3DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
-};
+use super::{Container, Item, Layout, View};
 use rerun::{Color, RecordingStream, TextDocument, TimeColumn};
 
 use super::world3d::{World3d, World3dSettings, WorldStyle};
@@ -55,23 +53,23 @@ fn shown(c: &Comparison) -> Vec<String> {
 }
 
 /// The layout: a row per wheelset shown, the report below.
-pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
+pub fn blueprint_for(wheelsets: &[String]) -> Layout {
     let mut rows = wheelset_rows(wheelsets);
     rows.push(
-        TextDocumentView::new("Report")
-            .with_origin("/compare/summary")
+        View::text_document("Report")
+            .origin("/compare/summary")
             .into(),
     );
-    Blueprint::new(Vertical::new(rows)).with_time_panel(TimePanel::new().with_timeline(TIME))
+    Layout::new(Container::vertical(rows)).timeline(TIME)
 }
 
 /// A row of plots per wheelset shown.
-fn wheelset_rows(wheelsets: &[String]) -> Vec<rerun::blueprint::ContainerLike> {
-    let plot = |title: String, origin: String| TimeSeriesView::new(title).with_origin(origin).into();
+fn wheelset_rows(wheelsets: &[String]) -> Vec<Item> {
+    let plot = |title: String, origin: String| View::time_series(title).origin(origin).into();
     wheelsets
         .iter()
         .map(|w| {
-            Horizontal::new([
+            Container::horizontal([
                 plot(format!("{w}: y [mm]"), format!("/compare/{w}/y_mm")),
                 plot(format!("{w}: yaw [mrad]"), format!("/compare/{w}/yaw_mrad")),
                 plot(format!("{w}: Δy [mm]"), format!("/compare/{w}/dy_mm")),
@@ -92,29 +90,29 @@ fn wheelset_rows(wheelsets: &[String]) -> Vec<rerun::blueprint::ContainerLike> {
 
 /// The layout for a comparison: the models' vehicles in 3D on top (following the first model's
 /// front wheelset), then [`blueprint_for`]'s rows.
-pub fn blueprint(c: &Comparison) -> Blueprint {
+pub fn blueprint(c: &Comparison) -> Layout {
     let Some(first) = c.runs.first() else {
         return blueprint_for(&shown(c));
     };
-    let world = Spatial3DView::new(format!(
+    let world = View::spatial3d(format!(
         "{} — every model's vehicle, {} solid, the others ghosted",
         World3d::title(&World3dSettings::default()),
         first.model
     ))
-    .with_origin(format!("/compare/world/{}/follow", first.model))
-    .with_contents(["/compare/world/**"]);
+    .origin(format!("/compare/world/{}/follow", first.model))
+    .contents(["/compare/world/**"]);
     let rows_below = wheelset_rows(&shown(c));
     let mut shares = vec![3.0];
     shares.extend(std::iter::repeat_n(2.0, rows_below.len() + 1));
-    let mut rows: Vec<rerun::blueprint::ContainerLike> = vec![world.into()];
+    let mut rows: Vec<Item> = vec![world.into()];
     rows.extend(rows_below);
     rows.push(
-        TextDocumentView::new("Report")
-            .with_origin("/compare/summary")
+        View::text_document("Report")
+            .origin("/compare/summary")
             .into(),
     );
-    Blueprint::new(Vertical::new(rows).with_row_shares(shares))
-        .with_time_panel(TimePanel::new().with_timeline(TIME))
+    Layout::new(Container::vertical(rows).shares(shares))
+        .timeline(TIME)
 }
 
 /// Every model's vehicle in 3D (`compare/world/MODEL`, see the module doc), over the time every run

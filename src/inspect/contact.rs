@@ -13,9 +13,7 @@
 //! | `contact/plots/contact_angle_deg` | Scalars (left, right) | contact angles |
 //! | `contact/summary` | TextDocument | conicity, jumps, interpolation error |
 
-use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
-};
+use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, section_mm, InspectError};
@@ -27,39 +25,39 @@ use crate::profile::Side;
 pub const TIMELINE: &str = "y_um";
 
 /// Layout: both sides' cross-sections on top, the plots below, the summary at the bottom.
-pub fn blueprint() -> Blueprint {
+pub fn blueprint() -> Layout {
     let side_view = |side: Side, title: &str| {
-        Spatial2DView::new(title)
-            .with_origin(format!("/contact/section/{}", side.name()))
+        View::spatial2d(title)
+            .origin(format!("/contact/section/{}", side.name()))
             .into()
     };
-    let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
-    Blueprint::new(
-        Vertical::new([
-            Horizontal::new([
+    let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
+    Layout::new(
+        Container::vertical([
+            Container::horizontal([
                 side_view(Side::Right, "Right wheel and rail (−Y)"),
                 side_view(Side::Left, "Left wheel and rail (+Y)"),
             ])
             .into(),
-            Horizontal::new([
+            Container::horizontal([
                 plot("z − r0 [mm]", "/contact/plots/z_mm"),
                 plot("roll [mrad]", "/contact/plots/roll_mrad"),
                 plot("Δr = r_left − r_right [mm]", "/contact/plots/dr_mm"),
             ])
             .into(),
-            Horizontal::new([
+            Container::horizontal([
                 plot("contact on wheel s^w [mm]", "/contact/plots/s_wheel_mm"),
                 plot("contact on rail s^r [mm]", "/contact/plots/s_rail_mm"),
                 plot("contact angle [deg]", "/contact/plots/contact_angle_deg"),
-                TextDocumentView::new("Summary")
-                    .with_origin("/contact/summary")
+                View::text_document("Summary")
+                    .origin("/contact/summary")
                     .into(),
             ])
             .into(),
         ])
-        .with_row_shares([3.0, 2.0, 2.0]),
+        .shares([3.0, 2.0, 2.0]),
     )
-    .with_time_panel(TimePanel::new().with_timeline(TIMELINE))
+    .timeline(TIMELINE)
 }
 
 pub(crate) fn log_err(entity: &str) -> impl FnOnce(rerun::RecordingStreamError) -> InspectError + '_ {

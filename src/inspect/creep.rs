@@ -15,9 +15,7 @@
 //! | `creep/patch/{longitudinal,lateral}` | Points2D per step | FASTSIM traction distribution of each curve: adhesion (green) and slip (red) elements, size ∝ |p| |
 //! | `creep/summary` | TextDocument, static | inputs, Kalker coefficients, model parameters |
 
-use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
-};
+use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, send_scalar_columns, InspectError};
@@ -30,38 +28,34 @@ pub const TIMELINE: &str = "creepage_step";
 
 /// Layout: the three plots on top, the patch views and the summary below; the time cursor follows
 /// the data (opens at the end of the sweep: full sliding).
-pub fn blueprint() -> Blueprint {
-    let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
-    Blueprint::new(
-        Vertical::new([
-            Horizontal::new([
+pub fn blueprint() -> Layout {
+    let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
+    Layout::new(
+        Container::vertical([
+            Container::horizontal([
                 plot("Fx [N] vs ξx (loads)", "/creep/longitudinal/fx_n"),
                 plot("Fy [N] vs ξy (spins)", "/creep/lateral/fy_n"),
                 plot("Mz [N·m] vs ξy (spins)", "/creep/lateral/mz_nm"),
             ])
             .into(),
-            Horizontal::new([
-                Spatial2DView::new("FASTSIM patch, longitudinal curve (green adhesion, red slip)")
-                    .with_origin("/creep/patch")
-                    .with_contents(["/creep/patch/ellipse", "/creep/patch/longitudinal"])
+            Container::horizontal([
+                View::spatial2d("FASTSIM patch, longitudinal curve (green adhesion, red slip)")
+                    .origin("/creep/patch")
+                    .contents(["/creep/patch/ellipse", "/creep/patch/longitudinal"])
                     .into(),
-                Spatial2DView::new("FASTSIM patch, lateral curve")
-                    .with_origin("/creep/patch")
-                    .with_contents(["/creep/patch/ellipse", "/creep/patch/lateral"])
+                View::spatial2d("FASTSIM patch, lateral curve")
+                    .origin("/creep/patch")
+                    .contents(["/creep/patch/ellipse", "/creep/patch/lateral"])
                     .into(),
-                TextDocumentView::new("Summary")
-                    .with_origin("/creep/summary")
+                View::text_document("Summary")
+                    .origin("/creep/summary")
                     .into(),
             ])
             .into(),
         ])
-        .with_row_shares([3.0, 2.0]),
+        .shares([3.0, 2.0]),
     )
-    .with_time_panel(
-        TimePanel::new()
-            .with_timeline(TIMELINE)
-            .with_play_state(rerun::blueprint::components::PlayState::Following),
-    )
+    .timeline(TIMELINE).play_state(super::layout::PlayState::Following)
 }
 
 fn model_color(name: &str, shade: usize) -> Color {

@@ -10,9 +10,7 @@
 //! | `design/plots/{s_wheel_mm,s_rail_mm,contact_angle_deg,dr_mm}/{designed,reference}` | Scalars (left, right) on `y_um` | contact on wheel and rail, contact angles, Δr |
 //! | `design/summary` | TextDocument | target, flange measures, jumps, conicity |
 
-use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
-};
+use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Radius, RecordingStream, TextDocument};
 
 use super::contact::{log_real_sections, send_series, TIMELINE};
@@ -23,23 +21,23 @@ use crate::profile::placement::WheelRailPair;
 use crate::profile::Side;
 
 /// Layout: the profiles and the designed pair's sections on top, the functions of y below.
-pub fn blueprint() -> Blueprint {
-    let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
-    Blueprint::new(
-        Vertical::new([
-            Horizontal::new([
-                Spatial2DView::new("Wheels on the left rail (designed blue, reference grey)")
-                    .with_origin("/design/profiles")
+pub fn blueprint() -> Layout {
+    let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
+    Layout::new(
+        Container::vertical([
+            Container::horizontal([
+                View::spatial2d("Wheels on the left rail (designed blue, reference grey)")
+                    .origin("/design/profiles")
                     .into(),
-                Spatial2DView::new("Designed pair, right")
-                    .with_origin("/design/section/designed/right")
+                View::spatial2d("Designed pair, right")
+                    .origin("/design/section/designed/right")
                     .into(),
-                Spatial2DView::new("Designed pair, left")
-                    .with_origin("/design/section/designed/left")
+                View::spatial2d("Designed pair, left")
+                    .origin("/design/section/designed/left")
                     .into(),
             ])
             .into(),
-            Horizontal::new([
+            Container::horizontal([
                 plot(
                     "contact on wheel s^w [mm] (Fig. 14 left)",
                     "/design/plots/s_wheel_mm",
@@ -50,18 +48,18 @@ pub fn blueprint() -> Blueprint {
                 ),
             ])
             .into(),
-            Horizontal::new([
+            Container::horizontal([
                 plot("contact angle [deg]", "/design/plots/contact_angle_deg"),
                 plot("Δr = r_left − r_right [mm]", "/design/plots/dr_mm"),
-                TextDocumentView::new("Summary")
-                    .with_origin("/design/summary")
+                View::text_document("Summary")
+                    .origin("/design/summary")
                     .into(),
             ])
             .into(),
         ])
-        .with_row_shares([3.0, 2.0, 2.0]),
+        .shares([3.0, 2.0, 2.0]),
     )
-    .with_time_panel(TimePanel::new().with_timeline(TIMELINE))
+    .timeline(TIMELINE)
 }
 
 /// The left rail and a wheel centred on it, Y measured from the taping line.

@@ -11,9 +11,7 @@
 //! | `kec/plots/z_mm`, `kec/plots/roll_mrad` | Scalars (real, KEC) on `y_um` | kinematics from the real profiles and from KEC |
 //! | `kec/summary` | TextDocument | kinks, accuracy |
 
-use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
-};
+use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::contact::{log_err, log_real_sections, send_series, TIMELINE};
@@ -24,38 +22,38 @@ use crate::profile::placement::WheelRailPair;
 use crate::profile::Side;
 
 /// Layout: real sections on top, equivalent sections below them, then plots and summary.
-pub fn blueprint() -> Blueprint {
-    let view = |title: String, origin: String| Spatial2DView::new(title).with_origin(origin).into();
+pub fn blueprint() -> Layout {
+    let view = |title: String, origin: String| View::spatial2d(title).origin(origin).into();
     let row = |what: &str, title: &str| {
-        Horizontal::new([
+        Container::horizontal([
             view(format!("{title}: right (−Y)"), format!("/kec/{what}/right")),
             view(format!("{title}: left (+Y)"), format!("/kec/{what}/left")),
         ])
         .into()
     };
-    Blueprint::new(
-        Vertical::new([
+    Layout::new(
+        Container::vertical([
             row("real", "Real profiles"),
             row("equivalent", "Knife-edge-equivalent profile"),
-            Horizontal::new([
-                TimeSeriesView::new("z − r0 [mm]: real vs KEC")
-                    .with_origin("/kec/plots/z_mm")
+            Container::horizontal([
+                View::time_series("z − r0 [mm]: real vs KEC")
+                    .origin("/kec/plots/z_mm")
                     .into(),
-                TimeSeriesView::new("roll [mrad]: real vs KEC")
-                    .with_origin("/kec/plots/roll_mrad")
+                View::time_series("roll [mrad]: real vs KEC")
+                    .origin("/kec/plots/roll_mrad")
                     .into(),
-                Spatial2DView::new("Equivalent profiles f^k(s^k) [mm]")
-                    .with_origin("/kec/profiles")
+                View::spatial2d("Equivalent profiles f^k(s^k) [mm]")
+                    .origin("/kec/profiles")
                     .into(),
-                TextDocumentView::new("Summary")
-                    .with_origin("/kec/summary")
+                View::text_document("Summary")
+                    .origin("/kec/summary")
                     .into(),
             ])
             .into(),
         ])
-        .with_row_shares([2.0, 2.0, 2.0]),
+        .shares([2.0, 2.0, 2.0]),
     )
-    .with_time_panel(TimePanel::new().with_timeline(TIMELINE))
+    .timeline(TIMELINE)
 }
 
 /// Records the real sweep, the equivalent profiles and the overlaid kinematics.

@@ -22,6 +22,7 @@ pub mod contact;
 pub mod creep;
 pub mod design;
 pub mod kec;
+pub mod layout;
 pub mod paper;
 pub mod precision;
 pub mod profiles;
@@ -33,8 +34,9 @@ pub mod world3d;
 
 use std::path::PathBuf;
 
-use rerun::blueprint::Blueprint;
 use rerun::{Color, RecordingStream, Scalars, SeriesLines, TimeColumn};
+
+pub use layout::{Container, Item, Layout, View};
 
 /// Where a recording goes.
 #[derive(Debug, Clone, PartialEq)]
@@ -170,14 +172,23 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
     }
 }
 
-/// Opens a recording stream on `sink` with the layout `blueprint()` builds. A `Spawn` that cannot
-/// start a viewer falls back to saving [`DEFAULT_RRD`] and says so on stderr.
+/// Opens a recording stream on `sink` with the layout `layout()` builds (see [`layout`]). A
+/// `Spawn` that cannot start a viewer falls back to saving [`DEFAULT_RRD`] and says so on stderr.
 pub fn open_recording(
     app_id: &'static str,
     sink: &Sink,
-    blueprint: impl Fn() -> Blueprint,
+    layout: impl Fn() -> Layout,
 ) -> Result<RecordingStream, InspectError> {
-    let builder = || rerun::RecordingStreamBuilder::new(app_id).with_blueprint(blueprint());
+    open_recording_with(app_id, sink, layout).map(|(rec, _)| rec)
+}
+
+/// [`open_recording`], also returning the layout as sent (to change it later).
+pub fn open_recording_with(
+    app_id: &'static str,
+    sink: &Sink,
+    layout: impl Fn() -> Layout,
+) -> Result<(RecordingStream, layout::SentLayout), InspectError> {
+    let builder = || rerun::RecordingStreamBuilder::new(app_id);
     let rec = match sink {
         // Written to the part file beside the target, renamed onto it by finish_recording: a
         // reader never sees half a recording, and a recording that fails keeps the old file.
@@ -210,7 +221,11 @@ pub fn open_recording(
         },
     };
     rec.set_log_time_enabled(false);
-    Ok(rec)
+    let sent = layout().send(app_id, &rec).map_err(|source| InspectError::Log {
+        entity: "the layout (blueprint)".into(),
+        source,
+    })?;
+    Ok((rec, sent))
 }
 
 /// Logs a static archetype, mapping the error to one that names the entity.

@@ -32,10 +32,7 @@
 //! | `paper/fig19/dnormal_kn/NAME` | Scalars (left, right) | \|KEC − tables\| |
 //! | `paper/summary` | TextDocument | Tab. 7, Fig. 18's summary |
 
-use rerun::blueprint::{
-    Blueprint, ContainerLike, Grid, Horizontal, Spatial2DView, Tabs, TextDocumentView, TimePanel,
-    TimeSeriesView, Vertical,
-};
+use super::{Container, Item, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines, TextDocument, TimeColumn};
 
 use super::contact::TIMELINE as Y_TIMELINE;
@@ -96,15 +93,15 @@ fn style(
     )
 }
 
-fn plot(title: impl Into<String>, origin: impl Into<String>) -> ContainerLike {
-    TimeSeriesView::new(title).with_origin(origin.into()).into()
+fn plot(title: impl Into<String>, origin: impl Into<String>) -> Item {
+    View::time_series(title).origin(origin.into()).into()
 }
 
 /// Fig. 14 (the wheel and the rail side by side, as the paper's) above, Fig. 15 and Fig. 16
 /// below.
-pub fn contact_tab() -> ContainerLike {
-    Vertical::new([
-        Horizontal::new([
+pub fn contact_tab() -> Item {
+    Container::vertical([
+        Container::horizontal([
             plot(
                 "Fig. 14: contact on the wheel s^w [mm] vs y [µm] (timeline y_um)",
                 "/paper/fig14/s_wheel_mm",
@@ -115,13 +112,13 @@ pub fn contact_tab() -> ContainerLike {
             ),
         ])
         .into(),
-        Horizontal::new([
-            Spatial2DView::new(
+        Container::horizontal([
+            View::spatial2d(
                 "Fig. 15: right wheel, real (white) and KEC-equivalent (orange) on the knife edge; rail (grey) [mm]",
             )
-            .with_origin("/paper/fig15")
+            .origin("/paper/fig15")
             .into(),
-            Vertical::new([
+            Container::vertical([
                 plot(
                     "Fig. 16: z − r0 [mm], real and KEC vs y [µm] (timeline y_um)",
                     "/paper/fig16/z_mm",
@@ -133,30 +130,29 @@ pub fn contact_tab() -> ContainerLike {
             ])
             .into(),
         ])
-        .with_column_shares([1.6, 1.0])
+        .shares([1.6, 1.0])
         .into(),
     ])
-    .with_row_shares([1.0, 1.4])
-    .with_name("Fig. 14–16: contact geometry")
+    .shares([1.0, 1.4])
+    .named("Fig. 14–16: contact geometry")
     .into()
 }
 
 /// Fig. 17: the four irregularities, two by two.
-pub fn irregularity_tab() -> ContainerLike {
-    Grid::new(IRREGULARITIES.iter().map(|(name, title, _)| {
+pub fn irregularity_tab() -> Item {
+    Container::grid(2, IRREGULARITIES.iter().map(|(name, title, _)| {
         plot(
             format!("Fig. 17: {title} [mm] (timeline distance_mm)"),
             format!("/paper/fig17/{name}_mm"),
         )
     }))
-    .with_grid_columns(2)
-    .with_name("Fig. 17: irregularities")
+    .named("Fig. 17: irregularities")
     .into()
 }
 
 /// Fig. 18: y and ψ above, their differences below (the paper's layout).
-pub fn kinematics_tab(tables: &str) -> ContainerLike {
-    Grid::new([
+pub fn kinematics_tab(tables: &str) -> Item {
+    Container::grid(2, [
         plot(
             format!("Fig. 18: lateral displacement y [mm], kec and {tables} (timeline distance_mm)"),
             "/paper/fig18/y_mm",
@@ -171,13 +167,12 @@ pub fn kinematics_tab(tables: &str) -> ContainerLike {
             "/paper/fig18/dyaw_mrad",
         ),
     ])
-    .with_grid_columns(2)
-    .with_name("Fig. 18: front bogie")
+    .named("Fig. 18: front bogie")
     .into()
 }
 
 /// Fig. 19: a column per wheelset, the forces above, the differences below.
-pub fn forces_tab(tables: &str, wheelsets: &[String]) -> ContainerLike {
+pub fn forces_tab(tables: &str, wheelsets: &[String]) -> Item {
     let top = wheelsets.iter().map(|w| {
         plot(
             format!("Fig. 19: {w} normal forces [kN], kec and {tables} (timeline distance_mm)"),
@@ -190,34 +185,29 @@ pub fn forces_tab(tables: &str, wheelsets: &[String]) -> ContainerLike {
             format!("/paper/fig19/dnormal_kn/{w}"),
         )
     });
-    Grid::new(top.chain(bottom).collect::<Vec<_>>())
-        .with_grid_columns(wheelsets.len().max(1) as u32)
-        .with_name("Fig. 19: normal forces")
+    Container::grid(wheelsets.len().max(1) as u32, top.chain(bottom).collect::<Vec<_>>())
+        .named("Fig. 19: normal forces")
         .into()
 }
 
 /// Tab. 7 and the summary.
-pub fn summary_tab() -> ContainerLike {
-    TextDocumentView::new("Tab. 7 and summary")
-        .with_origin("/paper/summary")
+pub fn summary_tab() -> Item {
+    View::text_document("Tab. 7 and summary")
+        .origin("/paper/summary")
         .into()
 }
 
 /// The layout: a tab per figure in the paper's order, Tab. 7 last; the time panel on the first
 /// tab's timeline, `y_um` (see the module doc).
-pub fn blueprint_for(tables: &str, wheelsets: &[String]) -> Blueprint {
-    Blueprint::new(Tabs::new([
+pub fn blueprint_for(tables: &str, wheelsets: &[String]) -> Layout {
+    Layout::new(Container::tabs([
         contact_tab(),
         irregularity_tab(),
         kinematics_tab(tables),
         forces_tab(tables, wheelsets),
-        Vertical::new([summary_tab()]).with_name("Tab. 7: cost").into(),
+        Container::vertical([summary_tab()]).named("Tab. 7: cost").into(),
     ]))
-    .with_time_panel(
-        TimePanel::new()
-            .with_timeline(Y_TIMELINE)
-            .with_play_state(rerun::blueprint::components::PlayState::Paused),
-    )
+    .timeline(Y_TIMELINE).play_state(super::layout::PlayState::Paused)
 }
 
 /// The front bogie's wheelsets of the figures (Fig. 19's columns).
@@ -232,7 +222,7 @@ fn wheelsets(f: &PaperFigures) -> Vec<String> {
 }
 
 /// The layout for `f`.
-pub fn blueprint(f: &PaperFigures) -> Blueprint {
+pub fn blueprint(f: &PaperFigures) -> Layout {
     blueprint_for(&f.tables_model, &wheelsets(f))
 }
 

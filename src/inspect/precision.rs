@@ -10,7 +10,7 @@
 //! | `precision/{dy,dpsi}/CONTACT_METHOD` | LineStrips2D, Points2D, static | one sweep (error in mm or mrad) |
 //! | `precision/summary` | TextDocument, static | the report |
 
-use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, TextDocumentView};
+use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, InspectError};
@@ -22,19 +22,19 @@ fn at(wall: f64, error: f64) -> [f32; 2] {
 }
 
 /// The layout: Δy and Δψ diagrams side by side, the report below them.
-pub fn blueprint() -> Blueprint {
-    Blueprint::new(rerun::blueprint::Vertical::new([
-        Horizontal::new([
-            Spatial2DView::new("max |Δy| [mm] against wall time [s] (log–log)")
-                .with_origin("/precision/dy")
+pub fn blueprint() -> Layout {
+    Layout::new(Container::vertical([
+        Container::horizontal([
+            View::spatial2d("max |Δy| [mm] against wall time [s] (log–log)")
+                .origin("/precision/dy")
                 .into(),
-            Spatial2DView::new("max |Δψ| [mrad] against wall time [s] (log–log)")
-                .with_origin("/precision/dpsi")
+            View::spatial2d("max |Δψ| [mrad] against wall time [s] (log–log)")
+                .origin("/precision/dpsi")
                 .into(),
         ])
         .into(),
-        TextDocumentView::new("Report")
-            .with_origin("/precision/summary")
+        View::text_document("Report")
+            .origin("/precision/summary")
             .into(),
     ]))
 }

@@ -9,10 +9,7 @@
 //! | `profiles/real/{left,right}/markers` | Points2D | gauge point, highest point of the rail, taping line (labelled) |
 //! | `profiles/summary` | TextDocument | profiles, sources, placement figures, notes |
 
-use rerun::blueprint::components::PanelState;
-use rerun::blueprint::{
-    Blueprint, Horizontal, SelectionPanel, Spatial2DView, TextDocumentView, TimePanel, Vertical,
-};
+use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, section_mm, InspectError};
@@ -29,28 +26,27 @@ fn color([r, g, b]: [u8; 3]) -> Color {
 
 /// The layout: both sides side by side (right rail on the left of the screen, as seen from ahead
 /// of the vehicle), the summary below.
-pub fn blueprint() -> Blueprint {
+pub fn blueprint() -> Layout {
     let side_view = |side: Side| {
         let title = match side {
             Side::Left => "Left wheel and rail (+Y)",
             Side::Right => "Right wheel and rail (−Y)",
         };
-        Spatial2DView::new(title)
-            .with_origin(format!("/profiles/real/{}", side.name()))
+        View::spatial2d(title)
+            .origin(format!("/profiles/real/{}", side.name()))
             .into()
     };
-    Blueprint::new(
-        Vertical::new([
-            Horizontal::new([side_view(Side::Right), side_view(Side::Left)]).into(),
-            TextDocumentView::new("Summary")
-                .with_origin("/profiles/summary")
+    Layout::new(
+        Container::vertical([
+            Container::horizontal([side_view(Side::Right), side_view(Side::Left)]).into(),
+            View::text_document("Summary")
+                .origin("/profiles/summary")
                 .into(),
         ])
-        .with_row_shares([3.0, 2.0]),
+        .shares([3.0, 2.0]),
     )
     // Everything here is static: no timeline to show.
-    .with_time_panel(TimePanel::new().with_state(PanelState::Collapsed))
-    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+    .collapse_time_panel()
 }
 
 /// Markdown summary of a placed pair.

@@ -46,16 +46,14 @@
 
 use std::time::{Duration, Instant};
 
-use rerun::blueprint::{
-    BarChartView, Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, TextDocumentView,
-    TimePanel, TimeSeriesView, Vertical,
-};
+use super::layout::{PlayState, SentLayout};
+use super::{Container, Item, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines, TextDocument, TimeColumn};
 
 use super::assessment;
 use super::bands::RunningBands;
 use super::world3d::{World3d, World3dSettings};
-use super::{log_static, open_recording, section_mm, send_scalar_values, InspectError, Sink};
+use super::{log_static, open_recording_with, section_mm, send_scalar_rows, send_scalar_values, InspectError, Sink};
 use crate::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
 use crate::dynamics::sample::{Panel, Quantity, Sample, Series, QUANTITIES, WHEELS};
 use crate::dynamics::RunSummary;
@@ -67,11 +65,6 @@ use crate::vehicle::spec::VehicleSpec;
 pub const TIME: &str = "time";
 /// The distance timeline (mm).
 pub const DISTANCE: &str = "distance_mm";
-
-/// The layout of a single-wheelset run.
-pub fn blueprint() -> Blueprint {
-    blueprint_for(&["wheelset_1".to_string()])
-}
 
 /// The wheelset the run's detailed views show: the first of `wheelsets`.
 fn detail_wheelset(wheelsets: &[String]) -> &str {
@@ -121,11 +114,28 @@ fn line_names(q: &Quantity, series: &Series) -> Vec<&'static str> {
     }
 }
 
-/// The time-series plots of the run's layout, row by row, made from `table`: a row with every
-/// wheelset side by side (its [`Series::vehicle`] series, with more than one wheelset) and the
-/// vehicle's own series ([`Series::once`]), then the first wheelset's series, a row per [`Panel`].
-pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Plot>> {
-    let mut rows = Vec::new();
+/// One wheelset's plots, a row per [`Panel`] that has series, made from `table`: their titles
+/// name the wheelset.
+pub fn detail_rows(table: &'static [Quantity], wheelset: &str) -> Vec<(Panel, Vec<Plot>)> {
+    Panel::ALL
+        .into_iter()
+        .filter_map(|panel| {
+            let row: Vec<Plot> = wheelset_series(table)
+                .filter(|(_, s)| s.panel == Some(panel))
+                .map(|(_, s)| Plot {
+                    title: format!("{wheelset}: {}", s.title()),
+                    origin: format!("/run/{wheelset}/{}", s.entity()),
+                })
+                .collect();
+            (!row.is_empty()).then_some((panel, row))
+        })
+        .collect()
+}
+
+/// The plots of the whole vehicle made from `table`: every wheelset side by side (its
+/// [`Series::vehicle`] series, with more than one wheelset), then the vehicle's own series
+/// ([`Series::once`]).
+pub fn vehicle_plots(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Plot> {
     let mut vehicle: Vec<Plot> = Vec::new();
     if wheelsets.len() > 1 {
         vehicle.extend(vehicle_series(table).map(|(_, s)| Plot {
@@ -137,31 +147,20 @@ pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Pl
         title: format!("vehicle: {}", s.title()),
         origin: format!("/run/vehicle/{}", s.entity()),
     }));
+    vehicle
+}
+
+/// The time-series plots of the run, row by row, made from `table`: the [`vehicle_plots`], then
+/// the first wheelset's [`detail_rows`]. (The layout places them in its tabs; every other
+/// wheelset has the same detail rows.)
+pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Plot>> {
+    let mut rows = Vec::new();
+    let vehicle = vehicle_plots(table, wheelsets);
     if !vehicle.is_empty() {
         rows.push(vehicle);
     }
-    let w = detail_origin(wheelsets);
-    // The detailed views' titles name their wheelset.
-    let first = detail_wheelset(wheelsets);
-    for panel in Panel::ALL {
-        let row: Vec<Plot> = wheelset_series(table)
-            .filter(|(_, s)| s.panel == Some(panel))
-            .map(|(_, s)| Plot {
-                title: format!("{first}: {}", s.title()),
-                origin: format!("{w}/{}", s.entity()),
-            })
-            .collect();
-        if !row.is_empty() {
-            rows.push(row);
-        }
-    }
+    rows.extend(detail_rows(table, detail_wheelset(wheelsets)).into_iter().map(|(_, r)| r));
     rows
-}
-
-/// The layout for the run of `wheelsets` (by name) with the default 3D view
-/// ([`blueprint_with`]).
-pub fn blueprint_for(wheelsets: &[String]) -> Blueprint {
-    blueprint_with(wheelsets, &World3dSettings::default(), 1.0, false)
 }
 
 /// The running bands' track unit for `scene`'s run ([`RunningBands::unit_for`] the distance it
@@ -176,96 +175,332 @@ fn band_unit(scene: &Scene) -> f64 {
     RunningBands::unit_for(distance)
 }
 
-/// The layout for the run of `wheelsets` (by name), read top-down: the 3D view of the vehicle on
-/// its track (following the front wheelset), the first wheelset's cross-sections and the track
-/// plan; the running bands on both rails (the track in units of `band_unit_m`); then the
-/// [`plot_rows`] of [`QUANTITIES`]; the ride comfort at the floor points (where the vehicle has
-/// carbodies: `comfort`); the shakedown map, the
-/// most worn wheel's wear over both profiles and the summary.
+/// The layout for the run of `wheelsets` (by name) with the default 3D view
+/// ([`blueprint_with`]).
+pub fn blueprint_for(wheelsets: &[String]) -> Layout {
+    blueprint_with(wheelsets, &World3dSettings::default(), 1.0, false, &Cameras::default(), RunTab::Overview)
+}
+
+/// A time-series view of `plot`, its legend hidden where one line is named by the title.
+fn series_view(plot: Plot, legend: bool) -> Item {
+    let v = View::time_series(plot.title).origin(plot.origin);
+    if legend {
+        v.into()
+    } else {
+        v.no_legend().into()
+    }
+}
+
+/// Whether the series plotted at `origin` (`/run/NAME/ENTITY`) has more than one line.
+fn has_lines(table: &'static [Quantity], origin: &str) -> bool {
+    wheelset_series(table)
+        .filter(|(_, s)| origin.ends_with(&format!("/{}", s.entity())))
+        .any(|(q, _)| q.value.width() > 1)
+}
+
+/// The name of the tab container holding every wheelset's plots of `panel` (the recorder puts the
+/// worst wheelset's tab first at the end of the run).
+pub fn wheelset_tabs_name(panel: Panel) -> String {
+    format!("wheelsets: {panel:?}").to_lowercase()
+}
+
+/// Every wheelset's plots of `panels` as tabs, one per wheelset (its name the tab's title).
+fn wheelset_tabs(wheelsets: &[String], panels: &[Panel], name: String) -> Item {
+    Container::tabs(wheelsets.iter().map(|w| {
+        let rows: Vec<Item> = detail_rows(QUANTITIES, w)
+            .into_iter()
+            .filter(|(p, _)| panels.contains(p))
+            .map(|(_, row)| {
+                Container::horizontal(
+                    row.into_iter()
+                        .map(|p| {
+                            let legend = has_lines(QUANTITIES, &p.origin);
+                            series_view(p, legend)
+                        })
+                        .collect::<Vec<_>>(),
+                )
+                .into()
+            })
+            .collect();
+        Container::vertical(rows).named(w.clone()).into()
+    }))
+    .named(name)
+    .into()
+}
+
+/// The track under the front wheelset along the same x axis as the histories: its horizontal
+/// curvature and its cant (where on the track a history's feature happens).
+fn track_strip() -> Item {
+    Container::horizontal([
+        View::time_series("track: curvature [1/km]")
+            .origin("/run/track/curvature_1pkm")
+            .no_legend()
+            .into(),
+        View::time_series("track: cant [mrad]")
+            .origin("/run/track/cant_mrad")
+            .no_legend()
+            .into(),
+    ])
+    .into()
+}
+
+/// The 3D views' cameras, from the vehicle's wheelsets along it: the front bogie (the first two
+/// wheelsets) close up, and the whole vehicle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cameras {
+    /// The front bogie's centre along the track from the front wheelset, m (negative: behind).
+    pub bogie_x_m: f64,
+    /// The vehicle's middle from the front wheelset, m.
+    pub middle_x_m: f64,
+    /// Its length between the outer wheelsets, m.
+    pub length_m: f64,
+    /// The wheel radius, m.
+    pub r0_m: f64,
+}
+
+impl Default for Cameras {
+    fn default() -> Cameras {
+        Cameras {
+            bogie_x_m: 0.0,
+            middle_x_m: 0.0,
+            length_m: 0.0,
+            r0_m: 0.45,
+        }
+    }
+}
+
+impl Cameras {
+    /// The cameras for `scene`'s vehicle (the front wheelset the first; its followers behind).
+    pub fn for_scene(scene: &Scene) -> Cameras {
+        let r0_m = scene.pair.wheelset.nominal_radius_m;
+        let xs: Vec<f64> = match scene.simulation.as_ref().map(|(_, v)| v) {
+            Some(VehicleSpec::Multibody(m)) => m.wheelsets.iter().map(|w| w.x_m).collect(),
+            _ => Vec::new(),
+        };
+        let Some(&front) = xs.first() else {
+            return Cameras {
+                r0_m,
+                ..Cameras::default()
+            };
+        };
+        // Along the track from the front wheelset: the others are behind it (negative).
+        let rel: Vec<f64> = xs.iter().map(|&x| -(x - front).abs()).collect();
+        let (lo, hi) = rel
+            .iter()
+            .fold((0.0f64, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        Cameras {
+            bogie_x_m: 0.5 * (rel[0] + rel.get(1).copied().unwrap_or(rel[0])),
+            middle_x_m: 0.5 * (lo + hi),
+            length_m: hi - lo,
+            r0_m,
+        }
+    }
+
+    /// The close view: the front bogie from ahead and to the right, wheels, contact points and
+    /// force arrows readable.
+    fn bogie(&self, view: View) -> View {
+        let (x, z) = (self.bogie_x_m as f32, self.r0_m as f32);
+        view.eye([x + 3.2, -3.4, z + 1.7], [x, 0.0, z])
+    }
+
+    /// The whole vehicle from its side, a little above.
+    fn train(&self, view: View) -> View {
+        let l = (self.length_m as f32).max(4.0);
+        let x = self.middle_x_m as f32;
+        view.eye([x + 0.3 * l, -0.85 * l, 0.35 * l], [x, 0.0, 1.2])
+    }
+}
+
+/// The tabs of the run's layout, in their order (`kecsim run --tab`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum RunTab {
+    /// The vehicle in 3D, the track plan, the summary with the running safety.
+    #[default]
+    Overview,
+    /// Every wheelset's kinematics and contact positions.
+    Wheelsets,
+    /// Running safety, wheel loads, traction, every wheelset's forces.
+    Forces,
+    /// Shakedown, wear, running bands, p0 and the wear number.
+    Wear,
+    /// The carbodies' floor accelerations and comfort (a vehicle with carbodies).
+    Comfort,
+}
+
+/// The layout for the run of `wheelsets` (by name), in tabs that each fit a 1600×1000 screen:
+/// * **overview**: the front bogie in 3D (close) and the whole vehicle (`world`'s exaggeration,
+///   see [`super::world3d`]), the track plan with the vehicle on it, the summary with the running
+///   safety, the front wheelset's cross-sections and the track's curvature and cant;
+/// * **wheelsets**: every wheelset's y and yaw side by side, then each wheelset's kinematics and
+///   contact positions in a tab of its own (the worst wheelset's first once the run has found
+///   it);
+/// * **forces and safety**: the running-safety series with their limits (`run/safety/`), the
+///   smaller wheel load and larger |Y/Q| of every wheelset, the vehicle's speed and traction, and
+///   each wheelset's forces;
+/// * **wear and stress**: the shakedown map, the most worn wheel's wear, the running bands (the
+///   track in units of `band_unit_m`) and each wheelset's p0 and wear number;
+/// * **comfort** (`comfort`: where the vehicle has carbodies): the floor points' accelerations.
+///
+/// Every history tab ends with the track's curvature and cant on the same x axis.
 pub fn blueprint_with(
     wheelsets: &[String],
     world: &World3dSettings,
     band_unit_m: f64,
     comfort: bool,
-) -> Blueprint {
-    let mut rows: Vec<ContainerLike> = vec![Horizontal::new([
-        Spatial3DView::new(World3d::title(world))
-            .with_origin("/run/world/follow")
-            .with_contents(["/run/world/**"])
+    cameras: &Cameras,
+    first: RunTab,
+) -> Layout {
+    let world_view = |title: String| {
+        View::spatial3d(title)
+            .origin("/run/world/follow")
+            .contents(["/run/world/**"])
+    };
+    let overview = Container::horizontal([
+        Container::vertical([
+            cameras
+                .bogie(world_view(format!("Front bogie: {}", World3d::title(world))))
+                .into(),
+            Container::horizontal([
+                cameras
+                    .train(world_view("The whole vehicle on its track".to_string()))
+                    .into(),
+                View::spatial2d("Track plan [m] and the front wheelset (red)")
+                    .origin("/run/track")
+                    .contents(["/run/track/plan", "/run/track/position"])
+                    .into(),
+            ])
+            .shares([1.6, 1.0])
             .into(),
-        Vertical::new([
-            Spatial2DView::new("Right wheel and rail (−Y)")
-                .with_origin("/run/section/right")
-                .into(),
-            Spatial2DView::new("Left wheel and rail (+Y)")
-                .with_origin("/run/section/left")
-                .into(),
         ])
+        .shares([1.6, 1.0])
         .into(),
-        Spatial2DView::new("Track plan [m]")
-            .with_origin("/run/track")
+        Container::vertical([
+            View::text_document("Summary and running safety")
+                .origin("/run/summary")
+                .into(),
+            Container::horizontal([
+                View::spatial2d("front wheelset, right [mm]")
+                    .origin("/run/section/right")
+                    .into(),
+                View::spatial2d("… left [mm]")
+                    .origin("/run/section/left")
+                    .into(),
+            ])
+            .into(),
+            track_strip(),
+        ])
+        .shares([2.2, 1.3, 0.8])
+        .into(),
+    ])
+    .shares([1.5, 1.0])
+    .named("Overview");
+
+    let vehicle = vehicle_plots(QUANTITIES, wheelsets);
+    let take = |entities: &[&str]| -> Vec<Item> {
+        vehicle
+            .iter()
+            .filter(|p| entities.iter().any(|e| p.origin.ends_with(&format!("/{e}"))))
+            .map(|p| series_view(p.clone(), p.origin.contains("/run/vehicle/") && wheelsets.len() > 1 && !p.title.starts_with("vehicle:")))
+            .collect()
+    };
+    let mut kin_rows: Vec<Item> = Vec::new();
+    let mut kin_shares = Vec::new();
+    let every = take(&["y_mm", "yaw_mrad"]);
+    if !every.is_empty() {
+        kin_rows.push(Container::horizontal(every).into());
+        kin_shares.push(1.0);
+    }
+    kin_rows.push(wheelset_tabs(
+        wheelsets,
+        &[Panel::Kinematics, Panel::Contact],
+        wheelset_tabs_name(Panel::Kinematics),
+    ));
+    kin_shares.push(2.0);
+    kin_rows.push(track_strip());
+    kin_shares.push(0.6);
+    let kinematics = Container::vertical(kin_rows).shares(kin_shares).named("Wheelsets");
+
+    let mut safety_rows: Vec<Item> = vec![Container::horizontal([
+        View::time_series("running safety: Y/Q, 2 m mean, larger wheel (grey: Nadal's limit)")
+            .origin("/run/safety/y_over_q_2m")
+            .into(),
+        View::time_series("ΣY, 2 m mean [kN] (grey: ± Prud'homme's limit)")
+            .origin("/run/safety/sum_y_2m_kn")
+            .into(),
+        View::time_series("ΔQ/Q₀, larger wheel (grey: 0.6, EN 14363's limit)")
+            .origin("/run/safety/delta_q_over_q0")
             .into(),
     ])
-    .with_column_shares([3.0, 1.2, 1.0])
     .into()];
-    let mut shares = vec![5.0];
-    rows.push(
-        Horizontal::new([
-            Spatial2DView::new(RunningBands::title("left", band_unit_m))
-                .with_origin("/run/bands/left")
+    let mut safety_shares = vec![1.2];
+    let loads = take(&["min_normal_kn", "max_abs_y_over_q", "vehicle_speed_m_s", "traction_kn", "traction_power_kw"]);
+    if !loads.is_empty() {
+        safety_rows.push(Container::horizontal(loads).into());
+        safety_shares.push(1.0);
+    }
+    safety_rows.push(wheelset_tabs(
+        wheelsets,
+        &[Panel::Forces],
+        wheelset_tabs_name(Panel::Forces),
+    ));
+    safety_shares.push(1.0);
+    safety_rows.push(track_strip());
+    safety_shares.push(0.6);
+    let safety = Container::vertical(safety_rows)
+        .shares(safety_shares)
+        .named("Forces and safety");
+
+    let wear = Container::vertical([
+        Container::horizontal([
+            View::spatial2d("Shakedown map: p0/k against μ, every wheel's contact (R260)")
+                .origin("/run/shakedown")
                 .into(),
-            Spatial2DView::new(RunningBands::title("right", band_unit_m))
-                .with_origin("/run/bands/right")
+            View::bar_chart("Most worn wheel: wear [mg] in 2 mm of the wheel profile s^w [mm]")
+                .origin("/run/wear/wheel/most_worn")
+                .into(),
+            View::bar_chart("… and of the rail profile s^r [mm]")
+                .origin("/run/wear/rail/most_worn")
                 .into(),
         ])
         .into(),
-    );
-    shares.push(2.0);
-    for row in plot_rows(QUANTITIES, wheelsets) {
-        let views: Vec<ContainerLike> = row
-            .into_iter()
-            .map(|p| TimeSeriesView::new(p.title).with_origin(p.origin).into())
-            .collect();
-        rows.push(Horizontal::new(views).into());
-        shares.push(2.0);
-    }
-    // Ride comfort at the floor points, then contact stress, wear and the summary (the safety
-    // figures) side by side.
-    let views: Vec<ContainerLike> = assessment::COMFORT_SERIES
-        .iter()
-        .map(|(stem, title)| {
-            TimeSeriesView::new(format!("every floor point: {title}"))
-                .with_origin(format!("/run/comfort/{stem}"))
-                .into()
-        })
-        .collect();
+        Container::horizontal([
+            View::spatial2d(RunningBands::title("left", band_unit_m))
+                .origin("/run/bands/left")
+                .into(),
+            View::spatial2d(RunningBands::title("right", band_unit_m))
+                .origin("/run/bands/right")
+                .into(),
+        ])
+        .into(),
+        wheelset_tabs(wheelsets, &[Panel::Wear], wheelset_tabs_name(Panel::Wear)),
+    ])
+    .shares([1.3, 1.0, 1.0])
+    .named("Wear and stress");
+
+    let mut tabs: Vec<Item> = vec![overview.into(), kinematics.into(), safety.into(), wear.into()];
     if comfort {
-        rows.push(Horizontal::new(views).into());
-        shares.push(2.0);
+        let views: Vec<Item> = assessment::COMFORT_SERIES
+            .iter()
+            .map(|(stem, title)| {
+                View::time_series(format!("every floor point: {title}"))
+                    .origin(format!("/run/comfort/{stem}"))
+                    .into()
+            })
+            .collect();
+        tabs.push(
+            Container::vertical([Container::grid(2, views).into(), track_strip()])
+                .shares([4.0, 0.6])
+                .named("Comfort")
+                .into(),
+        );
     }
-    rows.push(
-        Horizontal::new([
-            Spatial2DView::new("Shakedown map: p0/k against μ, every wheel's contact (R260)")
-                .with_origin("/run/shakedown")
-                .into(),
-            BarChartView::new("Most worn wheel: wear [mg] in 2 mm of the wheel profile s^w [mm]")
-                .with_origin("/run/wear/wheel/most_worn")
-                .into(),
-            BarChartView::new("… and of the rail profile s^r [mm]")
-                .with_origin("/run/wear/rail/most_worn")
-                .into(),
-            TextDocumentView::new("Summary")
-                .with_origin("/run/summary")
-                .into(),
-        ])
-        .into(),
-    );
-    shares.push(3.0);
-    Blueprint::new(Vertical::new(rows).with_row_shares(shares)).with_time_panel(
-        TimePanel::new()
-            .with_timeline(TIME)
-            .with_play_state(rerun::blueprint::components::PlayState::Following),
-    )
+    let first = (first as usize).min(tabs.len() - 1);
+    // The time panel collapsed to its bar (play, the cursor, the timeline's choice): the tabs get
+    // the screen.
+    Layout::new(Container::tabs(tabs).active(first))
+        .timeline(TIME)
+        .play_state(PlayState::Following)
+        .collapse_time_panel()
 }
 
 /// One cross-section snapshot of the first wheelset, waiting for its batch.
@@ -297,6 +532,57 @@ fn send_section_columns<C: IntoIterator<Item = rerun::SerializedComponentColumn>
     rec.send_columns(entity, timelines, columns)
         .map_err(log_err(entity))
 }
+
+/// The running-safety verdict at the head of the recorded summary: each figure's worst wheelset
+/// against its limit, within or over it (nothing without safety figures).
+pub fn safety_verdict(summary: &RunSummary) -> String {
+    let Some(safety) = &summary.safety else {
+        return String::new();
+    };
+    let worst = |f: &dyn Fn(&crate::dynamics::safety::WheelsetSafety) -> f64| {
+        safety
+            .wheelsets
+            .iter()
+            .map(|w| (w.name.as_str(), f(w)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    let mut lines = Vec::new();
+    let mut over = false;
+    let mut line = |what: &str, (name, value): (&str, f64), limit: f64, unit: &str, scale: f64| {
+        let ok = value <= limit;
+        over |= !ok;
+        lines.push(format!(
+            "- {what}: **{:.3}{unit}** ({name}) {} {:.3}{unit} — {}",
+            value * scale,
+            if ok { "≤" } else { ">" },
+            limit * scale,
+            if ok { "within" } else { "**OVER THE LIMIT**" }
+        ));
+    };
+    if let Some(w) = worst(&|w| w.y_over_q_2m) {
+        line("Y/Q, 2 m mean (Nadal)", w, safety.nadal_limit, "", 1.0);
+    }
+    if let Some(w) = worst(&|w| w.sum_y_2m_n / w.prudhomme_limit_n) {
+        let limit = safety
+            .wheelsets
+            .iter()
+            .find(|x| x.name == w.0)
+            .map_or(1.0, |x| x.prudhomme_limit_n);
+        line("ΣY, 2 m mean (Prud'homme)", (w.0, w.1 * limit), limit, " kN", 1e-3);
+    }
+    if let Some(w) = worst(&|w| w.delta_q_over_q0) {
+        line("ΔQ/Q₀ (EN 14363)", w, DELTA_Q_LIMIT, "", 1.0);
+    }
+    format!(
+        "## Running safety: {}\n\n{}\n\n",
+        if over { "**a limit is exceeded**" } else { "within every limit" },
+        lines.join("\n")
+    )
+}
+
+/// The limit of a wheel's unloading ΔQ/Q₀ drawn with its series: EN 14363's 0.6 (the twist
+/// test's limit; the summary reports the figure, the recording draws the line).
+pub const DELTA_Q_LIMIT: f64 = 0.6;
 
 /// Wall time between two batches of samples sent to a viewer (`--spawn`, `--connect`).
 pub const BATCH_WALL: Duration = Duration::from_millis(50);
@@ -369,6 +655,20 @@ pub struct LiveRecorder {
     floor_points: Vec<crate::dynamics::system::FloorPoint>,
     floor_t: Vec<f64>,
     floor_acc: Vec<Vec<[f64; 3]>>,
+    /// The layout as sent (None: a stream opened elsewhere), to put the worst wheelset first.
+    layout: Option<SentLayout>,
+    /// Per wheelset: each sample's time, arc length and both wheels' Y and Q (the running-safety
+    /// series, drawn at the end).
+    forces: Vec<Vec<SafetyRow>>,
+}
+
+/// What the running-safety series need of a sample.
+#[derive(Debug, Clone, Copy)]
+struct SafetyRow {
+    t: f64,
+    s: f64,
+    y: [f64; 2],
+    q: [f64; 2],
 }
 
 impl LiveRecorder {
@@ -390,11 +690,25 @@ impl LiveRecorder {
         wheelsets: &[String],
         world: &World3dSettings,
     ) -> Result<LiveRecorder, InspectError> {
+        Self::open_on(sink, scene, wheelsets, world, RunTab::Overview)
+    }
+
+    /// [`Self::open_with`], the layout opening on the tab `first` (the command line's `--tab`).
+    pub fn open_on(
+        sink: &Sink,
+        scene: &Scene,
+        wheelsets: &[String],
+        world: &World3dSettings,
+        first: RunTab,
+    ) -> Result<LiveRecorder, InspectError> {
         let unit = band_unit(scene);
         let comfort =
             matches!(&scene.simulation, Some((_, VehicleSpec::Multibody(m))) if !m.carbodies().is_empty());
-        let rec = open_recording("kecsim", sink, || blueprint_with(wheelsets, world, unit, comfort))?;
+        let cameras = Cameras::for_scene(scene);
+        let (rec, layout) =
+            open_recording_with("kecsim", sink, || blueprint_with(wheelsets, world, unit, comfort, &cameras, first))?;
         let mut r = Self::on_with(rec, scene, wheelsets, world)?;
+        r.layout = Some(layout);
         if matches!(sink, Sink::Save(_)) {
             r.batch_wall = BATCH_WALL_FILE;
         }
@@ -440,6 +754,8 @@ impl LiveRecorder {
             floor_points: Vec::new(),
             floor_t: Vec::new(),
             floor_acc: Vec::new(),
+            layout: None,
+            forces: vec![Vec::new(); wheelsets.len()],
         };
         r.log_statics()?;
         assessment::log_statics(&r.rec)?;
@@ -604,6 +920,7 @@ impl LiveRecorder {
                 )?;
             }
         }
+        self.send_track_strip()?;
         self.send_sections()?;
         self.world.send(&self.rec, TIME, DISTANCE)?;
         self.bands.send(&self.rec, &self.pending)?;
@@ -613,6 +930,149 @@ impl LiveRecorder {
         }
         self.last_batch = Instant::now();
         Ok(())
+    }
+
+    /// The track's curvature and cant under the front wheelset at its pending samples
+    /// (`run/track/{curvature_1pkm, cant_mrad}`, on `time` and `distance_mm`).
+    fn send_track_strip(&self) -> Result<(), InspectError> {
+        let (Some(track), Some(first)) = (&self.track, self.pending.first()) else {
+            return Ok(());
+        };
+        let frames: Vec<(f64, i64, f64, f64)> = first
+            .iter()
+            .filter_map(|p| {
+                let f = track.centreline.frame(p.s).ok()?;
+                Some((p.t, (p.s * 1e3).round() as i64, f.rho_h * 1e3, f.cant_rad * 1e3))
+            })
+            .collect();
+        if frames.is_empty() {
+            return Ok(());
+        }
+        let timelines = || {
+            vec![
+                TimeColumn::new_duration_secs(TIME, frames.iter().map(|f| f.0)),
+                TimeColumn::new_sequence(DISTANCE, frames.iter().map(|f| f.1)),
+            ]
+        };
+        let grey = || vec![Color::from_rgb(170, 170, 180)];
+        let n = frames.len();
+        send_scalar_rows(
+            &self.rec,
+            timelines(),
+            n,
+            "run/track/curvature_1pkm",
+            frames.iter().map(|f| f.2).collect(),
+            &["curvature"],
+            grey(),
+        )?;
+        send_scalar_rows(
+            &self.rec,
+            timelines(),
+            n,
+            "run/track/cant_mrad",
+            frames.iter().map(|f| f.3).collect(),
+            &["cant"],
+            grey(),
+        )
+    }
+
+    /// The running-safety series along the run (`run/safety/`): each wheelset's 2 m sliding means
+    /// of Y/Q (the larger wheel's) and ΣY, and its larger ΔQ/Q₀, as the summary's figures take
+    /// them ([`crate::dynamics::safety`]: the same sliding mean, only full windows), with the
+    /// limits as grey lines; returns the wheelsets' indices, the most loaded against its limits
+    /// first (none without safety figures).
+    fn log_safety(&self, summary: &RunSummary) -> Result<Vec<usize>, InspectError> {
+        use crate::dynamics::safety::{sliding_mean, WINDOW_M};
+        let Some(safety) = &summary.safety else {
+            return Ok(Vec::new());
+        };
+        let mut worst: Vec<(usize, f64)> = Vec::new();
+        let (mut t_span, mut s_span) = ((f64::INFINITY, f64::NEG_INFINITY), (f64::INFINITY, f64::NEG_INFINITY));
+        let mut sum_y_limit = 0.0f64;
+        for (k, (name, rows)) in self.names.iter().zip(&self.forces).enumerate() {
+            let Some(w) = safety.wheelsets.iter().find(|w| &w.name == name) else {
+                continue;
+            };
+            let Some(first) = rows.first() else {
+                continue;
+            };
+            let s: Vec<f64> = rows.iter().map(|r| r.s).collect();
+            let full = |i: usize| s[i] - s[0] >= WINDOW_M;
+            let ratio = |i: usize| {
+                let v: Vec<f64> = rows
+                    .iter()
+                    .map(|r| if r.q[i] > 0.0 { (r.y[i] / r.q[i]).abs() } else { 0.0 })
+                    .collect();
+                sliding_mean(&s, &v, WINDOW_M)
+            };
+            let (left, right) = (ratio(0), ratio(1));
+            let y_over_q: Vec<f64> = (0..rows.len())
+                .map(|i| if full(i) { left[i].max(right[i]) } else { f64::NAN })
+                .collect();
+            let sum: Vec<f64> = rows.iter().map(|r| (r.y[0] + r.y[1]) * 1e-3).collect();
+            let sum_y: Vec<f64> = sliding_mean(&s, &sum, WINDOW_M)
+                .into_iter()
+                .enumerate()
+                .map(|(i, m)| if full(i) { m } else { f64::NAN })
+                .collect();
+            let q0 = w.static_wheel_load_n;
+            let dq: Vec<f64> = rows
+                .iter()
+                .map(|r| {
+                    (0..2)
+                        .filter(|&i| q0[i] > 0.0)
+                        .map(|i| (q0[i] - r.q[i]) / q0[i])
+                        .fold(f64::NAN, f64::max)
+                })
+                .collect();
+            let timelines = || {
+                vec![
+                    TimeColumn::new_duration_secs(TIME, rows.iter().map(|r| r.t)),
+                    TimeColumn::new_sequence(DISTANCE, rows.iter().map(|r| (r.s * 1e3).round() as i64)),
+                ]
+            };
+            for (what, values) in [("y_over_q_2m", y_over_q), ("sum_y_2m_kn", sum_y), ("delta_q_over_q0", dq)] {
+                send_scalar_rows(
+                    &self.rec,
+                    timelines(),
+                    rows.len(),
+                    &format!("run/safety/{what}/{name}"),
+                    values,
+                    &[name.as_str()],
+                    vec![palette(k)],
+                )?;
+            }
+            let last = rows.last().unwrap_or(first);
+            t_span = (t_span.0.min(first.t), t_span.1.max(last.t));
+            s_span = (s_span.0.min(first.s), s_span.1.max(last.s));
+            sum_y_limit = sum_y_limit.max(w.prudhomme_limit_n * 1e-3);
+            let load = (w.y_over_q_2m / safety.nadal_limit)
+                .max(w.sum_y_2m_n / w.prudhomme_limit_n)
+                .max(w.delta_q_over_q0 / DELTA_Q_LIMIT);
+            worst.push((k, load));
+        }
+        if t_span.0 <= t_span.1 {
+            let limit = |entity: &str, label: &str, value: f64| -> Result<(), InspectError> {
+                send_scalar_rows(
+                    &self.rec,
+                    vec![
+                        TimeColumn::new_duration_secs(TIME, [t_span.0, t_span.1]),
+                        TimeColumn::new_sequence(DISTANCE, [s_span.0, s_span.1].map(|s| (s * 1e3).round() as i64)),
+                    ],
+                    2,
+                    entity,
+                    vec![value, value],
+                    &[label],
+                    vec![Color::from_rgb(150, 150, 150)],
+                )
+            };
+            limit("run/safety/y_over_q_2m/limit", "Nadal's limit", safety.nadal_limit)?;
+            limit("run/safety/sum_y_2m_kn/limit", "Prud'homme's limit", sum_y_limit)?;
+            limit("run/safety/sum_y_2m_kn/limit_negative", "− Prud'homme's limit", -sum_y_limit)?;
+            limit("run/safety/delta_q_over_q0/limit", "EN 14363's limit", DELTA_Q_LIMIT)?;
+        }
+        worst.sort_by(|a, b| b.1.total_cmp(&a.1));
+        Ok(worst.into_iter().map(|(k, _)| k).collect())
     }
 
     /// The first wheelset's cross-section (wheels and contact points) and its position on the
@@ -702,6 +1162,7 @@ impl LiveRecorder {
     fn log_summary(&mut self, summary: &RunSummary) -> Result<(), InspectError> {
         self.send_batch()?;
         let mut text = format!("# kecsim run: {}\n\n", summary.scene);
+        text += &safety_verdict(summary);
         text += &format!(
             "contact model **{}**, creep model **{}**, integrator **{}**\n\n",
             summary.contact_model, summary.creep_model, summary.integrator
@@ -738,6 +1199,14 @@ impl RunObserver for LiveRecorder {
             p.push(*s);
             m.extend(assessment::shakedown_points(s));
         }
+        for (f, s) in self.forces.iter_mut().zip(sample.wheelsets) {
+            f.push(SafetyRow {
+                t: s.t,
+                s: s.s,
+                y: s.y_force,
+                q: s.q_force,
+            });
+        }
         if !self.floor_points.is_empty() {
             self.floor_t.push(sample.t);
             for (f, a) in self.floor_acc.iter_mut().zip(sample.floor) {
@@ -769,7 +1238,21 @@ impl RunObserver for LiveRecorder {
                 assessment::log_floor_series(&self.rec, TIME, p, &self.floor_t, a, fs)?;
             }
         }
-        Ok(self.log_summary(summary)?)
+        let order = self.log_safety(summary)?;
+        self.log_summary(summary)?;
+        if let (Some(layout), false) = (self.layout.take(), order.is_empty()) {
+            let mut layout = Some(layout);
+            for panel in [Panel::Kinematics, Panel::Forces, Panel::Wear] {
+                if let Some(l) = layout.take() {
+                    layout = Some(
+                        l.reorder(&self.rec, &wheelset_tabs_name(panel), &order)
+                            .map_err(log_err("the layout (blueprint)"))?,
+                    );
+                }
+            }
+            self.layout = layout;
+        }
+        Ok(())
     }
 }
 

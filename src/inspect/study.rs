@@ -19,9 +19,7 @@
 
 use std::path::Path;
 
-use rerun::blueprint::{
-    Blueprint, Grid, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
-};
+use super::{Container, Item, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument, TimeColumn};
 
 use super::{log_static, send_scalar_rows, InspectError};
@@ -48,23 +46,23 @@ fn slug(name: &str) -> String {
 
 /// The layout, readable at 1600×1000: the extracts' diagrams in a grid across the top (up to three
 /// a row), every case's front wheelset y and the table below.
-pub fn blueprint_for(manifest: &Manifest) -> Blueprint {
+pub fn blueprint_for(manifest: &Manifest) -> Layout {
     let against = manifest.axes.first().map_or("case".to_string(), |a| a.clone());
-    let views: Vec<rerun::blueprint::ContainerLike> = manifest
+    let views: Vec<Item> = manifest
         .extracts
         .iter()
         .map(|x| {
-            Spatial2DView::new(format!("{x} against {against}"))
-                .with_origin(format!("/study/{}", slug(x)))
+            View::spatial2d(format!("{x} against {against}"))
+                .origin(format!("/study/{}", slug(x)))
                 .into()
         })
         .collect();
-    let below = Horizontal::new([
-        TimeSeriesView::new("every case: front wheelset y [mm]")
-            .with_origin("/study/front_y")
+    let below = Container::horizontal([
+        View::time_series("every case: front wheelset y [mm]")
+            .origin("/study/front_y")
             .into(),
-        TextDocumentView::new("Results")
-            .with_origin("/study/summary")
+        View::text_document("Results")
+            .origin("/study/summary")
             .into(),
     ])
     .into();
@@ -74,14 +72,14 @@ pub fn blueprint_for(manifest: &Manifest) -> Blueprint {
         _ => 3,
     };
     let rows_of_views = views.len().div_ceil(columns) as f32;
-    let layout: rerun::blueprint::ContainerLike = if views.is_empty() {
+    let layout: Item = if views.is_empty() {
         below
     } else {
-        Vertical::new([Grid::new(views).with_grid_columns(columns as u32).into(), below])
-            .with_row_shares([2.0 * rows_of_views, 2.0])
+        Container::vertical([Container::grid(columns as u32, views).into(), below])
+            .shares([2.0 * rows_of_views, 2.0])
             .into()
     };
-    Blueprint::new(layout).with_time_panel(TimePanel::new().with_timeline(TIME))
+    Layout::new(layout).timeline(TIME)
 }
 
 /// A linear axis: the values' span mapped onto `0..len` (`flip`: len..0).

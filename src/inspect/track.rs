@@ -13,9 +13,7 @@
 //! | `track/irregularities/{al,vp,gv,cl}_mm` | Scalars | alignment, vertical profile, gauge variation, cross level, mm |
 //! | `track/summary` | TextDocument | sections, end-of-track check, irregularity statistics |
 
-use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial2DView, TextDocumentView, TimePanel, TimeSeriesView, Vertical,
-};
+use super::{Container, Layout, View};
 use rerun::{
     Color, LineStrips2D, Points2D, Radius, RecordingStream, Scalars, SeriesLines, TextDocument, TimeColumn,
 };
@@ -38,21 +36,21 @@ pub(crate) const IRREGULARITIES: [(&str, &str, [u8; 3]); 4] = [
 ];
 
 /// Layout: plan view and summary on the left, the s-diagrams on the right.
-pub fn blueprint() -> Blueprint {
-    let plot = |title: &str, origin: &str| TimeSeriesView::new(title).with_origin(origin.to_string()).into();
-    Blueprint::new(
-        Horizontal::new([
-            Vertical::new([
-                Spatial2DView::new("Plan view X–Y [m] (stored [X, −Y])")
-                    .with_origin("/track/plan")
+pub fn blueprint() -> Layout {
+    let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
+    Layout::new(
+        Container::horizontal([
+            Container::vertical([
+                View::spatial2d("Plan view X–Y [m] (stored [X, −Y])")
+                    .origin("/track/plan")
                     .into(),
-                TextDocumentView::new("Summary")
-                    .with_origin("/track/summary")
+                View::text_document("Summary")
+                    .origin("/track/summary")
                     .into(),
             ])
-            .with_row_shares([3.0, 2.0])
+            .shares([3.0, 2.0])
             .into(),
-            Vertical::new(
+            Container::vertical(
                 [
                     plot("curvature ρ_h [1/m]", "/track/geometry/curvature_1pm"),
                     plot("cant φ [mrad]", "/track/geometry/cant_mrad"),
@@ -69,13 +67,9 @@ pub fn blueprint() -> Blueprint {
             )
             .into(),
         ])
-        .with_column_shares([1.0, 1.2]),
+        .shares([1.0, 1.2]),
     )
-    .with_time_panel(
-        TimePanel::new()
-            .with_timeline(TIMELINE)
-            .with_play_state(rerun::blueprint::components::PlayState::Paused),
-    )
+    .timeline(TIMELINE).play_state(super::layout::PlayState::Paused)
 }
 
 fn series(

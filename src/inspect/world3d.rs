@@ -19,10 +19,13 @@
 //! recover the simulated states from the recording (the test
 //! `recording::the_3d_view_follows_the_simulated_states`).
 //!
-//! **Exaggeration**: the lateral and yaw motion relative to the track, and the rails' lateral
-//! irregularities, are drawn × [`World3dSettings::exaggerate`] (the title says by how much), so that
-//! millimetres show on a 30 m vehicle; vertical motion, roll and pitch are true scale. The
-//! cross-sections stay true scale.
+//! **Scale**: true scale by default — the vehicle is drawn where it is. `--exaggerate F` (F > 1)
+//! magnifies only the wheelsets' lateral and yaw motion relative to the track, and the rails'
+//! lateral irregularities with them, so that the wheelsets' millimetres show; the bodies (carbodies,
+//! bogie frames) stay at true scale, where a magnified lateral offset of 30–50 mm in a curve drew
+//! the carbodies metres off the track and their yaw tens of degrees across it. (A wheelset's
+//! magnified yaw can still draw its wheels across the rails: the title says the factor.) Vertical
+//! motion, roll and pitch are true scale, as are the cross-sections.
 
 use std::sync::Arc;
 
@@ -40,9 +43,9 @@ use crate::track::{RailOffsets, Track};
 use crate::vehicle::elements::{BodyRef, Element};
 use crate::vehicle::spec::VehicleSpec;
 
-/// The default exaggeration of the lateral and yaw motion relative to the track: 1 mm is drawn
-/// as 5 cm, a few pixels when the whole 30 m vehicle is in view.
-pub const DEFAULT_EXAGGERATION: f64 = 50.0;
+/// The default exaggeration of the wheelsets' lateral and yaw motion relative to the track: none
+/// (true scale; see the module doc).
+pub const DEFAULT_EXAGGERATION: f64 = 1.0;
 
 /// Length of a force arrow per newton, m/N (1 m per 50 kN).
 pub const FORCE_SCALE_M_PER_N: f64 = 1.0 / 50e3;
@@ -66,7 +69,7 @@ const RAIL_STEP_M: f64 = 1.0;
 /// What the 3D view draws beyond the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct World3dSettings {
-    /// The factor on the lateral and yaw motion relative to the track (1: true scale).
+    /// The factor on the wheelsets' lateral and yaw motion relative to the track (1: true scale).
     pub exaggerate: f64,
 }
 
@@ -321,11 +324,15 @@ impl World3d {
 
     /// The 3D view's title (with the exaggeration).
     pub fn title(settings: &World3dSettings) -> String {
-        format!(
-            "Vehicle on its track (lateral and yaw × {}; forces 1 m per {} kN)",
-            settings.exaggerate,
-            (1.0 / FORCE_SCALE_M_PER_N / 1e3).round()
-        )
+        let forces = (1.0 / FORCE_SCALE_M_PER_N / 1e3).round();
+        if settings.exaggerate == 1.0 {
+            format!("true scale; forces 1 m per {forces} kN")
+        } else {
+            format!(
+                "wheelsets' lateral and yaw × {}, bodies true scale; forces 1 m per {forces} kN",
+                settings.exaggerate
+            )
+        }
     }
 
     /// The track frame at `s` relative to [`Self::origin`]: position and rotation (a straight
@@ -489,12 +496,8 @@ impl World3d {
             .iter()
             .zip(bodies)
             .map(|(b, q)| {
-                placed(
-                    q.s,
-                    Vector3::new(0.0, e * q.q[1], q.q[2]),
-                    b.h,
-                    [q.q[3], q.q[4], e * q.q[5]],
-                )
+                // The bodies at true scale (see the module doc).
+                placed(q.s, Vector3::new(0.0, q.q[1], q.q[2]), b.h, [q.q[3], q.q[4], q.q[5]])
             })
             .collect();
         let mut ws_rows = Vec::with_capacity(wheelsets.len());
