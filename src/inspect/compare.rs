@@ -55,11 +55,7 @@ fn shown(c: &Comparison) -> Vec<String> {
 /// The layout: a row per wheelset shown, the report below.
 pub fn blueprint_for(wheelsets: &[String]) -> Layout {
     let mut rows = wheelset_rows(wheelsets);
-    rows.push(
-        View::text_document("Report")
-            .origin("/compare/summary")
-            .into(),
-    );
+    rows.push(View::text_document("Report").origin("/compare/summary").into());
     Layout::new(Container::vertical(rows)).timeline(TIME)
 }
 
@@ -106,13 +102,8 @@ pub fn blueprint(c: &Comparison) -> Layout {
     shares.extend(std::iter::repeat_n(2.0, rows_below.len() + 1));
     let mut rows: Vec<Item> = vec![world.into()];
     rows.extend(rows_below);
-    rows.push(
-        View::text_document("Report")
-            .origin("/compare/summary")
-            .into(),
-    );
-    Layout::new(Container::vertical(rows).shares(shares))
-        .timeline(TIME)
+    rows.push(View::text_document("Report").origin("/compare/summary").into());
+    Layout::new(Container::vertical(rows).shares(shares)).timeline(TIME)
 }
 
 /// Every model's vehicle in 3D (`compare/world/MODEL`, see the module doc), over the time every run

@@ -49,9 +49,7 @@ pub fn blueprint() -> Layout {
                 plot("contact on wheel s^w [mm]", "/contact/plots/s_wheel_mm"),
                 plot("contact on rail s^r [mm]", "/contact/plots/s_rail_mm"),
                 plot("contact angle [deg]", "/contact/plots/contact_angle_deg"),
-                View::text_document("Summary")
-                    .origin("/contact/summary")
-                    .into(),
+                View::text_document("Summary").origin("/contact/summary").into(),
             ])
             .into(),
         ])

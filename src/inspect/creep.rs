@@ -47,15 +47,14 @@ pub fn blueprint() -> Layout {
                     .origin("/creep/patch")
                     .contents(["/creep/patch/ellipse", "/creep/patch/lateral"])
                     .into(),
-                View::text_document("Summary")
-                    .origin("/creep/summary")
-                    .into(),
+                View::text_document("Summary").origin("/creep/summary").into(),
             ])
             .into(),
         ])
         .shares([3.0, 2.0]),
     )
-    .timeline(TIMELINE).play_state(super::layout::PlayState::Following)
+    .timeline(TIMELINE)
+    .play_state(super::layout::PlayState::Following)
 }
 
 fn model_color(name: &str, shade: usize) -> Color {

@@ -51,9 +51,7 @@ pub fn blueprint() -> Layout {
             Container::horizontal([
                 plot("contact angle [deg]", "/design/plots/contact_angle_deg"),
                 plot("Δr = r_left − r_right [mm]", "/design/plots/dr_mm"),
-                View::text_document("Summary")
-                    .origin("/design/summary")
-                    .into(),
+                View::text_document("Summary").origin("/design/summary").into(),
             ])
             .into(),
         ])

@@ -45,9 +45,7 @@ pub fn blueprint() -> Layout {
                 View::spatial2d("Equivalent profiles f^k(s^k) [mm]")
                     .origin("/kec/profiles")
                     .into(),
-                View::text_document("Summary")
-                    .origin("/kec/summary")
-                    .into(),
+                View::text_document("Summary").origin("/kec/summary").into(),
             ])
             .into(),
         ])

@@ -24,6 +24,7 @@
 //! A layout can be changed after it was sent ([`SentLayout::update`]): the run's recording puts
 //! the worst wheelset's tab first once the run has found it.
 
+use rerun::datatypes::Uuid;
 use rerun::external::re_log_types::{BlueprintActivationCommand, LogMsg, RecordingId};
 use rerun::external::re_sdk_types::blueprint::archetypes::{
     ContainerBlueprint, EyeControls3D, PanelBlueprint, PlotLegend, ScalarAxis, TimeAxis, TimePanelBlueprint,
@@ -34,8 +35,9 @@ use rerun::external::re_sdk_types::blueprint::components::{
     QueryExpression, RootContainer, RowShare, TimelineName, ViewClass,
 };
 use rerun::external::re_sdk_types::components::{Name, Visible};
-use rerun::external::re_sdk_types::datatypes::{Float32, Range1D, Range2D, TimeInt, TimeRange, TimeRangeBoundary};
-use rerun::datatypes::Uuid;
+use rerun::external::re_sdk_types::datatypes::{
+    Float32, Range1D, Range2D, TimeInt, TimeRange, TimeRangeBoundary,
+};
 use rerun::{AsComponents, RecordingStream, RecordingStreamResult, SerializedComponentBatch};
 
 pub use rerun::external::re_sdk_types::blueprint::components::{Corner2D as Corner, PlayState};
@@ -74,9 +76,9 @@ impl View {
         View::new("TimeSeries", name)
             .with_property(
                 "TimeAxis",
-                &TimeAxis::new().with_view_range(rerun::external::re_sdk_types::blueprint::components::TimeRange(
-                    TimeRange::EVERYTHING,
-                )),
+                &TimeAxis::new().with_view_range(
+                    rerun::external::re_sdk_types::blueprint::components::TimeRange(TimeRange::EVERYTHING),
+                ),
             )
             .legend(Corner2D::RightTop)
     }
@@ -150,12 +152,12 @@ impl View {
     pub fn x_range(self, min: i64, max: i64) -> View {
         self.with_property(
             "TimeAxis",
-            &TimeAxis::new().with_view_range(rerun::external::re_sdk_types::blueprint::components::TimeRange(
-                TimeRange {
+            &TimeAxis::new().with_view_range(
+                rerun::external::re_sdk_types::blueprint::components::TimeRange(TimeRange {
                     start: TimeRangeBoundary::Absolute(TimeInt(min)),
                     end: TimeRangeBoundary::Absolute(TimeInt(max)),
-                },
-            )),
+                }),
+            ),
         )
     }
 
@@ -163,7 +165,9 @@ impl View {
     pub fn y_range(self, min: f64, max: f64) -> View {
         self.with_property(
             "ScalarAxis",
-            &ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([min, max]))),
+            &ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([
+                min, max,
+            ]))),
         )
     }
 
@@ -171,13 +175,18 @@ impl View {
     pub fn legend(self, corner: Corner2D) -> View {
         self.with_property(
             "PlotLegend",
-            &PlotLegend::new().with_corner(corner).with_visible(Visible::from(true)),
+            &PlotLegend::new()
+                .with_corner(corner)
+                .with_visible(Visible::from(true)),
         )
     }
 
     /// A time-series view without a legend (one line, named by the title).
     pub fn no_legend(self) -> View {
-        self.with_property("PlotLegend", &PlotLegend::new().with_visible(Visible::from(false)))
+        self.with_property(
+            "PlotLegend",
+            &PlotLegend::new().with_visible(Visible::from(false)),
+        )
     }
 
     /// A 3D view's camera: an orbit about `target` from `eye`, Z up (coordinates of the view's
@@ -197,10 +206,12 @@ impl View {
     pub fn bounds(self, x: [f64; 2], y: [f64; 2]) -> View {
         self.with_property(
             "VisualBounds2D",
-            &VisualBounds2D::new(rerun::external::re_sdk_types::blueprint::components::VisualBounds2D(Range2D {
-                x_range: Range1D(x),
-                y_range: Range1D(y),
-            })),
+            &VisualBounds2D::new(
+                rerun::external::re_sdk_types::blueprint::components::VisualBounds2D(Range2D {
+                    x_range: Range1D(x),
+                    y_range: Range1D(y),
+                }),
+            ),
         )
     }
 
@@ -316,9 +327,14 @@ impl Container {
             arch = arch.with_display_name(Name(name.clone().into()));
         }
         if let Some(shares) = &self.shares {
-            let shares: Vec<f32> = order.iter().map(|&k| shares.get(k).copied().unwrap_or(1.0)).collect();
+            let shares: Vec<f32> = order
+                .iter()
+                .map(|&k| shares.get(k).copied().unwrap_or(1.0))
+                .collect();
             arch = match self.kind {
-                ContainerKind::Horizontal => arch.with_col_shares(shares.iter().map(|&s| ColumnShare(Float32(s)))),
+                ContainerKind::Horizontal => {
+                    arch.with_col_shares(shares.iter().map(|&s| ColumnShare(Float32(s))))
+                }
                 _ => arch.with_row_shares(shares.iter().map(|&s| RowShare(Float32(s)))),
             };
         }
@@ -476,8 +492,14 @@ impl Layout {
             time = time.with_play_state(p);
         }
         bp.log("time_panel", &time)?;
-        bp.log("blueprint_panel", &PanelBlueprint::new().with_state(PanelState::Collapsed))?;
-        bp.log("selection_panel", &PanelBlueprint::new().with_state(PanelState::Collapsed))?;
+        bp.log(
+            "blueprint_panel",
+            &PanelBlueprint::new().with_state(PanelState::Collapsed),
+        )?;
+        bp.log(
+            "selection_panel",
+            &PanelBlueprint::new().with_state(PanelState::Collapsed),
+        )?;
         let sent = SentLayout {
             layout: self,
             bp,
@@ -518,7 +540,12 @@ impl SentLayout {
 
     /// Shows the tabs of the container named `name` in `order` (indices of its children), the
     /// first one active; a name no container has changes nothing.
-    pub fn reorder(self, rec: &RecordingStream, name: &str, order: &[usize]) -> RecordingStreamResult<SentLayout> {
+    pub fn reorder(
+        self,
+        rec: &RecordingStream,
+        name: &str,
+        order: &[usize],
+    ) -> RecordingStreamResult<SentLayout> {
         let Some(c) = self.layout.find(name) else {
             return Ok(self);
         };
@@ -531,12 +558,121 @@ impl SentLayout {
             }
         }
         self.bp.set_time_sequence("blueprint", 1);
-        self.bp.log(c.blueprint_path(), &c.archetype(&full, full.first().copied()))?;
+        self.bp
+            .log(c.blueprint_path(), &c.archetype(&full, full.first().copied()))?;
         Ok(self.forward(rec))
     }
 
     /// The layout.
     pub fn layout(&self) -> &Layout {
         &self.layout
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rerun::external::re_log_types::StoreKind;
+
+    /// The blueprint entities a layout sends (their paths), from a memory sink, and whether it
+    /// was activated.
+    fn sent(
+        layout: Layout,
+    ) -> (
+        Vec<String>,
+        bool,
+        SentLayout,
+        RecordingStream,
+        rerun::sink::MemorySinkStorage,
+    ) {
+        let (rec, storage) = rerun::RecordingStreamBuilder::new("kecsim-test")
+            .memory()
+            .unwrap();
+        let sent = layout.send("kecsim-test", &rec).unwrap();
+        let msgs = storage.take();
+        let (paths, activated) = paths_of(&msgs);
+        (paths, activated, sent, rec, storage)
+    }
+
+    fn paths_of(msgs: &[LogMsg]) -> (Vec<String>, bool) {
+        let mut paths = Vec::new();
+        let mut activated = false;
+        for m in msgs {
+            match m {
+                LogMsg::ArrowMsg(store, arrow) if store.kind() == StoreKind::Blueprint => {
+                    let chunk = rerun::log::Chunk::from_arrow_msg(arrow).unwrap();
+                    paths.push(chunk.entity_path().to_string());
+                }
+                LogMsg::BlueprintActivationCommand(c) => activated |= c.make_active && c.make_default,
+                _ => {}
+            }
+        }
+        (paths, activated)
+    }
+
+    /// Every time-series view opens on its whole timeline (the x range a property of the view,
+    /// logged where the viewer reads it: `view/ID/TimeAxis`); the cameras and legends likewise;
+    /// the layout is activated as the application's default.
+    #[test]
+    fn views_open_with_their_properties() {
+        let layout = Layout::new(Container::vertical([
+            View::time_series("a").origin("/a").into(),
+            Container::horizontal([
+                View::time_series("b").origin("/b").no_legend().into(),
+                View::spatial3d("c").eye([1.0, 2.0, 3.0], [0.0, 0.0, 0.5]).into(),
+            ])
+            .shares([2.0, 1.0])
+            .into(),
+        ]))
+        .timeline("time");
+        let views: Vec<(String, Vec<&str>)> = layout
+            .views()
+            .iter()
+            .map(|v| (v.blueprint_path(), v.property_names()))
+            .collect();
+        assert_eq!(views.len(), 3);
+        assert_eq!(views[0].1, vec!["TimeAxis", "PlotLegend"]);
+        assert_eq!(views[1].1, vec!["TimeAxis", "PlotLegend"]);
+        assert_eq!(views[2].1, vec!["EyeControls3D"]);
+        let (paths, activated, ..) = sent(layout);
+        assert!(activated);
+        // (Entity paths read back with a leading `/`.)
+        let paths: Vec<String> = paths
+            .iter()
+            .map(|p| p.trim_start_matches('/').to_string())
+            .collect();
+        for (view, props) in &views {
+            assert!(paths.contains(view), "{view}: {paths:?}");
+            assert!(paths.contains(&format!("{view}/ViewContents")), "{view}");
+            for p in props {
+                assert!(paths.contains(&format!("{view}/{p}")), "{view}/{p}: {paths:?}");
+            }
+        }
+        for p in ["viewport", "time_panel", "blueprint_panel", "selection_panel"] {
+            assert!(paths.iter().any(|x| x == p), "{p}: {paths:?}");
+        }
+    }
+
+    /// A named tab container reordered after the layout was sent: its blueprint logged again
+    /// (the given tabs first, the rest after, each once) and activated; an unknown name sends
+    /// nothing.
+    #[test]
+    fn tabs_are_reordered_later() {
+        let tabs = Container::tabs(
+            ["w1", "w2", "w3"].map(|n| Container::vertical([View::time_series(n).into()]).named(n).into()),
+        )
+        .named("wheelsets");
+        let path = tabs.blueprint_path();
+        let (_, _, layout, rec, storage) = sent(Layout::new(Container::vertical([tabs.into()])));
+        let layout = layout.reorder(&rec, "wheelsets", &[2, 2, 7]).unwrap();
+        let (paths, activated) = paths_of(&storage.take());
+        assert!(activated);
+        assert!(paths.iter().any(|p| p.ends_with(&path)), "{path}: {paths:?}");
+        let c = layout.layout().find("wheelsets").unwrap();
+        let arch = c.archetype(&[2, 0, 1], Some(2));
+        assert!(format!("{arch:?}").contains(&c.children()[2].blueprint_path()));
+        let layout = layout.reorder(&rec, "nothing of that name", &[1]).unwrap();
+        assert!(paths_of(&storage.take()).0.is_empty());
+        drop(layout);
     }
 }

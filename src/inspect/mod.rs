@@ -74,8 +74,7 @@ pub enum InspectError {
     },
 }
 
-/// How long `--connect` waits for a viewer to answer, and a stream's final flush for it to take
-/// the recording.
+/// How long `--connect` waits for a viewer to answer.
 pub const VIEWER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(3);
 
 /// Why a spawned viewer could not show anything here, if it could not: no `rerun` executable on
@@ -135,7 +134,8 @@ pub fn probe_viewer(url: &str, timeout: std::time::Duration) -> Result<(), Strin
 }
 
 /// Ends a recording: a file is renamed from its part file into place (see [`crate::files`]); a
-/// stream to a viewer is flushed within [`VIEWER_TIMEOUT`]; the line to
+/// stream to a viewer is delivered ([`deliver`]: everything taken by the other side, within
+/// [`DELIVERY_TIMEOUT`]); the line to
 /// print says where the recording went; a stream the viewer did not take is an error (the command
 /// then exits non-zero, after writing its other outputs). `rec` must be the stream's last handle:
 /// a file's footer is written when it drops here.
@@ -155,21 +155,41 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
                 Sink::Connect(u) => (u.clone(), format!("the viewer at {u}")),
                 _ => ("the spawned viewer".to_string(), "the spawned viewer".to_string()),
             };
-            let flushed = rec.flush_with_timeout(VIEWER_TIMEOUT);
-            // Dropping a stream waits for the viewer without end (the SDK joins its network
-            // thread with no timeout), which hangs on a viewer that stopped answering: the
-            // flushed stream is let go instead (the process ends right after).
-            std::mem::forget(rec);
-            match flushed {
-                Ok(()) => Ok(format!("streamed to {to}")),
-                Err(e) => Err({
-                    format!(
-                    "the recording was NOT delivered: {viewer} did not take it ({e}); run again with --save FILE"
-                )
-                }),
-            }
+            deliver(rec, DELIVERY_TIMEOUT)
+                .map(|()| format!("streamed to {to}"))
+                .map_err(|e| {
+                    format!("the recording was NOT delivered: {viewer} did not take it ({e}); run again with --save FILE")
+                })
         }
     }
+}
+
+/// How long the end of a streamed recording may take to reach the viewer or the server: the
+/// stream's queue sent and the call closed by the other side (see [`deliver`]).
+pub const DELIVERY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// Ends a stream to a viewer or a server and waits, at most `timeout`, until the other side has
+/// taken everything: the SDK's flush only hands the queued messages to its network task (a
+/// process that exits then loses the last of them in flight: the summary, the last rows), while
+/// dropping the stream's last handle sends what is queued, ends the call and waits for the other
+/// side to close it — the confirmation. That wait has no end in the SDK (a viewer that stopped
+/// answering), so the drop runs on a thread of its own, waited for with `timeout`; past it the
+/// stream is left to the process's exit, and the error says so.
+pub fn deliver(rec: RecordingStream, timeout: std::time::Duration) -> Result<(), String> {
+    let start = std::time::Instant::now();
+    rec.flush_with_timeout(timeout).map_err(|e| e.to_string())?;
+    let (done, confirmed) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        drop(rec);
+        let _ = done.send(());
+    });
+    let left = timeout.saturating_sub(start.elapsed());
+    confirmed.recv_timeout(left).map_err(|_| {
+        format!(
+            "the end of the stream was not confirmed within {:.0} s",
+            timeout.as_secs_f64()
+        )
+    })
 }
 
 /// Opens a recording stream on `sink` with the layout `layout()` builds (see [`layout`]). A

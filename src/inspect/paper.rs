@@ -140,33 +140,39 @@ pub fn contact_tab() -> Item {
 
 /// Fig. 17: the four irregularities, two by two.
 pub fn irregularity_tab() -> Item {
-    Container::grid(2, IRREGULARITIES.iter().map(|(name, title, _)| {
-        plot(
-            format!("Fig. 17: {title} [mm] (timeline distance_mm)"),
-            format!("/paper/fig17/{name}_mm"),
-        )
-    }))
+    Container::grid(
+        2,
+        IRREGULARITIES.iter().map(|(name, title, _)| {
+            plot(
+                format!("Fig. 17: {title} [mm] (timeline distance_mm)"),
+                format!("/paper/fig17/{name}_mm"),
+            )
+        }),
+    )
     .named("Fig. 17: irregularities")
     .into()
 }
 
 /// Fig. 18: y and ψ above, their differences below (the paper's layout).
 pub fn kinematics_tab(tables: &str) -> Item {
-    Container::grid(2, [
-        plot(
-            format!("Fig. 18: lateral displacement y [mm], kec and {tables} (timeline distance_mm)"),
-            "/paper/fig18/y_mm",
-        ),
-        plot(
-            format!("Fig. 18: yaw ψ [mrad], kec and {tables} (timeline distance_mm)"),
-            "/paper/fig18/yaw_mrad",
-        ),
-        plot("Fig. 18: |Δy| [mm] (the paper: < 1 mm)", "/paper/fig18/dy_mm"),
-        plot(
-            "Fig. 18: |Δψ| [mrad] (the paper: < 0.5 mrad)",
-            "/paper/fig18/dyaw_mrad",
-        ),
-    ])
+    Container::grid(
+        2,
+        [
+            plot(
+                format!("Fig. 18: lateral displacement y [mm], kec and {tables} (timeline distance_mm)"),
+                "/paper/fig18/y_mm",
+            ),
+            plot(
+                format!("Fig. 18: yaw ψ [mrad], kec and {tables} (timeline distance_mm)"),
+                "/paper/fig18/yaw_mrad",
+            ),
+            plot("Fig. 18: |Δy| [mm] (the paper: < 1 mm)", "/paper/fig18/dy_mm"),
+            plot(
+                "Fig. 18: |Δψ| [mrad] (the paper: < 0.5 mrad)",
+                "/paper/fig18/dyaw_mrad",
+            ),
+        ],
+    )
     .named("Fig. 18: front bogie")
     .into()
 }
@@ -185,9 +191,12 @@ pub fn forces_tab(tables: &str, wheelsets: &[String]) -> Item {
             format!("/paper/fig19/dnormal_kn/{w}"),
         )
     });
-    Container::grid(wheelsets.len().max(1) as u32, top.chain(bottom).collect::<Vec<_>>())
-        .named("Fig. 19: normal forces")
-        .into()
+    Container::grid(
+        wheelsets.len().max(1) as u32,
+        top.chain(bottom).collect::<Vec<_>>(),
+    )
+    .named("Fig. 19: normal forces")
+    .into()
 }
 
 /// Tab. 7 and the summary.
@@ -207,7 +216,8 @@ pub fn blueprint_for(tables: &str, wheelsets: &[String]) -> Layout {
         forces_tab(tables, wheelsets),
         Container::vertical([summary_tab()]).named("Tab. 7: cost").into(),
     ]))
-    .timeline(Y_TIMELINE).play_state(super::layout::PlayState::Paused)
+    .timeline(Y_TIMELINE)
+    .play_state(super::layout::PlayState::Paused)
 }
 
 /// The front bogie's wheelsets of the figures (Fig. 19's columns).

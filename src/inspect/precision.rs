@@ -33,9 +33,7 @@ pub fn blueprint() -> Layout {
                 .into(),
         ])
         .into(),
-        View::text_document("Report")
-            .origin("/precision/summary")
-            .into(),
+        View::text_document("Report").origin("/precision/summary").into(),
     ]))
 }
 

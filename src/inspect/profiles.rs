@@ -39,9 +39,7 @@ pub fn blueprint() -> Layout {
     Layout::new(
         Container::vertical([
             Container::horizontal([side_view(Side::Right), side_view(Side::Left)]).into(),
-            View::text_document("Summary")
-                .origin("/profiles/summary")
-                .into(),
+            View::text_document("Summary").origin("/profiles/summary").into(),
         ])
         .shares([3.0, 2.0]),
     )

@@ -36,6 +36,36 @@ pub fn recording_chunks(path: &Path) -> Result<Vec<Chunk>, ReadbackError> {
     message_chunks(&msgs, &p)
 }
 
+/// The entity paths of the recording's layout (its blueprint store: `view/ID`, `view/ID/TimeAxis`,
+/// `container/ID`, …), in file order, each once.
+pub fn layout_entities(path: &Path) -> Result<Vec<String>, ReadbackError> {
+    let p = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|source| ReadbackError::Io {
+        path: p.clone(),
+        source,
+    })?;
+    let mut out: Vec<String> = Vec::new();
+    for msg in DecoderApp::decode_lazy(BufReader::new(file)) {
+        let msg = msg.map_err(|e| ReadbackError::Decode {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        if let LogMsg::ArrowMsg(store, arrow) = &msg {
+            if store.kind() == StoreKind::Blueprint {
+                let chunk = Chunk::from_arrow_msg(arrow).map_err(|e| ReadbackError::Decode {
+                    path: p.clone(),
+                    message: e.to_string(),
+                })?;
+                let e = chunk.entity_path().to_string();
+                if !out.contains(&e) {
+                    out.push(e);
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// The data chunks of the recording store among log messages (e.g. of a memory sink); `origin`
 /// names them in errors.
 pub fn message_chunks(msgs: &[LogMsg], origin: &str) -> Result<Vec<Chunk>, ReadbackError> {

@@ -53,7 +53,9 @@ use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines,
 use super::assessment;
 use super::bands::RunningBands;
 use super::world3d::{World3d, World3dSettings};
-use super::{log_static, open_recording_with, section_mm, send_scalar_rows, send_scalar_values, InspectError, Sink};
+use super::{
+    log_static, open_recording_with, section_mm, send_scalar_rows, send_scalar_values, InspectError, Sink,
+};
 use crate::dynamics::output::{ObserverError, OutputSample, RunObserver, RunStart};
 use crate::dynamics::sample::{Panel, Quantity, Sample, Series, QUANTITIES, WHEELS};
 use crate::dynamics::RunSummary;
@@ -159,7 +161,11 @@ pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Pl
     if !vehicle.is_empty() {
         rows.push(vehicle);
     }
-    rows.extend(detail_rows(table, detail_wheelset(wheelsets)).into_iter().map(|(_, r)| r));
+    rows.extend(
+        detail_rows(table, detail_wheelset(wheelsets))
+            .into_iter()
+            .map(|(_, r)| r),
+    );
     rows
 }
 
@@ -178,7 +184,14 @@ fn band_unit(scene: &Scene) -> f64 {
 /// The layout for the run of `wheelsets` (by name) with the default 3D view
 /// ([`blueprint_with`]).
 pub fn blueprint_for(wheelsets: &[String]) -> Layout {
-    blueprint_with(wheelsets, &World3dSettings::default(), 1.0, false, &Cameras::default(), RunTab::Overview)
+    blueprint_with(
+        wheelsets,
+        &World3dSettings::default(),
+        1.0,
+        false,
+        &Cameras::default(),
+        RunTab::Overview,
+    )
 }
 
 /// A time-series view of `plot`, its legend hidden where one line is named by the title.
@@ -382,9 +395,7 @@ pub fn blueprint_with(
                 View::spatial2d("front wheelset, right [mm]")
                     .origin("/run/section/right")
                     .into(),
-                View::spatial2d("… left [mm]")
-                    .origin("/run/section/left")
-                    .into(),
+                View::spatial2d("… left [mm]").origin("/run/section/left").into(),
             ])
             .into(),
             track_strip(),
@@ -400,7 +411,14 @@ pub fn blueprint_with(
         vehicle
             .iter()
             .filter(|p| entities.iter().any(|e| p.origin.ends_with(&format!("/{e}"))))
-            .map(|p| series_view(p.clone(), p.origin.contains("/run/vehicle/") && wheelsets.len() > 1 && !p.title.starts_with("vehicle:")))
+            .map(|p| {
+                series_view(
+                    p.clone(),
+                    p.origin.contains("/run/vehicle/")
+                        && wheelsets.len() > 1
+                        && !p.title.starts_with("vehicle:"),
+                )
+            })
             .collect()
     };
     let mut kin_rows: Vec<Item> = Vec::new();
@@ -417,14 +435,16 @@ pub fn blueprint_with(
     ));
     kin_shares.push(2.0);
     kin_rows.push(track_strip());
-    kin_shares.push(0.6);
-    let kinematics = Container::vertical(kin_rows).shares(kin_shares).named("Wheelsets");
+    kin_shares.push(0.7);
+    let kinematics = Container::vertical(kin_rows)
+        .shares(kin_shares)
+        .named("Wheelsets");
 
     let mut safety_rows: Vec<Item> = vec![Container::horizontal([
         View::time_series("running safety: Y/Q, 2 m mean, larger wheel (grey: Nadal's limit)")
             .origin("/run/safety/y_over_q_2m")
             .into(),
-        View::time_series("ΣY, 2 m mean [kN] (grey: ± Prud'homme's limit)")
+        View::time_series("ΣY, 2 m mean [kN] (grey: ± the smallest Prud'homme limit)")
             .origin("/run/safety/sum_y_2m_kn")
             .into(),
         View::time_series("ΔQ/Q₀, larger wheel (grey: 0.6, EN 14363's limit)")
@@ -433,7 +453,13 @@ pub fn blueprint_with(
     ])
     .into()];
     let mut safety_shares = vec![1.2];
-    let loads = take(&["min_normal_kn", "max_abs_y_over_q", "vehicle_speed_m_s", "traction_kn", "traction_power_kw"]);
+    let loads = take(&[
+        "min_normal_kn",
+        "max_abs_y_over_q",
+        "vehicle_speed_m_s",
+        "traction_kn",
+        "traction_power_kw",
+    ]);
     if !loads.is_empty() {
         safety_rows.push(Container::horizontal(loads).into());
         safety_shares.push(1.0);
@@ -445,7 +471,7 @@ pub fn blueprint_with(
     ));
     safety_shares.push(1.0);
     safety_rows.push(track_strip());
-    safety_shares.push(0.6);
+    safety_shares.push(0.7);
     let safety = Container::vertical(safety_rows)
         .shares(safety_shares)
         .named("Forces and safety");
@@ -473,8 +499,9 @@ pub fn blueprint_with(
         ])
         .into(),
         wheelset_tabs(wheelsets, &[Panel::Wear], wheelset_tabs_name(Panel::Wear)),
+        track_strip(),
     ])
-    .shares([1.3, 1.0, 1.0])
+    .shares([1.3, 1.0, 1.1, 0.6])
     .named("Wear and stress");
 
     let mut tabs: Vec<Item> = vec![overview.into(), kinematics.into(), safety.into(), wear.into()];
@@ -489,7 +516,7 @@ pub fn blueprint_with(
             .collect();
         tabs.push(
             Container::vertical([Container::grid(2, views).into(), track_strip()])
-                .shares([4.0, 0.6])
+                .shares([4.0, 0.7])
                 .named("Comfort")
                 .into(),
         );
@@ -568,14 +595,24 @@ pub fn safety_verdict(summary: &RunSummary) -> String {
             .iter()
             .find(|x| x.name == w.0)
             .map_or(1.0, |x| x.prudhomme_limit_n);
-        line("ΣY, 2 m mean (Prud'homme)", (w.0, w.1 * limit), limit, " kN", 1e-3);
+        line(
+            "ΣY, 2 m mean (Prud'homme)",
+            (w.0, w.1 * limit),
+            limit,
+            " kN",
+            1e-3,
+        );
     }
     if let Some(w) = worst(&|w| w.delta_q_over_q0) {
         line("ΔQ/Q₀ (EN 14363)", w, DELTA_Q_LIMIT, "", 1.0);
     }
     format!(
         "## Running safety: {}\n\n{}\n\n",
-        if over { "**a limit is exceeded**" } else { "within every limit" },
+        if over {
+            "**a limit is exceeded**"
+        } else {
+            "within every limit"
+        },
         lines.join("\n")
     )
 }
@@ -705,8 +742,9 @@ impl LiveRecorder {
         let comfort =
             matches!(&scene.simulation, Some((_, VehicleSpec::Multibody(m))) if !m.carbodies().is_empty());
         let cameras = Cameras::for_scene(scene);
-        let (rec, layout) =
-            open_recording_with("kecsim", sink, || blueprint_with(wheelsets, world, unit, comfort, &cameras, first))?;
+        let (rec, layout) = open_recording_with("kecsim", sink, || {
+            blueprint_with(wheelsets, world, unit, comfort, &cameras, first)
+        })?;
         let mut r = Self::on_with(rec, scene, wheelsets, world)?;
         r.layout = Some(layout);
         if matches!(sink, Sink::Save(_)) {
@@ -987,8 +1025,12 @@ impl LiveRecorder {
             return Ok(Vec::new());
         };
         let mut worst: Vec<(usize, f64)> = Vec::new();
-        let (mut t_span, mut s_span) = ((f64::INFINITY, f64::NEG_INFINITY), (f64::INFINITY, f64::NEG_INFINITY));
-        let mut sum_y_limit = 0.0f64;
+        let (mut t_span, mut s_span) = (
+            (f64::INFINITY, f64::NEG_INFINITY),
+            (f64::INFINITY, f64::NEG_INFINITY),
+        );
+        // The wheelsets' Prud'homme limits differ with their axle loads: the strictest is drawn.
+        let mut sum_y_limit = f64::INFINITY;
         for (k, (name, rows)) in self.names.iter().zip(&self.forces).enumerate() {
             let Some(w) = safety.wheelsets.iter().find(|w| &w.name == name) else {
                 continue;
@@ -1001,7 +1043,13 @@ impl LiveRecorder {
             let ratio = |i: usize| {
                 let v: Vec<f64> = rows
                     .iter()
-                    .map(|r| if r.q[i] > 0.0 { (r.y[i] / r.q[i]).abs() } else { 0.0 })
+                    .map(|r| {
+                        if r.q[i] > 0.0 {
+                            (r.y[i] / r.q[i]).abs()
+                        } else {
+                            0.0
+                        }
+                    })
                     .collect();
                 sliding_mean(&s, &v, WINDOW_M)
             };
@@ -1031,7 +1079,11 @@ impl LiveRecorder {
                     TimeColumn::new_sequence(DISTANCE, rows.iter().map(|r| (r.s * 1e3).round() as i64)),
                 ]
             };
-            for (what, values) in [("y_over_q_2m", y_over_q), ("sum_y_2m_kn", sum_y), ("delta_q_over_q0", dq)] {
+            for (what, values) in [
+                ("y_over_q_2m", y_over_q),
+                ("sum_y_2m_kn", sum_y),
+                ("delta_q_over_q0", dq),
+            ] {
                 send_scalar_rows(
                     &self.rec,
                     timelines(),
@@ -1045,7 +1097,7 @@ impl LiveRecorder {
             let last = rows.last().unwrap_or(first);
             t_span = (t_span.0.min(first.t), t_span.1.max(last.t));
             s_span = (s_span.0.min(first.s), s_span.1.max(last.s));
-            sum_y_limit = sum_y_limit.max(w.prudhomme_limit_n * 1e-3);
+            sum_y_limit = sum_y_limit.min(w.prudhomme_limit_n * 1e-3);
             let load = (w.y_over_q_2m / safety.nadal_limit)
                 .max(w.sum_y_2m_n / w.prudhomme_limit_n)
                 .max(w.delta_q_over_q0 / DELTA_Q_LIMIT);
@@ -1057,7 +1109,10 @@ impl LiveRecorder {
                     &self.rec,
                     vec![
                         TimeColumn::new_duration_secs(TIME, [t_span.0, t_span.1]),
-                        TimeColumn::new_sequence(DISTANCE, [s_span.0, s_span.1].map(|s| (s * 1e3).round() as i64)),
+                        TimeColumn::new_sequence(
+                            DISTANCE,
+                            [s_span.0, s_span.1].map(|s| (s * 1e3).round() as i64),
+                        ),
                     ],
                     2,
                     entity,
@@ -1066,10 +1121,26 @@ impl LiveRecorder {
                     vec![Color::from_rgb(150, 150, 150)],
                 )
             };
-            limit("run/safety/y_over_q_2m/limit", "Nadal's limit", safety.nadal_limit)?;
-            limit("run/safety/sum_y_2m_kn/limit", "Prud'homme's limit", sum_y_limit)?;
-            limit("run/safety/sum_y_2m_kn/limit_negative", "− Prud'homme's limit", -sum_y_limit)?;
-            limit("run/safety/delta_q_over_q0/limit", "EN 14363's limit", DELTA_Q_LIMIT)?;
+            limit(
+                "run/safety/y_over_q_2m/limit",
+                "Nadal's limit",
+                safety.nadal_limit,
+            )?;
+            limit(
+                "run/safety/sum_y_2m_kn/limit",
+                "Prud'homme's limit (smallest)",
+                sum_y_limit,
+            )?;
+            limit(
+                "run/safety/sum_y_2m_kn/limit_negative",
+                "− Prud'homme's limit",
+                -sum_y_limit,
+            )?;
+            limit(
+                "run/safety/delta_q_over_q0/limit",
+                "EN 14363's limit",
+                DELTA_Q_LIMIT,
+            )?;
         }
         worst.sort_by(|a, b| b.1.total_cmp(&a.1));
         Ok(worst.into_iter().map(|(k, _)| k).collect())
@@ -1441,6 +1512,116 @@ mod tests {
         let mut expected = vec![vehicle];
         expected.extend(detail("w1"));
         assert_eq!(rows(&["w1", "w2"]), expected);
+    }
+
+    /// Issue 47: the run's layout in tabs that each fit a screen: their names in order, every
+    /// wheelset's detail plots (each in its wheelset's tab, not only the first wheelset's), the
+    /// running-safety plots, the track strip on every history tab, both 3D views with a camera,
+    /// every time-series view opening on its whole timeline, no tab with more than 16 views.
+    #[test]
+    fn the_run_layout_is_in_tabs() {
+        let names: Vec<String> = (1..=6).map(|k| format!("w{k}")).collect();
+        let cameras = Cameras {
+            bogie_x_m: -0.9,
+            middle_x_m: -14.0,
+            length_m: 28.0,
+            r0_m: 0.37,
+        };
+        let layout = blueprint_with(
+            &names,
+            &World3dSettings::default(),
+            5.0,
+            true,
+            &cameras,
+            RunTab::Forces,
+        );
+        let tabs: Vec<&str> = layout
+            .root()
+            .children()
+            .iter()
+            .map(|t| match t {
+                Item::Container(c) => c.name().unwrap_or("?"),
+                Item::View(v) => v.name(),
+            })
+            .collect();
+        assert_eq!(
+            tabs,
+            [
+                "Overview",
+                "Wheelsets",
+                "Forces and safety",
+                "Wear and stress",
+                "Comfort"
+            ]
+        );
+        let views = layout.views();
+        let origins: Vec<&str> = views.iter().map(|v| v.origin_path()).collect();
+        for w in &names {
+            for (_, row) in detail_rows(QUANTITIES, w) {
+                for p in row {
+                    assert_eq!(
+                        origins.iter().filter(|o| **o == p.origin).count(),
+                        1,
+                        "{}",
+                        p.origin
+                    );
+                }
+            }
+        }
+        for p in vehicle_plots(QUANTITIES, &names) {
+            assert!(origins.contains(&p.origin.as_str()), "{}", p.origin);
+        }
+        for o in [
+            "/run/safety/y_over_q_2m",
+            "/run/safety/sum_y_2m_kn",
+            "/run/safety/delta_q_over_q0",
+            "/run/summary",
+        ] {
+            assert!(origins.contains(&o), "{o}");
+        }
+        for v in &views {
+            if v.blueprint_path().starts_with("view/") && v.property_names().contains(&"EyeControls3D") {
+                assert_eq!(v.origin_path(), "/run/world/follow");
+            }
+        }
+        assert_eq!(
+            views
+                .iter()
+                .filter(|v| v.property_names().contains(&"EyeControls3D"))
+                .count(),
+            2
+        );
+        // The strip: once on the overview, once on each history tab.
+        assert_eq!(
+            origins
+                .iter()
+                .filter(|o| **o == "/run/track/curvature_1pkm")
+                .count(),
+            5
+        );
+        for (tab, item) in tabs.iter().zip(layout.root().children()) {
+            let Item::Container(c) = item else { continue };
+            // Each wheelset's tab shows one at a time: count the views of the first.
+            fn shown(item: &Item) -> usize {
+                match item {
+                    Item::View(_) => 1,
+                    Item::Container(c)
+                        if c.children()
+                            .iter()
+                            .all(|k| matches!(k, Item::Container(x) if x.name().is_some()))
+                            && !c.children().is_empty() =>
+                    {
+                        shown(&c.children()[0])
+                    }
+                    Item::Container(c) => c.children().iter().map(shown).sum(),
+                }
+            }
+            let n: usize = c.children().iter().map(shown).sum();
+            assert!(n <= 16, "{tab}: {n} views at once");
+        }
+        for v in views.iter().filter(|v| v.property_names().contains(&"TimeAxis")) {
+            assert!(v.property_names().contains(&"PlotLegend"), "{}", v.name());
+        }
     }
 
     /// Checks that every quantity of `table` appears once, and only as declared, in the CSV

@@ -61,9 +61,7 @@ pub fn blueprint_for(manifest: &Manifest) -> Layout {
         View::time_series("every case: front wheelset y [mm]")
             .origin("/study/front_y")
             .into(),
-        View::text_document("Results")
-            .origin("/study/summary")
-            .into(),
+        View::text_document("Results").origin("/study/summary").into(),
     ])
     .into();
     let columns = match views.len() {

@@ -44,9 +44,7 @@ pub fn blueprint() -> Layout {
                 View::spatial2d("Plan view X–Y [m] (stored [X, −Y])")
                     .origin("/track/plan")
                     .into(),
-                View::text_document("Summary")
-                    .origin("/track/summary")
-                    .into(),
+                View::text_document("Summary").origin("/track/summary").into(),
             ])
             .shares([3.0, 2.0])
             .into(),
@@ -69,7 +67,8 @@ pub fn blueprint() -> Layout {
         ])
         .shares([1.0, 1.2]),
     )
-    .timeline(TIMELINE).play_state(super::layout::PlayState::Paused)
+    .timeline(TIMELINE)
+    .play_state(super::layout::PlayState::Paused)
 }
 
 fn series(

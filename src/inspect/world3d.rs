@@ -497,7 +497,12 @@ impl World3d {
             .zip(bodies)
             .map(|(b, q)| {
                 // The bodies at true scale (see the module doc).
-                placed(q.s, Vector3::new(0.0, q.q[1], q.q[2]), b.h, [q.q[3], q.q[4], q.q[5]])
+                placed(
+                    q.s,
+                    Vector3::new(0.0, q.q[1], q.q[2]),
+                    b.h,
+                    [q.q[3], q.q[4], q.q[5]],
+                )
             })
             .collect();
         let mut ws_rows = Vec::with_capacity(wheelsets.len());
@@ -729,6 +734,47 @@ impl World3d {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 47: the exaggeration (`--exaggerate`) magnifies the wheelsets' lateral and yaw motion
+    /// relative to the track only; a body (carbody, bogie frame) is drawn where it is — at ×50 a
+    /// carbody 40 mm off the centreline in a curve was drawn 2 m off, its 10 mrad yaw as 27°.
+    #[test]
+    fn the_bodies_are_drawn_at_true_scale() {
+        let text = crate::scenario::DEFAULT_SCENARIO;
+        let scene = crate::scenario::Scenario::parse(text, "<default>")
+            .unwrap()
+            .compile("<default>", std::path::Path::new("."))
+            .unwrap();
+        let e = 50.0;
+        let mut world = World3d::new(&scene, World3dSettings { exaggerate: e });
+        let (y_body, yaw_body, y_ws, yaw_ws) = (0.04, 0.01, 0.005, 0.007);
+        let bodies: Vec<BodySample> = (0..world.bodies.len())
+            .map(|_| BodySample {
+                s: 100.0,
+                q: [0.0, y_body, 0.01, 0.002, 0.0, yaw_body],
+                q_dot: [0.0; 6],
+            })
+            .collect();
+        let mut ws = Sample::at(0.0, 100.0, 19.0);
+        ws.y = y_ws;
+        ws.yaw = yaw_ws;
+        let wheelsets = vec![ws; world.wheelsets.len()];
+        assert!(!bodies.is_empty() && !wheelsets.is_empty());
+        world.sample(0.0, &wheelsets, &bodies, &[]);
+        let row = &world.rows[0];
+        // The yaw of a drawn rotation matrix (column-major): atan2(m[1], m[0]).
+        let yaw = |m: &[f32; 9]| (m[1] as f64).atan2(m[0] as f64);
+        for b in &row.bodies {
+            assert!((b.pose_t[1] as f64 - y_body).abs() < 1e-7, "{:?}", b.pose_t);
+            assert!((yaw(&b.body_m) - yaw_body).abs() < 1e-6);
+        }
+        for w in &row.wheelsets {
+            assert!((w.pose_t[1] as f64 - e * y_ws).abs() < 1e-7, "{:?}", w.pose_t);
+            assert!((yaw(&w.body_m) - e * yaw_ws).abs() < 1e-6);
+        }
+        // At true scale (the default) the wheelsets too.
+        assert_eq!(World3dSettings::default().exaggerate, 1.0);
+    }
 
     /// A uniform box's inertias give back its sides.
     #[test]
