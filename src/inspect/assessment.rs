@@ -17,7 +17,7 @@
 
 use rerun::{BarChart, Color, LineStrips2D, Points2D, Radius, RecordingStream, TimeColumn};
 
-use super::{log_static, send_scalar_values, InspectError};
+use super::{log_static, send_scalar_rows, InspectError};
 use crate::dynamics::contact_stress::{map_point, shakedown_limit, R260};
 use crate::dynamics::ride::continuous_comfort;
 use crate::dynamics::sample::Sample;
@@ -108,7 +108,8 @@ pub fn log_shakedown_points(
 }
 
 /// One floor point's accelerations and continuous comfort as series, at the sample times `t`
-/// (rate `fs_hz`) on the duration timeline `timeline`.
+/// (rate `fs_hz`) on the duration timeline `timeline`, its lines named by the point and drawn in
+/// `color` (one of its own: seven points in one plot).
 pub fn log_floor_series(
     rec: &RecordingStream,
     timeline: &'static str,
@@ -116,6 +117,7 @@ pub fn log_floor_series(
     t: &[f64],
     acc: &[[f64; 3]],
     fs_hz: f64,
+    color: Color,
 ) -> Result<(), InspectError> {
     let n = t.len().min(acc.len());
     if n == 0 {
@@ -130,7 +132,8 @@ pub fn log_floor_series(
     ];
     for ((stem, _), values) in COMFORT_SERIES.iter().zip(values) {
         let time = TimeColumn::new_duration_secs(timeline, t[..n].iter().copied());
-        send_scalar_values(rec, vec![time], n, &floor_entity(stem, point), values, 1)?;
+        let name = format!("{}_{}", point.carbody, point.point);
+        send_scalar_rows(rec, vec![time], n, &floor_entity(stem, point), values, &[name.as_str()], vec![color])?;
     }
     Ok(())
 }

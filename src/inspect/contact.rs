@@ -31,7 +31,11 @@ pub fn blueprint() -> Layout {
             .origin(format!("/contact/section/{}", side.name()))
             .into()
     };
-    let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
+    let plot = |title: &str, origin: &str| {
+        View::time_series(format!("{title} against y [µm]"))
+            .origin(origin.to_string())
+            .into()
+    };
     Layout::new(
         Container::vertical([
             Container::horizontal([

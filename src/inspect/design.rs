@@ -13,7 +13,7 @@
 use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Radius, RecordingStream, TextDocument};
 
-use super::contact::{log_real_sections, send_series, TIMELINE};
+use super::contact::{log_real_sections, TIMELINE};
 use super::{log_static, section_mm, InspectError};
 use crate::contact::design::DesignReport;
 use crate::contact::lookup::{LookupTable1, TableRow};
@@ -22,7 +22,11 @@ use crate::profile::Side;
 
 /// Layout: the profiles and the designed pair's sections on top, the functions of y below.
 pub fn blueprint() -> Layout {
-    let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
+    let plot = |title: &str, origin: &str| {
+        View::time_series(format!("{title} against y [µm]"))
+            .origin(origin.to_string())
+            .into()
+    };
     Layout::new(
         Container::vertical([
             Container::horizontal([
@@ -71,34 +75,46 @@ fn strip(points: Vec<(f64, f64)>, l_w: f64, color: [u8; 3]) -> LineStrips2D {
 /// One pair's functions of y under `design/plots/*/{name}`.
 fn plots(rec: &RecordingStream, table: &LookupTable1, name: &str) -> Result<(), InspectError> {
     let ys: Vec<i64> = table.rows.iter().map(|r| (r.y * 1e6).round() as i64).collect();
+    // Each line named by its pair and wheel: the designed pair in full colour, the reference
+    // pale (both pairs share each plot).
+    let (left, right, dr) = (format!("{name} left"), format!("{name} right"), format!("{name} Δr"));
+    let colors = |n: usize| -> Vec<Color> {
+        let full = [[230, 120, 40], [60, 140, 230]];
+        let pale = [[240, 190, 150], [160, 190, 225]];
+        let c = if name == "designed" { full } else { pale };
+        c.iter().take(n).map(|c| Color::from_rgb(c[0], c[1], c[2])).collect()
+    };
+    let send_series = |rec: &RecordingStream, entity: &str, ys: &[i64], values: Vec<f64>, names: &[&str]| {
+        super::send_scalar_columns(rec, TIMELINE, entity, ys, values, names, colors(names.len()))
+    };
     let col = |f: &dyn Fn(&TableRow) -> Vec<f64>| table.rows.iter().flat_map(f).collect::<Vec<f64>>();
     send_series(
         rec,
         &format!("design/plots/s_wheel_mm/{name}"),
         &ys,
         col(&|r| vec![r.x[2] * 1e3, r.x[4] * 1e3]),
-        &["left", "right"],
+        &[left.as_str(), right.as_str()],
     )?;
     send_series(
         rec,
         &format!("design/plots/s_rail_mm/{name}"),
         &ys,
         col(&|r| vec![r.x[3] * 1e3, r.x[5] * 1e3]),
-        &["left", "right"],
+        &[left.as_str(), right.as_str()],
     )?;
     send_series(
         rec,
         &format!("design/plots/contact_angle_deg/{name}"),
         &ys,
         col(&|r| vec![r.contact_angle[0].to_degrees(), r.contact_angle[1].to_degrees()]),
-        &["left", "right"],
+        &[left.as_str(), right.as_str()],
     )?;
     send_series(
         rec,
         &format!("design/plots/dr_mm/{name}"),
         &ys,
         col(&|r| vec![r.delta_r() * 1e3]),
-        &["Δr"],
+        &[dr.as_str()],
     )
 }
 

@@ -36,10 +36,10 @@ pub fn blueprint() -> Layout {
             row("real", "Real profiles"),
             row("equivalent", "Knife-edge-equivalent profile"),
             Container::horizontal([
-                View::time_series("z − r0 [mm]: real vs KEC")
+                View::time_series("z − r0 [mm], real and KEC, against y [µm]")
                     .origin("/kec/plots/z_mm")
                     .into(),
-                View::time_series("roll [mrad]: real vs KEC")
+                View::time_series("roll [mrad], real and KEC, against y [µm]")
                     .origin("/kec/plots/roll_mrad")
                     .into(),
                 View::spatial2d("Equivalent profiles f^k(s^k) [mm]")

@@ -18,8 +18,9 @@
 //!
 //! **Every time-series view opens on its whole data**: its x range is the whole timeline
 //! ([`TimeRange::EVERYTHING`], checked by screenshots: the view spans its data, not the cursor's
-//! neighbourhood) unless one is given. The side panels start collapsed so that the views get the
-//! screen (a click opens them).
+//! neighbourhood) unless one is given. The side panels and the time panel start collapsed (the
+//! time panel to its bar: play, the cursor, the choice of timeline) so that the views get the
+//! screen; a click opens them.
 //!
 //! A layout can be changed after it was sent ([`SentLayout::update`]): the run's recording puts
 //! the worst wheelset's tab first once the run has found it.
@@ -427,8 +428,9 @@ impl Layout {
         Layout {
             root,
             timeline: None,
-            play_state: None,
-            time_panel: PanelState::Expanded,
+            // Paused: a sweep's cursor stays where the user puts it (a run's layout follows).
+            play_state: Some(PlayState::Paused),
+            time_panel: PanelState::Collapsed,
         }
     }
 
@@ -444,9 +446,10 @@ impl Layout {
         self
     }
 
-    /// The time panel collapsed (a recording with nothing along a timeline).
-    pub fn collapse_time_panel(mut self) -> Layout {
-        self.time_panel = PanelState::Collapsed;
+    /// The time panel expanded (its streams and their events shown) rather than collapsed to its
+    /// bar (play, the cursor, the choice of timeline), the default: the views get the screen.
+    pub fn expand_time_panel(mut self) -> Layout {
+        self.time_panel = PanelState::Expanded;
         self
     }
 

@@ -44,7 +44,6 @@ pub fn blueprint() -> Layout {
         .shares([3.0, 2.0]),
     )
     // Everything here is static: no timeline to show.
-    .collapse_time_panel()
 }
 
 /// Markdown summary of a placed pair.

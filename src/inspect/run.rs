@@ -483,9 +483,11 @@ pub fn blueprint_with(
                 .into(),
             View::bar_chart("Most worn wheel: wear [mg] in 2 mm of the wheel profile s^w [mm]")
                 .origin("/run/wear/wheel/most_worn")
+                .no_legend()
                 .into(),
             View::bar_chart("… and of the rail profile s^r [mm]")
                 .origin("/run/wear/rail/most_worn")
+                .no_legend()
                 .into(),
         ])
         .into(),
@@ -522,12 +524,9 @@ pub fn blueprint_with(
         );
     }
     let first = (first as usize).min(tabs.len() - 1);
-    // The time panel collapsed to its bar (play, the cursor, the timeline's choice): the tabs get
-    // the screen.
     Layout::new(Container::tabs(tabs).active(first))
         .timeline(TIME)
         .play_state(PlayState::Following)
-        .collapse_time_panel()
 }
 
 /// One cross-section snapshot of the first wheelset, waiting for its batch.
@@ -1305,8 +1304,8 @@ impl RunObserver for LiveRecorder {
         let n = self.floor_t.len();
         if n > 1 {
             let fs = (n - 1) as f64 / (self.floor_t[n - 1] - self.floor_t[0]);
-            for (p, a) in self.floor_points.iter().zip(&self.floor_acc) {
-                assessment::log_floor_series(&self.rec, TIME, p, &self.floor_t, a, fs)?;
+            for (k, (p, a)) in self.floor_points.iter().zip(&self.floor_acc).enumerate() {
+                assessment::log_floor_series(&self.rec, TIME, p, &self.floor_t, a, fs, palette(k))?;
             }
         }
         let order = self.log_safety(summary)?;

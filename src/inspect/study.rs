@@ -6,13 +6,15 @@
 //!
 //! The diagrams are 2D views with linear axes: x from the first axis's smallest to largest value
 //! (its values' order where they are not numbers) mapped to 0..1000, y from the extract's smallest
-//! to largest value mapped to 600..0 (the 2D view's y axis points down); frame and ticks labelled
-//! in the axes' units. Failed and derailed cases are drawn red, stopped ones amber.
+//! to largest value mapped to 600..0 (the 2D view's y axis points down); frame and round ticks
+//! (1, 2 or 5 × 10^k) labelled, the axes named as a reader reads them with their units
+//! ([`axis_label`]: `simulation.speed_m_s` → `speed [m/s]`). Failed and derailed cases are drawn red, stopped ones amber.
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
 //! | `study/EXTRACT/grid` | LineStrips2D, static | frame and ticks |
 //! | `study/EXTRACT/grid/labels` | Points2D, static | the ticks' values and the first axis's name, placed off the frame so that none overlaps |
+//! | `study/EXTRACT/critical_K` | LineStrips2D, static | a critical-speed study: each critical speed as a labelled vertical line |
 //! | `study/EXTRACT/group_K` | LineStrips2D, Points2D, static | the cases of one combination of the other varying axes |
 //! | `study/front_y/case_NNNNN` | Scalars on `time` | the case's first wheelset's lateral displacement, mm |
 //! | `study/summary` | TextDocument, static | the results table |
@@ -52,7 +54,7 @@ pub fn blueprint_for(manifest: &Manifest) -> Layout {
         .extracts
         .iter()
         .map(|x| {
-            View::spatial2d(format!("{x} against {against}"))
+            View::spatial2d(format!("{} against {}", axis_label(x), axis_label(&against)))
                 .origin(format!("/study/{}", slug(x)))
                 .into()
         })
@@ -106,23 +108,83 @@ impl Scale {
         let u = (v - self.lo) / (self.hi - self.lo) * self.len;
         (if self.flip { self.len - u } else { u }) as f32
     }
-    /// Five ticks across the span.
+    /// Round ticks within the span: a step of 1, 2 or 5 × 10^k giving 3 to 6 of them.
     fn ticks(&self) -> Vec<f64> {
-        (0..5)
-            .map(|k| self.lo + (self.hi - self.lo) * k as f64 / 4.0)
-            .collect()
+        nice_ticks(self.lo, self.hi).0
+    }
+
+    /// The decimals the ticks' step needs.
+    fn decimals(&self) -> usize {
+        let step = nice_ticks(self.lo, self.hi).1;
+        (-step.log10().floor()).max(0.0) as usize
     }
 }
 
-/// A tick label: 4 significant digits.
-fn tick(v: f64) -> String {
-    if v != 0.0 && (v.abs() >= 1e5 || v.abs() < 1e-3) {
-        format!("{v:.3e}")
-    } else {
-        let s = format!("{v:.4}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        s.to_string()
+/// Round ticks within `lo..=hi` and their step: 1, 2 or 5 × 10^k, the largest giving at least 3.
+pub(crate) fn nice_ticks(lo: f64, hi: f64) -> (Vec<f64>, f64) {
+    let span = (hi - lo).abs().max(f64::MIN_POSITIVE);
+    let mut step = 10f64.powf((span / 3.0).log10().floor());
+    for m in [5.0, 2.0, 1.0] {
+        if span / (m * step) >= 3.0 - 1e-9 {
+            step *= m;
+            break;
+        }
     }
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    let ticks = (first..=last).map(|k| k as f64 * step).collect();
+    (ticks, step)
+}
+
+/// A tick label with `decimals` decimals (a power-of-ten form for very large or small values).
+fn tick(v: f64, decimals: usize) -> String {
+    if v != 0.0 && (v.abs() >= 1e6 || v.abs() < 1e-4) {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.decimals$}")
+    }
+}
+
+/// A study key or extract as a reader reads it: the last part of the path, its unit suffix in
+/// brackets (`simulation.speed_m_s` → `speed [m/s]`, `max_abs(w1.y_mm)` → `max_abs(w1.y) [mm]`).
+pub fn axis_label(key: &str) -> String {
+    const UNITS: [(&str, &str); 14] = [
+        ("_m_s2", "m/s²"),
+        ("_m_s", "m/s"),
+        ("_km_h", "km/h"),
+        ("_mrad", "mrad"),
+        ("_rad", "rad"),
+        ("_deg", "°"),
+        ("_mm", "mm"),
+        ("_kn", "kN"),
+        ("_n", "N"),
+        ("_hz", "Hz"),
+        ("_kg", "kg"),
+        ("_pa", "Pa"),
+        ("_m", "m"),
+        ("_s", "s"),
+    ];
+    // A function of a series (`max_abs(w1.y_mm)`): its unit after the closing bracket.
+    let (head, inner, tail) = match (key.find('('), key.rfind(')')) {
+        (Some(a), Some(b)) if a < b => (&key[..=a], &key[a + 1..b], &key[b..]),
+        _ => ("", key, ""),
+    };
+    let last = if head.is_empty() {
+        inner.rsplit('.').next().unwrap_or(inner)
+    } else {
+        inner
+    };
+    for (suffix, unit) in UNITS {
+        if let Some(stem) = last.strip_suffix(suffix) {
+            if !stem.is_empty() {
+                return format!("{head}{}{tail} [{unit}]", stem.replace('_', " "))
+                    .replace("( ", "(")
+                    .trim()
+                    .to_string();
+            }
+        }
+    }
+    format!("{head}{}{tail}", last.replace('_', " "))
 }
 
 fn status_color(status: &str, normal: Color) -> Color {
@@ -131,6 +193,29 @@ fn status_color(status: &str, normal: Color) -> Color {
         "stopped" => Color::from_rgb(230, 170, 40),
         _ => Color::from_rgb(220, 50, 50),
     }
+}
+
+/// A critical-speed study's critical speeds (m/s) with their labels: each group's linear critical
+/// speed and the speed by which its nonlinear critical speed is reached (none for another study).
+fn critical_markers(manifest: &Manifest, rows: &[CaseResult]) -> Vec<(f64, String)> {
+    let Some(threshold) = manifest.critical_speed_threshold_mm else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for c in crate::study::critical::critical_speeds(manifest, rows, threshold) {
+        let group = if c.group.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", c.group)
+        };
+        if let Some(v) = c.linear_m_s {
+            out.push((v, format!("linear critical speed {v:.1} m/s{group}")));
+        }
+        if let Some(v) = c.nonlinear_at_most_m_s {
+            out.push((v, format!("nonlinear critical speed ≤ {v:.1} m/s{group}")));
+        }
+    }
+    out
 }
 
 /// Records the study's results (`out`: its directory, for the cases' CSVs).
@@ -190,17 +275,17 @@ pub fn record(
                 (None, false) => distinct
                     .get(t.round() as usize)
                     .map_or(String::new(), |d| d.to_string()),
-                _ => tick(t),
+                _ => tick(t, sx.decimals()),
             });
         }
         for t in sy.ticks() {
             let y = sy.at(t);
             strips.push(vec![[x0 - 12.0, y], [x0, y]]);
             at.push([x0 - 90.0, y]);
-            labels.push(tick(t));
+            labels.push(tick(t, sy.decimals()));
         }
         at.push([0.5 * (x0 + x1), y0 + 115.0]);
-        labels.push(x_name.clone());
+        labels.push(axis_label(&x_name));
         log_static(
             rec,
             &format!("{base}/grid"),
@@ -217,6 +302,22 @@ pub fn record(
                 .with_colors(std::iter::repeat_n(Color::from_rgb(170, 170, 180), n_labels))
                 .with_radii(std::iter::repeat_n(Radius::new_ui_points(0.0), n_labels)),
         )?;
+        // A critical-speed study's critical speeds, as vertical lines on its speed axis.
+        let markers = critical_markers(manifest, rows);
+        for (k, (v, label)) in markers.iter().enumerate() {
+            if numeric.is_none() || *v < sx.lo || *v > sx.hi {
+                continue;
+            }
+            let x = sx.at(*v);
+            log_static(
+                rec,
+                &format!("{base}/critical_{k}"),
+                &LineStrips2D::new([vec![[x, y0], [x, y1]]])
+                    .with_colors([Color::from_rgb(220, 60, 60)])
+                    .with_radii([Radius::new_ui_points(1.0)])
+                    .with_labels([label.clone()]),
+            )?;
+        }
         for (k, g) in groups.iter().enumerate() {
             let color = super::compare::colors(1, k)[0];
             let mut members: Vec<(f64, f64, &CaseResult)> = rows
@@ -274,4 +375,32 @@ pub fn record(
         )?;
     }
     log_static(rec, "study/summary", &TextDocument::from_markdown(table))
+}
+
+#[cfg(test)]
+mod label_tests {
+    use super::*;
+
+    #[test]
+    fn keys_read_as_names_with_units() {
+        assert_eq!(axis_label("simulation.speed_m_s"), "speed [m/s]");
+        assert_eq!(axis_label("max_abs(w1.y_mm)"), "max_abs(w1.y) [mm]");
+        assert_eq!(axis_label("contact_forces.friction"), "friction");
+        assert_eq!(axis_label("rms(*.yaw_mrad)"), "rms(*.yaw) [mrad]");
+    }
+
+    /// Ticks at round values (a tick at 1.086e-5 read as noise), 3 to 6 of them, within the span.
+    #[test]
+    fn ticks_are_round() {
+        for (lo, hi) in [(0.0, 1.0), (1.086e-5, 4.2e-5), (15.0, 45.0), (-7.5, 7.5), (0.37, 0.38)] {
+            let (t, step) = nice_ticks(lo, hi);
+            assert!((3..=6).contains(&t.len()), "{lo}..{hi}: {t:?}");
+            assert!(t.iter().all(|v| *v >= lo - 1e-12 && *v <= hi + 1e-12), "{t:?}");
+            let m = step / 10f64.powf(step.log10().floor());
+            assert!([1.0, 2.0, 5.0].iter().any(|x| (m - x).abs() < 1e-9), "{step}");
+            for v in &t {
+                assert!(((v / step) - (v / step).round()).abs() < 1e-9);
+            }
+        }
+    }
 }

@@ -37,7 +37,13 @@ pub(crate) const IRREGULARITIES: [(&str, &str, [u8; 3]); 4] = [
 
 /// Layout: plan view and summary on the left, the s-diagrams on the right.
 pub fn blueprint() -> Layout {
-    let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
+    // One line each, named by the title: no legend.
+    let plot = |title: &str, origin: &str| {
+        View::time_series(format!("{title} along s [mm]"))
+            .origin(origin.to_string())
+            .no_legend()
+            .into()
+    };
     Layout::new(
         Container::horizontal([
             Container::vertical([
@@ -48,7 +54,8 @@ pub fn blueprint() -> Layout {
             ])
             .shares([3.0, 2.0])
             .into(),
-            Container::vertical(
+            Container::grid(
+                2,
                 [
                     plot("curvature ρ_h [1/m]", "/track/geometry/curvature_1pm"),
                     plot("cant φ [mrad]", "/track/geometry/cant_mrad"),
@@ -65,7 +72,7 @@ pub fn blueprint() -> Layout {
             )
             .into(),
         ])
-        .shares([1.0, 1.2]),
+        .shares([1.0, 1.5]),
     )
     .timeline(TIMELINE)
     .play_state(super::layout::PlayState::Paused)
