@@ -133,7 +133,15 @@ pub fn log_floor_series(
     for ((stem, _), values) in COMFORT_SERIES.iter().zip(values) {
         let time = TimeColumn::new_duration_secs(timeline, t[..n].iter().copied());
         let name = format!("{}_{}", point.carbody, point.point);
-        send_scalar_rows(rec, vec![time], n, &floor_entity(stem, point), values, &[name.as_str()], vec![color])?;
+        send_scalar_rows(
+            rec,
+            vec![time],
+            n,
+            &floor_entity(stem, point),
+            values,
+            &[name.as_str()],
+            vec![color],
+        )?;
     }
     Ok(())
 }

@@ -7,6 +7,7 @@
 //! |---|---|---|
 //! | `compare/NAME/{y_mm, yaw_mrad}` | Scalars (one per model) | kinematics |
 //! | `compare/NAME/{dy_mm, dyaw_mrad}` | Scalars (one per model after the first) | difference from the first model |
+//! | `compare/NAME/{dy_mm, dyaw_mrad}/{bound, bound_negative}` | Scalars | the paper's bounds, ± 1 mm and ± 0.5 mrad |
 //! | `compare/NAME/{normal_left_kn, normal_right_kn}` | Scalars (one per model) | normal forces |
 //! | `compare/summary` | TextDocument | the report |
 //! | `compare/world/MODEL/**` | as `run/world/**` ([`super::world3d`]) | every model's vehicle in one 3D view: the first with the track, the others ghosted in their series colour |
@@ -52,58 +53,83 @@ fn shown(c: &Comparison) -> Vec<String> {
         .unwrap_or_default()
 }
 
-/// The layout: a row per wheelset shown, the report below.
+/// The layout without a 3D view: a tab per wheelset shown, the report.
 pub fn blueprint_for(wheelsets: &[String]) -> Layout {
-    let mut rows = wheelset_rows(wheelsets);
-    rows.push(View::text_document("Report").origin("/compare/summary").into());
-    Layout::new(Container::vertical(rows)).timeline(TIME)
+    let mut tabs = wheelset_tabs(wheelsets);
+    tabs.push(View::text_document("Report").origin("/compare/summary").into());
+    Layout::new(Container::tabs(tabs)).timeline(TIME)
 }
 
-/// A row of plots per wheelset shown.
-fn wheelset_rows(wheelsets: &[String]) -> Vec<Item> {
+/// A tab per wheelset shown: its y, yaw and normal forces by model, and the differences from the
+/// first model against the paper's bounds, three plots a row.
+fn wheelset_tabs(wheelsets: &[String]) -> Vec<Item> {
     let plot = |title: String, origin: String| View::time_series(title).origin(origin).into();
     wheelsets
         .iter()
         .map(|w| {
-            Container::horizontal([
-                plot(format!("{w}: y [mm]"), format!("/compare/{w}/y_mm")),
-                plot(format!("{w}: yaw [mrad]"), format!("/compare/{w}/yaw_mrad")),
-                plot(format!("{w}: Δy [mm]"), format!("/compare/{w}/dy_mm")),
-                plot(format!("{w}: Δyaw [mrad]"), format!("/compare/{w}/dyaw_mrad")),
-                plot(
-                    format!("{w}: normal force left [kN]"),
-                    format!("/compare/{w}/normal_left_kn"),
-                ),
-                plot(
-                    format!("{w}: normal force right [kN]"),
-                    format!("/compare/{w}/normal_right_kn"),
-                ),
-            ])
+            Container::grid(
+                3,
+                [
+                    plot(format!("{w}: y [mm]"), format!("/compare/{w}/y_mm")),
+                    plot(
+                        format!("{w}: Δy from the first model [mm] (grey: the paper's ± 1 mm)"),
+                        format!("/compare/{w}/dy_mm"),
+                    ),
+                    plot(
+                        format!("{w}: normal force left [kN]"),
+                        format!("/compare/{w}/normal_left_kn"),
+                    ),
+                    plot(format!("{w}: yaw [mrad]"), format!("/compare/{w}/yaw_mrad")),
+                    plot(
+                        format!("{w}: Δyaw [mrad] (grey: the paper's ± 0.5 mrad)"),
+                        format!("/compare/{w}/dyaw_mrad"),
+                    ),
+                    plot(
+                        format!("{w}: normal force right [kN]"),
+                        format!("/compare/{w}/normal_right_kn"),
+                    ),
+                ],
+            )
+            .named(w.clone())
             .into()
         })
         .collect()
 }
 
-/// The layout for a comparison: the models' vehicles in 3D on top (following the first model's
-/// front wheelset), then [`blueprint_for`]'s rows.
+/// Lateral spacing of the models' vehicles in the 3D view, m: each on a track of its own, drawn
+/// side by side (the models ran on the same track).
+pub const MODEL_SPACING_M: f64 = 4.0;
+
+/// The layout for a comparison: the models' vehicles in 3D, side by side on parallel tracks
+/// (following the first model's front wheelset), with the report; then a tab per wheelset shown.
 pub fn blueprint(c: &Comparison) -> Layout {
     let Some(first) = c.runs.first() else {
         return blueprint_for(&shown(c));
     };
+    let k = c.runs.len() as f32;
+    let spread = (k - 1.0) * MODEL_SPACING_M as f32;
     let world = View::spatial3d(format!(
-        "{} — every model's vehicle, {} solid, the others ghosted",
+        "every model's vehicle on a track of its own, {} m apart (left to right: {}); {}",
+        MODEL_SPACING_M,
+        c.runs
+            .iter()
+            .map(|r| r.model.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
         World3d::title(&World3dSettings::default()),
-        first.model
     ))
     .origin(format!("/compare/world/{}/follow", first.model))
-    .contents(["/compare/world/**"]);
-    let rows_below = wheelset_rows(&shown(c));
-    let mut shares = vec![3.0];
-    shares.extend(std::iter::repeat_n(2.0, rows_below.len() + 1));
-    let mut rows: Vec<Item> = vec![world.into()];
-    rows.extend(rows_below);
-    rows.push(View::text_document("Report").origin("/compare/summary").into());
-    Layout::new(Container::vertical(rows).shares(shares)).timeline(TIME)
+    .contents(["/compare/world/**"])
+    .eye([12.0, -14.0 - spread, 9.0], [-8.0, 0.5 * spread, 1.0]);
+    let mut tabs: Vec<Item> = vec![Container::vertical([
+        world.into(),
+        View::text_document("Report").origin("/compare/summary").into(),
+    ])
+    .shares([2.0, 1.0])
+    .named("Vehicles and report")
+    .into()];
+    tabs.extend(wheelset_tabs(&shown(c)));
+    Layout::new(Container::tabs(tabs)).timeline(TIME)
 }
 
 /// Every model's vehicle in 3D (`compare/world/MODEL`, see the module doc), over the time every run
@@ -113,7 +139,8 @@ fn record_world(rec: &RecordingStream, c: &Comparison, scene: &Scene) -> Result<
         let (r, g, b) = PALETTE[k % PALETTE.len()];
         let style = WorldStyle {
             root: format!("compare/world/{}", run.model),
-            track: k == 0,
+            track: true,
+            offset_m: k as f64 * MODEL_SPACING_M,
             tint: (k > 0).then(|| Color::from_unmultiplied_rgba(r, g, b, 110)),
         };
         let mut world = World3d::styled(scene, World3dSettings::default(), style);
@@ -201,6 +228,21 @@ pub fn record(rec: &RecordingStream, c: &Comparison, scene: &Scene) -> Result<()
             };
             diff("dy_mm", &|s| s.y * 1e3)?;
             diff("dyaw_mrad", &|s| s.yaw * 1e3)?;
+            // The paper's bounds, ± (KEC within 1 mm and 0.5 mrad of the tables).
+            for (quantity, bound) in super::PAPER_BOUNDS {
+                for (sign, which) in [(1.0, "bound"), (-1.0, "bound_negative")] {
+                    super::log_bound(
+                        rec,
+                        vec![TimeColumn::new_duration_secs(
+                            TIME,
+                            [series[0][0].t, series[0][n - 1].t],
+                        )],
+                        &format!("compare/{name}/{quantity}/{which}"),
+                        sign * bound,
+                        "the paper's bound",
+                    )?;
+                }
+            }
         }
     }
     log_static(rec, "compare/summary", &TextDocument::from_markdown(c.markdown()))

@@ -101,6 +101,7 @@ pub(crate) fn log_real_sections(
             .into_iter()
             .map(|(y, z)| section_mm(y, z))
             .collect();
+        super::log_scale_bar(rec, &format!("{base}/{}/scale", side.name()), &pts, 10.0, "10 mm")?;
         let strip = LineStrips2D::new([pts])
             .with_colors([Color::from_rgb(150, 150, 160)])
             .with_radii([Radius::new_ui_points(1.5)]);

@@ -77,12 +77,19 @@ fn plots(rec: &RecordingStream, table: &LookupTable1, name: &str) -> Result<(), 
     let ys: Vec<i64> = table.rows.iter().map(|r| (r.y * 1e6).round() as i64).collect();
     // Each line named by its pair and wheel: the designed pair in full colour, the reference
     // pale (both pairs share each plot).
-    let (left, right, dr) = (format!("{name} left"), format!("{name} right"), format!("{name} Δr"));
+    let (left, right, dr) = (
+        format!("{name} left"),
+        format!("{name} right"),
+        format!("{name} Δr"),
+    );
     let colors = |n: usize| -> Vec<Color> {
         let full = [[230, 120, 40], [60, 140, 230]];
         let pale = [[240, 190, 150], [160, 190, 225]];
         let c = if name == "designed" { full } else { pale };
-        c.iter().take(n).map(|c| Color::from_rgb(c[0], c[1], c[2])).collect()
+        c.iter()
+            .take(n)
+            .map(|c| Color::from_rgb(c[0], c[1], c[2]))
+            .collect()
     };
     let send_series = |rec: &RecordingStream, entity: &str, ys: &[i64], values: Vec<f64>, names: &[&str]| {
         super::send_scalar_columns(rec, TIMELINE, entity, ys, values, names, colors(names.len()))

@@ -266,6 +266,63 @@ pub fn section_mm(y: f64, z: f64) -> [f32; 2] {
     [(y * 1e3) as f32, (-z * 1e3) as f32]
 }
 
+/// A scale bar under a 2D drawing: `length` (in the drawing's units) from the lower left of
+/// `points` (stored `[x, −z]`: lower is larger), labelled `label`, at `entity`.
+pub(crate) fn log_scale_bar(
+    rec: &RecordingStream,
+    entity: &str,
+    points: &[[f32; 2]],
+    length: f32,
+    label: &str,
+) -> Result<(), InspectError> {
+    let (x0, y1) = points
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(x, y), p| {
+            (x.min(p[0]), y.max(p[1]))
+        });
+    if !x0.is_finite() || !y1.is_finite() {
+        return Ok(());
+    }
+    let y = y1 + 0.3 * length;
+    log_static(
+        rec,
+        entity,
+        &rerun::LineStrips2D::new([vec![
+            [x0, y - 0.15 * length],
+            [x0, y],
+            [x0 + length, y],
+            [x0 + length, y - 0.15 * length],
+        ]])
+        .with_colors([Color::from_rgb(200, 200, 200)])
+        .with_radii([rerun::Radius::new_ui_points(1.0)])
+        .with_labels([label]),
+    )
+}
+
+/// The paper's accuracy bounds of KEC against the tables (Sec. 5, Fig. 18): 1 mm lateral, 0.5 mrad
+/// yaw.
+pub const PAPER_BOUNDS: [(&str, f64); 2] = [("dy_mm", 1.0), ("dyaw_mrad", 0.5)];
+
+/// A bound drawn in a plot: a grey line at `value` over the first and last entries of
+/// `timelines` (each holding those two times), under `entity` (`…/bound`), named `label`.
+pub(crate) fn log_bound(
+    rec: &RecordingStream,
+    timelines: Vec<TimeColumn>,
+    entity: &str,
+    value: f64,
+    label: &str,
+) -> Result<(), InspectError> {
+    send_scalar_rows(
+        rec,
+        timelines,
+        2,
+        entity,
+        vec![value, value],
+        &[label],
+        vec![Color::from_rgb(150, 150, 150)],
+    )
+}
+
 /// Scalar series against a sequence timeline, sent as columns: `values` holds `names.len()`
 /// values per tick (one line each, named and coloured).
 pub(crate) fn send_scalar_columns(

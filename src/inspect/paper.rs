@@ -28,6 +28,7 @@
 //! | `paper/fig17/{al,vp,gv,cl}_mm` | Scalars on `distance_mm` | irregularities |
 //! | `paper/fig18/{y_mm, yaw_mrad}/NAME` | Scalars (NAME kec, NAME TABLES) | y, ψ of the front bogie's bodies |
 //! | `paper/fig18/{dy_mm, dyaw_mrad}/NAME` | Scalars | \|KEC − tables\| |
+//! | `paper/fig18/{dy_mm, dyaw_mrad}/bound` | Scalars | the paper's bounds, 1 mm and 0.5 mrad |
 //! | `paper/fig19/normal_kn/NAME` | Scalars (left kec, left TABLES, right kec, right TABLES) | normal forces |
 //! | `paper/fig19/dnormal_kn/NAME` | Scalars (left, right) | \|KEC − tables\| |
 //! | `paper/summary` | TextDocument | Tab. 7, Fig. 18's summary |
@@ -166,9 +167,12 @@ pub fn kinematics_tab(tables: &str) -> Item {
                 format!("Fig. 18: yaw ψ [mrad], kec and {tables} (timeline distance_mm)"),
                 "/paper/fig18/yaw_mrad",
             ),
-            plot("Fig. 18: |Δy| [mm] (the paper: < 1 mm)", "/paper/fig18/dy_mm"),
             plot(
-                "Fig. 18: |Δψ| [mrad] (the paper: < 0.5 mrad)",
+                "Fig. 18: |Δy| [mm] (grey: the paper's 1 mm)",
+                "/paper/fig18/dy_mm",
+            ),
+            plot(
+                "Fig. 18: |Δψ| [mrad] (grey: the paper's 0.5 mrad)",
                 "/paper/fig18/dyaw_mrad",
             ),
         ],
@@ -310,6 +314,8 @@ fn record_contact(rec: &RecordingStream, f: &PaperFigures) -> Result<(), Inspect
         )
     };
     strip("paper/fig15/rail", &p.rail, Color::from_rgb(120, 120, 130), 1.0)?;
+    let rail: Vec<[f32; 2]> = p.rail.iter().map(|&(y, z)| section_mm(y, z)).collect();
+    super::log_scale_bar(rec, "paper/fig15/scale", &rail, 10.0, "10 mm")?;
     strip("paper/fig15/real", &p.real, Color::from_rgb(235, 235, 235), 1.5)?;
     strip(
         "paper/fig15/equivalent",
@@ -394,6 +400,20 @@ fn record_bogie(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectEr
                 vec![rgb(c)],
             )?;
         }
+    }
+    // The paper's bounds on |Δy| and |Δψ| (1 mm, 0.5 mrad) over the run.
+    for (quantity, bound) in super::PAPER_BOUNDS {
+        let ends = [0, n - 1];
+        super::log_bound(
+            rec,
+            vec![
+                TimeColumn::new_sequence(DISTANCE, ends.map(|i| distance_mm(g.distance_m[i]))),
+                TimeColumn::new_duration_secs(TIME, ends.map(|i| g.t[i])),
+            ],
+            &format!("paper/fig18/{quantity}/bound"),
+            bound,
+            "the paper's bound",
+        )?;
     }
     for w in wheelsets(f) {
         let wheels: Vec<&crate::paper::WheelNormal> =

@@ -379,7 +379,7 @@ pub fn blueprint_with(
                     .into(),
                 View::spatial2d("Track plan [m] and the front wheelset (red)")
                     .origin("/run/track")
-                    .contents(["/run/track/plan", "/run/track/position"])
+                    .contents(["/run/track/plan", "/run/track/position", "/run/track/scale"])
                     .into(),
             ])
             .shares([1.6, 1.0])
@@ -835,6 +835,13 @@ impl LiveRecorder {
                 .into_iter()
                 .map(|(y, z)| section_mm(y, z))
                 .collect();
+            super::log_scale_bar(
+                &self.rec,
+                &format!("run/section/{}/scale", side.name()),
+                &pts,
+                10.0,
+                "10 mm",
+            )?;
             log_static(
                 &self.rec,
                 &format!("run/section/{}/rail", side.name()),
@@ -850,6 +857,12 @@ impl LiveRecorder {
                 .filter_map(|i| track.centreline.frame(a + (b - a) * i as f64 / k as f64).ok())
                 .map(|f| [f.position.x as f32, -f.position.y as f32])
                 .collect();
+            // A bar of a round length about a fifth of the plan's extent.
+            let extent = plan.iter().fold(0.0f32, |m, p| {
+                m.max((p[0] - plan[0][0]).abs()).max((p[1] - plan[0][1]).abs())
+            });
+            let bar = 10f32.powf((extent / 5.0).max(1.0).log10().floor());
+            super::log_scale_bar(&self.rec, "run/track/scale", &plan, bar, &format!("{bar} m"))?;
             log_static(
                 &self.rec,
                 "run/track/plan",

@@ -392,7 +392,13 @@ mod label_tests {
     /// Ticks at round values (a tick at 1.086e-5 read as noise), 3 to 6 of them, within the span.
     #[test]
     fn ticks_are_round() {
-        for (lo, hi) in [(0.0, 1.0), (1.086e-5, 4.2e-5), (15.0, 45.0), (-7.5, 7.5), (0.37, 0.38)] {
+        for (lo, hi) in [
+            (0.0, 1.0),
+            (1.086e-5, 4.2e-5),
+            (15.0, 45.0),
+            (-7.5, 7.5),
+            (0.37, 0.38),
+        ] {
             let (t, step) = nice_ticks(lo, hi);
             assert!((3..=6).contains(&t.len()), "{lo}..{hi}: {t:?}");
             assert!(t.iter().all(|v| *v >= lo - 1e-12 && *v <= hi + 1e-12), "{t:?}");

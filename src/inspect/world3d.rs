@@ -92,6 +92,9 @@ pub struct WorldStyle {
     pub track: bool,
     /// The bodies' and wheels' colour (None: the run's grey bodies and blue wheels).
     pub tint: Option<Color>,
+    /// The drawing's lateral offset from the track, m (to the left): vehicles of several models
+    /// side by side, each on its own track.
+    pub offset_m: f64,
 }
 
 impl Default for WorldStyle {
@@ -100,6 +103,7 @@ impl Default for WorldStyle {
             root: "run/world".to_string(),
             track: true,
             tint: None,
+            offset_m: 0.0,
         }
     }
 }
@@ -267,6 +271,8 @@ pub struct World3d {
     track: Option<Arc<Track>>,
     /// The global position the drawing is relative to (the track's start), m.
     origin: Vector3<f64>,
+    /// The drawing's lateral offset from the track ([`WorldStyle::offset_m`]).
+    offset_m: f64,
     settings: World3dSettings,
     bodies: Vec<BodyShape>,
     wheelsets: Vec<WheelsetShape>,
@@ -310,6 +316,7 @@ impl World3d {
             tint: style.tint,
             track,
             origin,
+            offset_m: style.offset_m,
             settings,
             bodies,
             wheelsets,
@@ -339,8 +346,11 @@ impl World3d {
     /// level line along X where the scene has no track).
     fn frame(&self, s: f64) -> (Vector3<f64>, Matrix3<f64>) {
         match self.track.as_ref().and_then(|t| t.centreline.frame(s).ok()) {
-            Some(f) => (f.position - self.origin, f.rotation),
-            None => (Vector3::new(s, 0.0, 0.0), Matrix3::identity()),
+            Some(f) => (
+                f.position - self.origin + f.rotation * Vector3::new(0.0, self.offset_m, 0.0),
+                f.rotation,
+            ),
+            None => (Vector3::new(s, self.offset_m, 0.0), Matrix3::identity()),
         }
     }
 
