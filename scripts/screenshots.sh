@@ -84,6 +84,8 @@ design_wheel() { k design-wheel --csv "$WORK/ms-standin.csv" --save "$WORK/d.rrd
 creep()        { k creep --normal-force-n 80000 --a-mm 6 --b-mm 4 --spin 1 --save "$WORK/cr.rrd"; shot creep "$WORK/cr.rrd"; }
 track()        { k track assets/track/tab6_irregular.toml --csv "$WORK/track.csv" --save "$WORK/t.rrd"; shot track "$WORK/t.rrd"; }
 run()          { k run --csv "$WORK/out" --json "$WORK/summary.json" --save "$WORK/r.rrd"; shot run "$WORK/r.rrd" 30; }
+# the same run's "Forces and safety" tab: the running-safety series with their limits
+run_safety()   { k run --tab forces --save "$WORK/rs.rrd"; shot run_safety "$WORK/rs.rrd" 30; }
 # the default scene's first 12 s: the tram in its curve (the 3D view, the running bands)
 run_curve()    { sed 's/^duration_s = 51.0 /duration_s = 12.0 /' assets/scenes/ms_vehicle_tab6.toml >"$WORK/ms12.toml"
                  k run "$WORK/ms12.toml" --save "$WORK/rc.rrd"; shot run_curve "$WORK/rc.rrd" 15; }
@@ -122,7 +124,7 @@ bench_precision() {
   shot bench_precision "$WORK/bp.rrd"
 }
 
-ALL=(profiles contact kec design_wheel creep track run run_curve live compare paper study bench_precision)
+ALL=(profiles contact kec design_wheel creep track run run_safety run_curve live compare paper study bench_precision)
 for name in "${@:-${ALL[@]}}"; do
   "$name"
 done

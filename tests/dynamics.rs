@@ -802,7 +802,7 @@ fn compare_reports_the_differences_of_the_runs() {
     for (r, d) in rows.iter().zip(&diff) {
         assert!((d[0] - (r[1] - r[0])).abs() < 1e-9);
     }
-    // Both models' wheelsets in the 3D view (issue 36): the first with the track, and each
+    // Both models' wheelsets in the 3D view (issue 36), and each
     // model's displacement transform at its own lateral displacement (× the default
     // exaggeration), 50 Hz over the 0.5 s.
     let entities: std::collections::BTreeSet<String> =
@@ -816,9 +816,10 @@ fn compare_reports_the_differences_of_the_runs() {
     ] {
         assert!(entities.contains(e), "missing {e}: {entities:?}");
     }
+    // Issue 47: each model on a track of its own, side by side (they overlapped on one track).
     assert!(
-        !entities.contains("/compare/world/lookup/track/rails"),
-        "one track"
+        entities.contains("/compare/world/lookup/track/rails"),
+        "a track per model"
     );
     let e = kecsim::inspect::world3d::DEFAULT_EXAGGERATION;
     for (k, model) in ["kec", "lookup"].into_iter().enumerate() {
