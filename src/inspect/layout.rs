@@ -22,7 +22,7 @@
 //! time panel to its bar: play, the cursor, the choice of timeline) so that the views get the
 //! screen; a click opens them.
 //!
-//! A layout can be changed after it was sent ([`SentLayout::update`]): the run's recording puts
+//! A layout can be changed after it was sent ([`SentLayout::reorder`]): the run's recording puts
 //! the worst wheelset's tab first once the run has found it.
 
 use rerun::datatypes::Uuid;
