@@ -48,6 +48,36 @@ fn new_id() -> Uuid {
     Uuid::random()
 }
 
+/// A y range for data spanning `lo..=hi` whose axis is labelled at two values at least: the
+/// viewer labels its axes at powers of ten, and a range holding a single multiple of its decade
+/// step shows a single label (`0` on a ±7.5 mm plot). The data padded by 5 %, widened where
+/// needed to two multiples of its decade step D = 10^⌊log₁₀ span⌋, padded again by 3 % so that
+/// those labels sit inside (a flat series: ± 1 % of its value, or ± 1 at zero); None for no
+/// finite data.
+pub fn round_range(lo: f64, hi: f64) -> Option<[f64; 2]> {
+    if !(lo.is_finite() && hi.is_finite()) || lo > hi {
+        return None;
+    }
+    let (lo, hi) = if hi > lo {
+        (lo, hi)
+    } else {
+        let pad = if lo == 0.0 { 1.0 } else { 0.01 * lo.abs() };
+        (lo - pad, hi + pad)
+    };
+    let pad = 0.05 * (hi - lo);
+    let (mut lo, mut hi) = (lo - pad, hi + pad);
+    let decade = 10f64.powf((hi - lo).log10().floor());
+    let multiples = (hi / decade).floor() - (lo / decade).ceil() + 1.0;
+    if multiples < 2.0 {
+        lo = lo.min((lo / decade).floor() * decade);
+        hi = hi.max((hi / decade).ceil() * decade);
+        let pad = 0.03 * (hi - lo);
+        lo -= pad;
+        hi += pad;
+    }
+    Some([lo, hi])
+}
+
 /// A view of a layout: its class, title, origin, query and the properties it opens with.
 #[derive(Debug)]
 pub struct View {
@@ -566,6 +596,32 @@ impl SentLayout {
         Ok(self.forward(rec))
     }
 
+    /// Sets the y range of every time-series view whose origin `range_of` knows: the data's
+    /// extent, widened where needed so that the axis has two labels at least ([`round_range`]).
+    /// The range is a starting view: the user still zooms.
+    pub fn set_y_ranges(
+        self,
+        rec: &RecordingStream,
+        range_of: impl Fn(&str) -> Option<[f64; 2]>,
+    ) -> RecordingStreamResult<SentLayout> {
+        self.bp.set_time_sequence("blueprint", 1);
+        for v in self.layout.views() {
+            if v.class != "TimeSeries" {
+                continue;
+            }
+            let Some([lo, hi]) = range_of(&v.origin).and_then(|[a, b]| round_range(a, b)) else {
+                continue;
+            };
+            self.bp.log(
+                format!("{}/ScalarAxis", v.blueprint_path()),
+                &ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([
+                    lo, hi,
+                ]))),
+            )?;
+        }
+        Ok(self.forward(rec))
+    }
+
     /// The layout.
     pub fn layout(&self) -> &Layout {
         &self.layout
@@ -654,6 +710,31 @@ mod tests {
         for p in ["viewport", "time_panel", "blueprint_panel", "selection_panel"] {
             assert!(paths.iter().any(|x| x == p), "{p}: {paths:?}");
         }
+    }
+
+    /// y ranges that hold the data and two multiples of their decade step (two axis labels at
+    /// least), not more than 2.5 × the data's span.
+    #[test]
+    fn y_ranges_hold_the_data_and_two_labels() {
+        for (lo, hi) in [
+            (-7.5, 7.5),
+            (-8.3, 1.5),
+            (29.3, 75.9),
+            (0.0, 0.0),
+            (18.996, 19.003),
+            (-0.42, 3.95),
+            (-4.1, 4.2),
+        ] {
+            let [a, b] = round_range(lo, hi).unwrap();
+            assert!(a < lo && b > hi, "{lo}..{hi}: {a}..{b}");
+            let d = 10f64.powf((b - a).log10().floor());
+            let inside = ((a / d).ceil() as i64..=(b / d).floor() as i64).count();
+            assert!(inside >= 2, "{lo}..{hi}: {a}..{b}, step {d}");
+            if hi > lo {
+                assert!(b - a <= 2.5 * (hi - lo), "{lo}..{hi}: {a}..{b}");
+            }
+        }
+        assert_eq!(round_range(f64::NAN, 1.0), None);
     }
 
     /// A named tab container reordered after the layout was sent: its blueprint logged again

@@ -696,6 +696,8 @@ pub struct LiveRecorder {
     /// Per wheelset: each sample's time, arc length and both wheels' Y and Q (the running-safety
     /// series, drawn at the end).
     forces: Vec<Vec<SafetyRow>>,
+    /// Each plot's data extent (by its view's origin), for the y ranges set at the end.
+    extents: std::sync::Mutex<std::collections::HashMap<String, [f64; 2]>>,
 }
 
 /// What the running-safety series need of a sample.
@@ -793,6 +795,7 @@ impl LiveRecorder {
             floor_acc: Vec::new(),
             layout: None,
             forces: vec![Vec::new(); wheelsets.len()],
+            extents: Default::default(),
         };
         r.log_statics()?;
         assessment::log_statics(&r.rec)?;
@@ -906,6 +909,8 @@ impl LiveRecorder {
         else {
             return Ok(());
         };
+        let flat: Vec<f64> = values.iter().flat_map(|v| v.iter().copied()).collect();
+        self.widen(&format!("/run/{name}/{}", series.entity()), &flat);
         send_scalar_values(
             &self.rec,
             vec![
@@ -914,9 +919,25 @@ impl LiveRecorder {
             ],
             samples.len(),
             &format!("run/{name}/{}", series.entity()),
-            values.iter().flat_map(|v| v.iter().copied()).collect(),
+            flat,
             q.value.width(),
         )
+    }
+
+    /// Widens the data extent of the plot at `origin` by `values` (NaN skipped).
+    fn widen(&self, origin: &str, values: &[f64]) {
+        let (lo, hi) = values
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        if lo > hi {
+            return;
+        }
+        let mut map = self.extents.lock().unwrap_or_else(|e| e.into_inner());
+        let e = map.entry(origin.to_string()).or_insert([lo, hi]);
+        *e = [e[0].min(lo), e[1].max(hi)];
     }
 
     /// Sends what is pending.
@@ -949,7 +970,11 @@ impl LiveRecorder {
                 ],
                 n,
                 &format!("run/vehicle/{}", series.entity()),
-                first.iter().map(value).collect(),
+                {
+                    let values: Vec<f64> = first.iter().map(value).collect();
+                    self.widen(&format!("/run/vehicle/{}", series.entity()), &values);
+                    values
+                },
                 1,
             )?;
         }
@@ -963,9 +988,13 @@ impl LiveRecorder {
                     vec![TimeColumn::new_duration_secs(TIME, first.iter().map(|s| s.t))],
                     n,
                     &format!("run/vehicle/{}", series.entity()),
-                    (0..n)
-                        .flat_map(|i| pending.iter().map(move |w| value(&w[i])))
-                        .collect(),
+                    {
+                        let values: Vec<f64> = (0..n)
+                            .flat_map(|i| pending.iter().map(move |w| value(&w[i])))
+                            .collect();
+                        self.widen(&format!("/run/vehicle/{}", series.entity()), &values);
+                        values
+                    },
                     self.names.len(),
                 )?;
             }
@@ -1006,6 +1035,14 @@ impl LiveRecorder {
         };
         let grey = || vec![Color::from_rgb(170, 170, 180)];
         let n = frames.len();
+        self.widen(
+            "/run/track/curvature_1pkm",
+            &frames.iter().map(|f| f.2).collect::<Vec<_>>(),
+        );
+        self.widen(
+            "/run/track/cant_mrad",
+            &frames.iter().map(|f| f.3).collect::<Vec<_>>(),
+        );
         send_scalar_rows(
             &self.rec,
             timelines(),
@@ -1096,6 +1133,7 @@ impl LiveRecorder {
                 ("sum_y_2m_kn", sum_y),
                 ("delta_q_over_q0", dq),
             ] {
+                self.widen(&format!("/run/safety/{what}"), &values);
                 send_scalar_rows(
                     &self.rec,
                     timelines(),
@@ -1133,6 +1171,9 @@ impl LiveRecorder {
                     vec![Color::from_rgb(150, 150, 150)],
                 )
             };
+            self.widen("/run/safety/y_over_q_2m", &[0.0, safety.nadal_limit]);
+            self.widen("/run/safety/sum_y_2m_kn", &[-sum_y_limit, sum_y_limit]);
+            self.widen("/run/safety/delta_q_over_q0", &[DELTA_Q_LIMIT]);
             limit(
                 "run/safety/y_over_q_2m/limit",
                 "Nadal's limit",
@@ -1334,6 +1375,15 @@ impl RunObserver for LiveRecorder {
                 }
             }
             self.layout = layout;
+        }
+        // Each plot's y range from its data, labelled at both ends.
+        if let Some(layout) = self.layout.take() {
+            let extents = self.extents.lock().unwrap_or_else(|e| e.into_inner()).clone();
+            self.layout = Some(
+                layout
+                    .set_y_ranges(&self.rec, |origin| extents.get(origin).copied())
+                    .map_err(log_err("the layout (blueprint)"))?,
+            );
         }
         Ok(())
     }
