@@ -166,7 +166,7 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
 
 /// How long the end of a streamed recording may take to reach the viewer or the server: the
 /// stream's queue sent and the call closed by the other side (see [`deliver`]).
-pub const DELIVERY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
+pub const DELIVERY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(20);
 
 /// Ends a stream to a viewer or a server and waits, at most `timeout`, until the other side has
 /// taken everything: the SDK's flush only hands the queued messages to its network task (a
