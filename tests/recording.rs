@@ -772,6 +772,21 @@ fn the_run_records_its_verdict_and_opens_on_whole_figures() {
     let curvature = kecsim::inspect::readback::scalar_rows(&chunks, "/run/track/curvature_1pkm");
     assert!((200..=202).contains(&curvature.len()), "{}", curvature.len());
     assert!(curvature.iter().flatten().all(|c| c.abs() < 1e-9));
+    // Every history on the distance along the track too (issue 47): the every-wheelset, the
+    // vehicle's own, the safety and the track strip's series.
+    for e in [
+        "/run/vehicle/y_mm",
+        "/run/vehicle/traction_kn",
+        "/run/w3/y_mm",
+        "/run/safety/y_over_q_2m/w1",
+        "/run/track/cant_mrad",
+    ] {
+        let on_distance = chunks
+            .iter()
+            .filter(|c| c.entity_path().to_string() == e && !c.is_static())
+            .all(|c| c.timelines().keys().any(|t| t.as_str() == "distance_mm"));
+        assert!(on_distance, "{e} not on distance_mm");
+    }
     // The layout: every time-series view with its x range, the 3D views with their cameras.
     let layout = kecsim::inspect::readback::layout_entities(&rrd).unwrap();
     let views: Vec<&String> = layout

@@ -7,7 +7,8 @@
 //! styles) go first, the summary last.
 //!
 //! Timelines: `time` (simulated time, a duration) and `distance_mm` (the wheelset's arc length, mm,
-//! a sequence).
+//! a sequence; the front wheelset's for the every-wheelset and the vehicle's own series, and for
+//! the track strip): every history can be read against the distance along the track.
 //!
 //! The series, their line names and the plots of the layout are made from the table of recorded
 //! quantities ([`crate::dynamics::sample::QUANTITIES`]; the tables below are what it gives). Every
@@ -983,9 +984,13 @@ impl LiveRecorder {
             let first = &pending[0];
             for (q, series) in vehicle_series(QUANTITIES) {
                 let value = |s: &Sample| q.value.of(s, series.unit).map_or(f64::NAN, |v| v[0]);
+                // On `distance_mm` too: the front wheelset's (as the vehicle's own series).
                 send_scalar_values(
                     &self.rec,
-                    vec![TimeColumn::new_duration_secs(TIME, first.iter().map(|s| s.t))],
+                    vec![
+                        TimeColumn::new_duration_secs(TIME, first.iter().map(|s| s.t)),
+                        TimeColumn::new_sequence(DISTANCE, first.iter().map(|s| (s.s * 1e3).round() as i64)),
+                    ],
                     n,
                     &format!("run/vehicle/{}", series.entity()),
                     {
