@@ -95,8 +95,45 @@ pub struct Safety {
 
 const WHEELS: [&str; 2] = ["left", "right"];
 
+/// One wheelset's running-safety quantities along its samples, of which its figures
+/// ([`WheelsetSafety`]) are the largest: what `kecsim run` draws under `run/safety/`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SafetySeries {
+    /// Whether the 2 m window ending at each sample is full (from [`WINDOW_M`] after the first
+    /// sample on): only those count (EN 14363).
+    pub full: Vec<bool>,
+    /// Each wheel's (left, right) 2 m sliding mean of |Y|/Q (a sample with Q ≤ 0 counts as 0).
+    pub y_over_q_2m: [Vec<f64>; 2],
+    /// The 2 m sliding mean of ΣY = Y_left + Y_right, N.
+    pub sum_y_2m_n: Vec<f64>,
+    /// Each wheel's unloading (Q₀ − Q)/Q₀ (None for a wheel without a static load).
+    pub delta_q_over_q0: [Option<Vec<f64>>; 2],
+}
+
+/// The series of one wheelset from its samples' arc lengths `s` (in order), lateral and vertical
+/// wheel–rail forces `y`, `q` (left, right; N) and its wheels' static loads `q0`.
+pub fn series(s: &[f64], y: &[[f64; 2]], q: &[[f64; 2]], q0: [f64; 2]) -> SafetySeries {
+    let s0 = s.first().copied().unwrap_or(0.0);
+    let ratio = |i: usize| -> Vec<f64> {
+        let v: Vec<f64> = y
+            .iter()
+            .zip(q)
+            .map(|(y, q)| if q[i] > 0.0 { (y[i] / q[i]).abs() } else { 0.0 })
+            .collect();
+        sliding_mean(s, &v, WINDOW_M)
+    };
+    let unloading = |i: usize| (q0[i] > 0.0).then(|| q.iter().map(|q| (q0[i] - q[i]) / q0[i]).collect());
+    let sum_y: Vec<f64> = y.iter().map(|y| y[0] + y[1]).collect();
+    SafetySeries {
+        full: s.iter().map(|&si| si - s0 >= WINDOW_M).collect(),
+        y_over_q_2m: [ratio(0), ratio(1)],
+        sum_y_2m_n: sliding_mean(s, &sum_y, WINDOW_M),
+        delta_q_over_q0: [unloading(0), unloading(1)],
+    }
+}
+
 /// The figures of every wheelset from its samples; `static_wheel_loads` are each wheelset's Q₀
-/// (left, right), N.
+/// (left, right), N: the largest values of its [`series`].
 pub fn assess(
     wheelsets: &[(String, Vec<Sample>)],
     static_wheel_loads: &[[f64; 2]],
@@ -108,8 +145,10 @@ pub fn assess(
         .filter(|((_, samples), _)| !samples.is_empty())
         .map(|((name, samples), q0)| {
             let s: Vec<f64> = samples.iter().map(|p| p.s).collect();
-            // Only full windows count (EN 14363): from 2 m after the first sample on.
-            let full = |(k, _): &(usize, f64)| s[*k] - s[0] >= WINDOW_M;
+            let y: Vec<[f64; 2]> = samples.iter().map(|p| p.y_force).collect();
+            let q: Vec<[f64; 2]> = samples.iter().map(|p| p.q_force).collect();
+            let series = series(&s, &y, &q, *q0);
+            let full = |k: &usize| series.full[*k];
             let mut w = WheelsetSafety {
                 name: name.clone(),
                 y_over_q_2m: 0.0,
@@ -123,40 +162,20 @@ pub fn assess(
                 static_wheel_load_n: *q0,
             };
             for (i, wheel) in WHEELS.iter().enumerate() {
-                let ratio: Vec<f64> = samples
-                    .iter()
-                    .map(|p| {
-                        if p.q_force[i] > 0.0 {
-                            (p.y_force[i] / p.q_force[i]).abs()
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect();
-                for (k, m) in sliding_mean(&s, &ratio, WINDOW_M)
-                    .into_iter()
-                    .enumerate()
-                    .filter(full)
-                {
+                for k in (0..s.len()).filter(full) {
+                    let m = series.y_over_q_2m[i][k];
                     if m > w.y_over_q_2m {
                         (w.y_over_q_2m, w.y_over_q_wheel, w.y_over_q_at_s_m) = (m, wheel, s[k]);
                     }
                 }
-                if q0[i] > 0.0 {
-                    for p in samples {
-                        let dq = (q0[i] - p.q_force[i]) / q0[i];
-                        if dq > w.delta_q_over_q0 {
-                            (w.delta_q_over_q0, w.delta_q_wheel) = (dq, wheel);
-                        }
+                for &dq in series.delta_q_over_q0[i].iter().flatten() {
+                    if dq > w.delta_q_over_q0 {
+                        (w.delta_q_over_q0, w.delta_q_wheel) = (dq, wheel);
                     }
                 }
             }
-            let sum_y: Vec<f64> = samples.iter().map(|p| p.y_force[0] + p.y_force[1]).collect();
-            for (k, m) in sliding_mean(&s, &sum_y, WINDOW_M)
-                .into_iter()
-                .enumerate()
-                .filter(full)
-            {
+            for k in (0..s.len()).filter(full) {
+                let m = series.sum_y_2m_n[k];
                 if m.abs() > w.sum_y_2m_n {
                     (w.sum_y_2m_n, w.sum_y_at_s_m) = (m.abs(), s[k]);
                 }

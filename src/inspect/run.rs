@@ -1074,7 +1074,6 @@ impl LiveRecorder {
     /// limits as grey lines; returns the wheelsets' indices, the most loaded against its limits
     /// first (none without safety figures).
     fn log_safety(&self, summary: &RunSummary) -> Result<Vec<usize>, InspectError> {
-        use crate::dynamics::safety::{sliding_mean, WINDOW_M};
         let Some(safety) = &summary.safety else {
             return Ok(Vec::new());
         };
@@ -1092,38 +1091,29 @@ impl LiveRecorder {
             let Some(first) = rows.first() else {
                 continue;
             };
-            let s: Vec<f64> = rows.iter().map(|r| r.s).collect();
-            let full = |i: usize| s[i] - s[0] >= WINDOW_M;
-            let ratio = |i: usize| {
-                let v: Vec<f64> = rows
-                    .iter()
-                    .map(|r| {
-                        if r.q[i] > 0.0 {
-                            (r.y[i] / r.q[i]).abs()
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect();
-                sliding_mean(&s, &v, WINDOW_M)
-            };
-            let (left, right) = (ratio(0), ratio(1));
+            // The summary's own series (its figures are their largest values), drawn where the
+            // 2 m window is full; the larger wheel's Y/Q and ΔQ/Q₀.
+            let series = crate::dynamics::safety::series(
+                &rows.iter().map(|r| r.s).collect::<Vec<_>>(),
+                &rows.iter().map(|r| r.y).collect::<Vec<_>>(),
+                &rows.iter().map(|r| r.q).collect::<Vec<_>>(),
+                w.static_wheel_load_n,
+            );
+            let where_full = |i: usize, v: f64| if series.full[i] { v } else { f64::NAN };
+            let [left, right] = &series.y_over_q_2m;
             let y_over_q: Vec<f64> = (0..rows.len())
-                .map(|i| if full(i) { left[i].max(right[i]) } else { f64::NAN })
+                .map(|i| where_full(i, left[i].max(right[i])))
                 .collect();
-            let sum: Vec<f64> = rows.iter().map(|r| (r.y[0] + r.y[1]) * 1e-3).collect();
-            let sum_y: Vec<f64> = sliding_mean(&s, &sum, WINDOW_M)
-                .into_iter()
-                .enumerate()
-                .map(|(i, m)| if full(i) { m } else { f64::NAN })
+            let sum_y: Vec<f64> = (0..rows.len())
+                .map(|i| where_full(i, series.sum_y_2m_n[i] * 1e-3))
                 .collect();
-            let q0 = w.static_wheel_load_n;
-            let dq: Vec<f64> = rows
-                .iter()
-                .map(|r| {
-                    (0..2)
-                        .filter(|&i| q0[i] > 0.0)
-                        .map(|i| (q0[i] - r.q[i]) / q0[i])
+            let dq: Vec<f64> = (0..rows.len())
+                .map(|i| {
+                    series
+                        .delta_q_over_q0
+                        .iter()
+                        .flatten()
+                        .map(|d| d[i])
                         .fold(f64::NAN, f64::max)
                 })
                 .collect();
@@ -1159,8 +1149,8 @@ impl LiveRecorder {
             worst.push((k, load));
         }
         if t_span.0 <= t_span.1 {
-            let limit = |entity: &str, label: &str, value: f64| -> Result<(), InspectError> {
-                send_scalar_rows(
+            let limit = |entity: &str, label: &str, value: f64| {
+                super::log_bound(
                     &self.rec,
                     vec![
                         TimeColumn::new_duration_secs(TIME, [t_span.0, t_span.1]),
@@ -1169,11 +1159,9 @@ impl LiveRecorder {
                             [s_span.0, s_span.1].map(|s| (s * 1e3).round() as i64),
                         ),
                     ],
-                    2,
                     entity,
-                    vec![value, value],
-                    &[label],
-                    vec![Color::from_rgb(150, 150, 150)],
+                    value,
+                    label,
                 )
             };
             self.widen("/run/safety/y_over_q_2m", &[0.0, safety.nadal_limit]);
