@@ -13,7 +13,7 @@
 //! | `contact/plots/contact_angle_deg` | Scalars (left, right) | contact angles |
 //! | `contact/summary` | TextDocument | conicity, jumps, interpolation error |
 
-use super::{Container, Layout, View};
+use super::{Container, Item, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
 use super::{log_static, section_mm, InspectError};
@@ -31,11 +31,7 @@ pub fn blueprint() -> Layout {
             .origin(format!("/contact/section/{}", side.name()))
             .into()
     };
-    let plot = |title: &str, origin: &str| {
-        View::time_series(format!("{title} against y [µm]"))
-            .origin(origin.to_string())
-            .into()
-    };
+    let plot = sweep_plot;
     Layout::new(
         Container::vertical([
             Container::horizontal([
@@ -67,6 +63,13 @@ pub(crate) fn log_err(entity: &str) -> impl FnOnce(rerun::RecordingStreamError) 
         entity: entity.to_string(),
         source,
     }
+}
+
+/// A plot of a sweep's function of y (on [`TIMELINE`]), its title naming the x quantity.
+pub(crate) fn sweep_plot(title: &str, origin: &str) -> Item {
+    View::time_series(format!("{title} against y [µm]"))
+        .origin(origin.to_string())
+        .into()
 }
 
 /// One scalar series (or a pair left/right) against y.

@@ -13,7 +13,7 @@
 use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Radius, RecordingStream, TextDocument};
 
-use super::contact::{log_real_sections, TIMELINE};
+use super::contact::{log_real_sections, sweep_plot, TIMELINE};
 use super::{log_static, section_mm, InspectError};
 use crate::contact::design::DesignReport;
 use crate::contact::lookup::{LookupTable1, TableRow};
@@ -22,11 +22,7 @@ use crate::profile::Side;
 
 /// Layout: the profiles and the designed pair's sections on top, the functions of y below.
 pub fn blueprint() -> Layout {
-    let plot = |title: &str, origin: &str| {
-        View::time_series(format!("{title} against y [µm]"))
-            .origin(origin.to_string())
-            .into()
-    };
+    let plot = sweep_plot;
     Layout::new(
         Container::vertical([
             Container::horizontal([

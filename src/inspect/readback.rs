@@ -20,47 +20,38 @@ pub enum ReadbackError {
     Decode { path: String, message: String },
 }
 
-/// All data chunks of the recording store (blueprint chunks excluded), in file order.
-pub fn recording_chunks(path: &Path) -> Result<Vec<Chunk>, ReadbackError> {
-    let p = path.display().to_string();
+/// Every log message of the file at `path`, in file order.
+fn read_messages(path: &Path) -> Result<Vec<LogMsg>, ReadbackError> {
     let file = std::fs::File::open(path).map_err(|source| ReadbackError::Io {
-        path: p.clone(),
+        path: path.display().to_string(),
         source,
     })?;
-    let msgs = DecoderApp::decode_lazy(BufReader::new(file))
+    DecoderApp::decode_lazy(BufReader::new(file))
         .collect::<Result<Vec<LogMsg>, _>>()
         .map_err(|e| ReadbackError::Decode {
-            path: p.clone(),
+            path: path.display().to_string(),
             message: e.to_string(),
-        })?;
-    message_chunks(&msgs, &p)
+        })
+}
+
+/// All data chunks of the recording store (blueprint chunks excluded), in file order.
+pub fn recording_chunks(path: &Path) -> Result<Vec<Chunk>, ReadbackError> {
+    message_chunks(&read_messages(path)?, &path.display().to_string())
 }
 
 /// The entity paths of the recording's layout (its blueprint store: `view/ID`, `view/ID/TimeAxis`,
 /// `container/ID`, …), in file order, each once.
 pub fn layout_entities(path: &Path) -> Result<Vec<String>, ReadbackError> {
-    let p = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|source| ReadbackError::Io {
-        path: p.clone(),
-        source,
-    })?;
+    let chunks = store_chunks(
+        &read_messages(path)?,
+        &path.display().to_string(),
+        StoreKind::Blueprint,
+    )?;
     let mut out: Vec<String> = Vec::new();
-    for msg in DecoderApp::decode_lazy(BufReader::new(file)) {
-        let msg = msg.map_err(|e| ReadbackError::Decode {
-            path: p.clone(),
-            message: e.to_string(),
-        })?;
-        if let LogMsg::ArrowMsg(store, arrow) = &msg {
-            if store.kind() == StoreKind::Blueprint {
-                let chunk = Chunk::from_arrow_msg(arrow).map_err(|e| ReadbackError::Decode {
-                    path: p.clone(),
-                    message: e.to_string(),
-                })?;
-                let e = chunk.entity_path().to_string();
-                if !out.contains(&e) {
-                    out.push(e);
-                }
-            }
+    for chunk in chunks {
+        let e = chunk.entity_path().to_string();
+        if !out.contains(&e) {
+            out.push(e);
         }
     }
     Ok(out)
@@ -69,10 +60,15 @@ pub fn layout_entities(path: &Path) -> Result<Vec<String>, ReadbackError> {
 /// The data chunks of the recording store among log messages (e.g. of a memory sink); `origin`
 /// names them in errors.
 pub fn message_chunks(msgs: &[LogMsg], origin: &str) -> Result<Vec<Chunk>, ReadbackError> {
+    store_chunks(msgs, origin, StoreKind::Recording)
+}
+
+/// The data chunks of the stores of `kind` among log messages.
+fn store_chunks(msgs: &[LogMsg], origin: &str, kind: StoreKind) -> Result<Vec<Chunk>, ReadbackError> {
     let mut chunks = Vec::new();
     for msg in msgs {
         if let LogMsg::ArrowMsg(store, arrow) = msg {
-            if store.kind() != StoreKind::Recording {
+            if store.kind() != kind {
                 continue;
             }
             let chunk = Chunk::from_arrow_msg(arrow).map_err(|e| ReadbackError::Decode {

@@ -413,69 +413,81 @@ pub fn blueprint_with(
             .iter()
             .filter(|p| entities.iter().any(|e| p.origin.ends_with(&format!("/{e}"))))
             .map(|p| {
-                series_view(
-                    p.clone(),
-                    p.origin.contains("/run/vehicle/")
-                        && wheelsets.len() > 1
-                        && !p.title.starts_with("vehicle:"),
-                )
+                // A line per wheelset: a legend; the vehicle's own, one line: none.
+                series_view(p.clone(), p.title.starts_with("every wheelset:"))
             })
             .collect()
     };
-    let mut kin_rows: Vec<Item> = Vec::new();
-    let mut kin_shares = Vec::new();
-    let every = take(&["y_mm", "yaw_mrad"]);
-    if !every.is_empty() {
-        kin_rows.push(Container::horizontal(every).into());
-        kin_shares.push(1.0);
-    }
-    kin_rows.push(wheelset_tabs(
-        wheelsets,
-        &[Panel::Kinematics, Panel::Contact],
-        wheelset_tabs_name(Panel::Kinematics),
-    ));
-    kin_shares.push(2.0);
-    kin_rows.push(track_strip());
-    kin_shares.push(0.7);
-    let kinematics = Container::vertical(kin_rows)
-        .shares(kin_shares)
-        .named("Wheelsets");
-
-    let mut safety_rows: Vec<Item> = vec![Container::horizontal([
-        View::time_series("running safety: Y/Q, 2 m mean, larger wheel (grey: Nadal's limit)")
-            .origin("/run/safety/y_over_q_2m")
-            .into(),
-        View::time_series("ΣY, 2 m mean [kN] (grey: ± the smallest Prud'homme limit)")
-            .origin("/run/safety/sum_y_2m_kn")
-            .into(),
-        View::time_series("ΔQ/Q₀, larger wheel (grey: 0.6, EN 14363's limit)")
-            .origin("/run/safety/delta_q_over_q0")
-            .into(),
-    ])
-    .into()];
-    let mut safety_shares = vec![1.2];
-    let loads = take(&[
-        "min_normal_kn",
-        "max_abs_y_over_q",
-        "vehicle_speed_m_s",
-        "traction_kn",
-        "traction_power_kw",
-    ]);
-    if !loads.is_empty() {
-        safety_rows.push(Container::horizontal(loads).into());
-        safety_shares.push(1.0);
-    }
-    safety_rows.push(wheelset_tabs(
-        wheelsets,
-        &[Panel::Forces],
-        wheelset_tabs_name(Panel::Forces),
-    ));
-    safety_shares.push(1.0);
-    safety_rows.push(track_strip());
-    safety_shares.push(0.7);
-    let safety = Container::vertical(safety_rows)
-        .shares(safety_shares)
-        .named("Forces and safety");
+    // Each tab a column of (row, share); a row without plots (a one-wheelset vehicle's
+    // every-wheelset row) left out.
+    let stack = |rows: Vec<(Vec<Item>, f32)>, name: &str| {
+        let (items, shares): (Vec<Item>, Vec<f32>) = rows
+            .into_iter()
+            .filter(|(r, _)| !r.is_empty())
+            .map(|(mut r, share)| {
+                let item = if r.len() == 1 {
+                    r.remove(0)
+                } else {
+                    Container::horizontal(r).into()
+                };
+                (item, share)
+            })
+            .unzip();
+        Container::vertical(items).shares(shares).named(name)
+    };
+    let kinematics = stack(
+        vec![
+            (take(&["y_mm", "yaw_mrad"]), 1.0),
+            (
+                vec![wheelset_tabs(
+                    wheelsets,
+                    &[Panel::Kinematics, Panel::Contact],
+                    wheelset_tabs_name(Panel::Kinematics),
+                )],
+                2.0,
+            ),
+            (vec![track_strip()], 0.7),
+        ],
+        "Wheelsets",
+    );
+    let safety = stack(
+        vec![
+            (
+                vec![
+                    View::time_series("running safety: Y/Q, 2 m mean, larger wheel (grey: Nadal's limit)")
+                        .origin("/run/safety/y_over_q_2m")
+                        .into(),
+                    View::time_series("ΣY, 2 m mean [kN] (grey: ± the smallest Prud'homme limit)")
+                        .origin("/run/safety/sum_y_2m_kn")
+                        .into(),
+                    View::time_series("ΔQ/Q₀, larger wheel (grey: 0.6, EN 14363's limit)")
+                        .origin("/run/safety/delta_q_over_q0")
+                        .into(),
+                ],
+                1.2,
+            ),
+            (
+                take(&[
+                    "min_normal_kn",
+                    "max_abs_y_over_q",
+                    "vehicle_speed_m_s",
+                    "traction_kn",
+                    "traction_power_kw",
+                ]),
+                1.0,
+            ),
+            (
+                vec![wheelset_tabs(
+                    wheelsets,
+                    &[Panel::Forces],
+                    wheelset_tabs_name(Panel::Forces),
+                )],
+                1.0,
+            ),
+            (vec![track_strip()], 0.7),
+        ],
+        "Forces and safety",
+    );
 
     let wear = Container::vertical([
         Container::horizontal([
