@@ -962,6 +962,13 @@ impl LookupTable1 {
 
     /// Interpolated contact configuration at `y` (no irregularity). Out of range is an error.
     pub fn lookup(&self, y: f64) -> Result<TableRow, TableError> {
+        Ok(self.lookup_with_position_slopes(y)?.0)
+    }
+
+    /// [`LookupTable1::lookup`] with the y-slopes of the interpolated contact positions
+    /// d[Y_l, Z_l, Y_r, Z_r]/dy (the PCHIP interpolant's own derivative), for the per-wheel entry
+    /// ([`super::per_wheel`]).
+    pub fn lookup_with_position_slopes(&self, y: f64) -> Result<(TableRow, [f64; 4]), TableError> {
         let (lo, hi) = self.range();
         if !(lo..=hi).contains(&y) {
             return Err(TableError::OutOfRange {
@@ -984,8 +991,9 @@ impl LookupTable1 {
         }
         let (oa, ob) = (a.other(), b.other());
         let mut o = [0.0; N_OTHER];
+        let mut slopes = [0.0; 4];
         for c in 0..N_OTHER {
-            o[c] = hermite(
+            let (v, d) = hermite(
                 a.y,
                 b.y,
                 oa[c],
@@ -993,13 +1001,16 @@ impl LookupTable1 {
                 self.other_slopes[k][c],
                 self.other_slopes[k + 1][c],
                 y,
-            )
-            .0;
+            );
+            o[c] = v;
+            if c >= 8 {
+                slopes[c - 8] = d;
+            }
         }
         out.set_other(&o);
         let t = (y - a.y) / (b.y - a.y);
         out.two_point_gap = if t < 0.5 { a.two_point_gap } else { b.two_point_gap };
-        Ok(out)
+        Ok((out, slopes))
     }
 
     /// The contact of a wheelset at lateral displacement `y` on rails with offsets `off`, entered

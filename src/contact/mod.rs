@@ -21,6 +21,7 @@ pub mod kec;
 pub mod lookup;
 pub mod model;
 pub mod models;
+pub mod per_wheel;
 pub mod point;
 pub mod report;
 

@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::conicity::{ConicityError, RollingRadiusDifference};
 use super::geometry::ContactGeometry;
 use super::kec::KecModel;
-use super::lookup::{CrossLevelEntry, LookupTable1, TableError, TableSettings};
+use super::lookup::{CrossLevelEntry, LookupTable1, TableError, TableRow, TableSettings};
 use crate::track::RailOffsets;
 
 /// Largest deviation of table look-ups from the online solution, at points between the nodes.
@@ -200,6 +200,37 @@ impl ContactReport {
     }
 }
 
+/// Largest distance of one contact model from the online approximate constraints over one case:
+/// |Δz| (m), |Δφ| (rad) and the contact angle |Δγ| of either wheel (rad).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EntryError {
+    pub z: f64,
+    pub phi: f64,
+    pub angle: f64,
+}
+
+impl EntryError {
+    fn update(&mut self, z: f64, phi: f64, angles: [f64; 2], o: &super::geometry::ContactSolution) {
+        self.z = self.z.max((z - o.z).abs());
+        self.phi = self.phi.max((phi - o.phi).abs());
+        let oa = [o.left.contact_angle, o.right.contact_angle];
+        for i in 0..2 {
+            self.angle = self.angle.max((angles[i] - oa[i]).abs());
+        }
+    }
+}
+
+/// The tables measured by [`kec_irregularity_errors`] beside KEC: the centred 1-entry table (its
+/// per-wheel entry is `lookup2`'s default), gauge columns (the paper's literal 2-entry table,
+/// `lookup2-paper`) and, optionally, finer columns (`lookup2` with `gauge_entry = "columns"`).
+pub struct MeasuredTables<'a> {
+    pub table1: &'a LookupTable1,
+    /// The paper's 2-entry table (1 mm columns).
+    pub table2: &'a super::lookup::LookupTable2,
+    /// Finer gauge columns, with their spacing (m).
+    pub table2_fine: Option<(&'a super::lookup::LookupTable2, f64)>,
+}
+
 /// Error of the KEC model and of the lookup tables against the online approximate constraints for
 /// one irregularity case, over a set of y.
 #[derive(Debug, Clone, PartialEq)]
@@ -210,32 +241,38 @@ pub struct KecErrorRow {
     /// |y| range compared, m.
     pub y_max: f64,
     pub points: usize,
-    /// Max |Δz| (m) and |Δφ| (rad) of KEC, of the 2-entry table, and of the 1-entry table (blind
-    /// to gv), the tables entered by the rail pair's rigid motion
-    /// ([`crate::contact::lookup::CrossLevelEntry::Rotated`]), all against the online solution.
-    pub kec: (f64, f64),
-    pub table2: (f64, f64),
-    pub table1: (f64, f64),
-    /// The same for the tables entered by Eq. (44)–(46) as printed
+    /// KEC, against the online solution.
+    pub kec: EntryError,
+    /// The per-wheel entry of the centred table (`lookup2`'s default,
+    /// [`crate::contact::per_wheel`]).
+    pub per_wheel: EntryError,
+    /// The paper's 2-entry table (1 mm gauge columns, `lookup2-paper`).
+    pub table2: EntryError,
+    /// Finer gauge columns ([`MeasuredTables::table2_fine`]), where measured.
+    pub table2_fine: Option<EntryError>,
+    /// The 1-entry table (blind to gv).
+    pub table1: EntryError,
+    /// The 2-entry and 1-entry tables entered by Eq. (44)–(46) as printed
     /// ([`crate::contact::lookup::CrossLevelEntry::Paper`]; the same as the above without cross
-    /// level).
-    pub table2_paper: (f64, f64),
-    pub table1_paper: (f64, f64),
+    /// level). The others are entered by the rail pair's rigid motion
+    /// ([`crate::contact::lookup::CrossLevelEntry::Rotated`]).
+    pub table2_printed: EntryError,
+    pub table1_printed: EntryError,
 }
 
-/// KEC against the online approximate constraints and the 1-/2-entry tables under gauge variation
-/// and cross level. The y range of a case shrinks by |gv|/2 (a narrower gauge brings flange contact
-/// closer, a wider one moves the knife edges outwards along the equivalent profiles, which only
-/// extend as far as the table) and by r0·|cl|/(2 L_r) (the roll that follows a cross level moves the
-/// contact points sideways by r0 φ): every case stays short of flange climb.
+/// KEC against the online approximate constraints and the tables under gauge variation and cross
+/// level. The y range of a case shrinks by |gv|/2 (a narrower gauge brings flange contact closer, a
+/// wider one moves the knife edges outwards along the equivalent profiles, which only extend as
+/// far as the table) and by r0·|cl|/(2 L_r) (the roll that follows a cross level moves the contact
+/// points sideways by r0 φ): every case stays short of flange climb.
 pub fn kec_irregularity_errors(
     geom: &ContactGeometry,
     model: &KecModel,
-    table1: &LookupTable1,
-    table2: &super::lookup::LookupTable2,
+    tables: &MeasuredTables,
     cases: &[(f64, f64)],
     points: usize,
 ) -> Result<Vec<KecErrorRow>, String> {
+    let table1 = tables.table1;
     let (lo, hi) = table1.range();
     let y_flange = lo.abs().min(hi);
     let mut rows = Vec::new();
@@ -247,38 +284,43 @@ pub fn kec_irregularity_errors(
             cl,
             y_max,
             points: 0,
-            kec: (0.0, 0.0),
-            table2: (0.0, 0.0),
-            table1: (0.0, 0.0),
-            table2_paper: (0.0, 0.0),
-            table1_paper: (0.0, 0.0),
+            kec: EntryError::default(),
+            per_wheel: EntryError::default(),
+            table2: EntryError::default(),
+            table2_fine: tables.table2_fine.map(|_| EntryError::default()),
+            table1: EntryError::default(),
+            table2_printed: EntryError::default(),
+            table1_printed: EntryError::default(),
         };
-        let upd = |acc: &mut (f64, f64), z: f64, phi: f64, o: &super::geometry::ContactSolution| {
-            acc.0 = acc.0.max((z - o.z).abs());
-            acc.1 = acc.1.max((phi - o.phi).abs());
+        let at = |acc: &mut EntryError, r: &TableRow, o: &super::geometry::ContactSolution| {
+            acc.update(r.z(), r.phi(), r.contact_angle, o)
         };
         for k in 0..points {
             let y = -y_max + 2.0 * y_max * k as f64 / (points - 1) as f64;
-            let o = geom
-                .solve(y, &off)
-                .map_err(|e| format!("online, gv {gv}, cl {cl}: {e}"))?;
-            let kec = model
-                .solve(y, off.to_array(), None)
-                .map_err(|e| format!("KEC, gv {gv}, cl {cl}: {e}"))?;
-            upd(&mut row.kec, kec.z, kec.phi, &o);
-            for (entry, acc2, acc1) in [
-                (CrossLevelEntry::Rotated, &mut row.table2, &mut row.table1),
-                (
-                    CrossLevelEntry::Paper,
-                    &mut row.table2_paper,
-                    &mut row.table1_paper,
-                ),
-            ] {
-                let t2 = table2.contact_with(y, &off, entry).map_err(|e| e.to_string())?;
-                let t1 = table1.contact_with(y, &off, entry).map_err(|e| e.to_string())?;
-                upd(acc2, t2.z(), t2.phi(), &o);
-                upd(acc1, t1.z(), t1.phi(), &o);
+            let case = |what: &str, e: &dyn std::fmt::Display| format!("{what}, gv {} mm, cl {} mm, y {:.3} mm: {e}", gv * 1e3, cl * 1e3, y * 1e3);
+            let o = geom.solve(y, &off).map_err(|e| case("online", &e))?;
+            let kec = model.solve(y, off.to_array(), None).map_err(|e| case("KEC", &e))?;
+            row.kec.update(
+                kec.z,
+                kec.phi,
+                [kec.real[0].contact_angle, kec.real[1].contact_angle],
+                &o,
+            );
+            let pw = super::per_wheel::contact_per_wheel(table1, y, &off).map_err(|e| case("per-wheel table", &e))?;
+            at(&mut row.per_wheel, &pw, &o);
+            let t2 = tables.table2.contact(y, &off).map_err(|e| case("2-entry table", &e))?;
+            at(&mut row.table2, &t2, &o);
+            if let (Some((fine, _)), Some(acc)) = (tables.table2_fine, row.table2_fine.as_mut()) {
+                let f = fine.contact(y, &off).map_err(|e| case("fine 2-entry table", &e))?;
+                at(acc, &f, &o);
             }
+            let t1 = table1.contact(y, &off).map_err(|e| case("1-entry table", &e))?;
+            at(&mut row.table1, &t1, &o);
+            let paper = CrossLevelEntry::Paper;
+            let t2p = tables.table2.contact_with(y, &off, paper).map_err(|e| case("2-entry table", &e))?;
+            at(&mut row.table2_printed, &t2p, &o);
+            let t1p = table1.contact_with(y, &off, paper).map_err(|e| case("1-entry table", &e))?;
+            at(&mut row.table1_printed, &t1p, &o);
             row.points += 1;
         }
         rows.push(row);
@@ -286,31 +328,41 @@ pub fn kec_irregularity_errors(
     Ok(rows)
 }
 
-/// The error table as markdown: the tables entered by the rail pair's rigid motion, and by
-/// Eq. (44)–(46) as printed ("printed", where there is a cross level).
-pub fn kec_error_markdown(rows: &[KecErrorRow]) -> String {
-    let mut s = String::from(
-        "| gv [mm] | cl [mm] | \\|y\\| ≤ [mm] | KEC Δz [mm] | KEC Δφ [mrad] | 2-entry Δz [mm] | 2-entry Δφ [mrad] | 1-entry Δz [mm] | 1-entry Δφ [mrad] | printed 2-entry Δz / Δφ | printed 1-entry Δz / Δφ |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
-    );
-    let e = |v: (f64, f64)| format!("{:.2e} / {:.2e}", v.0 * 1e3, v.1 * 1e3);
+/// The error table as markdown: per case and model, max |Δz| [mm] / |Δφ| [mrad] / |Δγ| [°]
+/// against the online constraints.
+pub fn kec_error_markdown(rows: &[KecErrorRow], fine_step_m: Option<f64>) -> String {
+    let fine = rows.first().is_some_and(|r| r.table2_fine.is_some());
+    let mut s = String::from("| gv [mm] | cl [mm] | \\|y\\| ≤ [mm] | KEC | lookup2 (per wheel) |");
+    if fine {
+        s += &format!(
+            " gauge columns {} mm |",
+            fine_step_m.map_or("fine".to_string(), |d| format!("{}", d * 1e3))
+        );
+    }
+    s += " lookup2-paper (1 mm columns) | 1-entry | printed Eq. 44–46: 2-entry | printed: 1-entry |\n|---|---|---|---|---|";
+    if fine {
+        s += "---|";
+    }
+    s += "---|---|---|---|\n";
+    let e = |v: &EntryError| format!("{:.3} / {:.3} / {:.2}", v.z * 1e3, v.phi * 1e3, v.angle.to_degrees());
     for r in rows {
         let (p2, p1) = if r.cl == 0.0 {
             ("same".to_string(), "same".to_string())
         } else {
-            (e(r.table2_paper), e(r.table1_paper))
+            (e(&r.table2_printed), e(&r.table1_printed))
         };
         s += &format!(
-            "| {:+.1} | {:+.1} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {p2} | {p1} |\n",
+            "| {:+.1} | {:+.1} | {:.2} | {} | {} |",
             r.gv * 1e3,
             r.cl * 1e3,
             r.y_max * 1e3,
-            r.kec.0 * 1e3,
-            r.kec.1 * 1e3,
-            r.table2.0 * 1e3,
-            r.table2.1 * 1e3,
-            r.table1.0 * 1e3,
-            r.table1.1 * 1e3
+            e(&r.kec),
+            e(&r.per_wheel)
         );
+        if let Some(f) = &r.table2_fine {
+            s += &format!(" {} |", e(f));
+        }
+        s += &format!(" {} | {} | {p2} | {p1} |\n", e(&r.table2), e(&r.table1));
     }
     s
 }

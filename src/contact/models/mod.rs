@@ -4,7 +4,7 @@
 //!
 //! ```toml
 //! [simulation.contact]
-//! model = "kec"                   # kec | lookup | lookup2 | online | elastic
+//! model = "kec"                   # kec | lookup | lookup2 | lookup2-paper | online | elastic
 //! two_point_approach_m = 5e-5     # that model's own keys (see each model's settings)
 //! ```
 //!
@@ -102,8 +102,11 @@ contact_models! {
     Kec = "kec" => kec::KecSettings,
     /// The 1-entry contact lookup table over y (Eq. 44–46; gauge variation not in it).
     Lookup = "lookup" => lookup::LookupSettings,
-    /// The 2-entry contact lookup table over (y, gauge variation).
+    /// The contact lookup table under gauge variation: each wheel from the centred table at its
+    /// own offset from its rail (default), or gauge columns every 0.1 mm.
     Lookup2 = "lookup2" => lookup2::Lookup2Settings,
+    /// The paper's literal 2-entry table over (y, gauge variation): columns every 1 mm.
+    Lookup2Paper = "lookup2-paper" => lookup2::Lookup2PaperSettings,
     /// The approximate contact constraints (Eq. 35–42) solved at every evaluation.
     Online = "online" => online::OnlineSettings,
     /// The wheelset free, Hertz normal forces wherever the real profiles interpenetrate.
@@ -129,6 +132,7 @@ impl ContactModelSpec {
             Self::Kec(k) => Some((k.two_point_approach_m, k.two_point_max_width_m)),
             Self::Lookup(l) => Some((l.two_point_approach_m, l.two_point_max_width_m)),
             Self::Lookup2(l) => Some((l.two_point_approach_m, l.two_point_max_width_m)),
+            Self::Lookup2Paper(l) => Some((l.two_point_approach_m, l.two_point_max_width_m)),
             Self::Online(_) | Self::Elastic(_) => None,
         }
     }
@@ -150,6 +154,10 @@ impl ContactModelSpec {
             Self::Lookup2(mut l) => {
                 (l.two_point_approach_m, l.two_point_max_width_m) = (approach, width);
                 Ok(Self::Lookup2(l))
+            }
+            Self::Lookup2Paper(mut l) => {
+                (l.two_point_approach_m, l.two_point_max_width_m) = (approach, width);
+                Ok(Self::Lookup2Paper(l))
             }
             Self::Online(_) => Err(
                 "the online constraints have no two-point transition: they follow a contact jump rigidly (the branch they are on kept until it closes)"

@@ -1,0 +1,213 @@
+//! The **per-wheel entry** of a contact lookup table: each wheel read from the centred (gv = 0)
+//! table at its own lateral offset from its own displaced rail, the wheelset's z and roll from
+//! the two wheels together. The default entry of the `lookup2` contact model (issue 48); the
+//! paper's literal 2-entry table, gauge columns interpolated in gv, is `lookup2-paper`.
+//!
+//! **Why.** The paper's 2-entry table (§4.3) tabulates the pair over (y, gv) and interpolates
+//! between gauge columns. But a gauge variation moves each rail by ±gv/2: the left wheel then
+//! sees its rail exactly as at y − gv/2 on the centred track, the right wheel as at y + gv/2; only
+//! the roll, which the two wheels set together, differs from either centred configuration. The
+//! interpolation across columns instead mixes contacts of different wheel offsets: across 1 mm
+//! columns it misses the contact angle by up to 3.15° near the flange root of the MS stand-in
+//! (16.05° against 19.20° at y = 3.22 mm, gv = 0.5 mm), 0.25° across 0.1 mm columns; the per-wheel
+//! entry by ≤ 0.19°, from the one centred column (no extra preprocessing). It is what the
+//! KEC-method does with its equivalent profiles (paper §5: each knife edge at its own rail), here
+//! with the table's own interpolation, so that KEC and the table are compared on the same footing.
+//!
+//! **The entry.** On the ideal pair at gauge variation gv (the frame of the rail pair's rigid
+//! motion, [`enter_rotated`], takes the cross level out), side σ (+1 left, −1 right) reads the
+//! centred row at u_σ: the wheelset's centre C(u_σ) = (u_σ, z(u_σ)), roll φ(u_σ), the contact
+//! point P_σ(u_σ). The real wheelset has a roll φ of its own; turned about P_σ by
+//! Δ_σ = φ − φ(u_σ) the wheel keeps its contact to first order (a body turned about its contact
+//! point), and its rail is moved by σ gv/2:
+//!
+//! ```text
+//! C_σ = P_σ + R(Δ_σ) (C(u_σ) − P_σ) + (σ gv/2, 0)
+//! F = [ C_l,y − y′,  C_r,y − y′,  C_l,z − C_r,z ] = 0     in X = [u_l, u_r, φ]
+//! ```
+//!
+//! solved by Newton (the Jacobian from the table's slopes dz/dy, dφ/dy and the PCHIP slopes of
+//! the contact positions, so exact for the interpolant); z = C_l,z. The slopes of the result:
+//! dX/dy′ = J⁻¹ [1, 1, 0]ᵀ and dX/dgv = −J⁻¹ [½, −½, 0]ᵀ. Each side's contact (surface
+//! parameters, contact angle, rolling radius, curvatures) is its row's, the contact point moved
+//! with its rail.
+//!
+//! **What it neglects.** Turning the wheel about P_σ by Δ keeps the gap closed only to first
+//! order: the contact point moves along the profiles by ≈ Δ/(κ_r − κ_w) and the wheel sinks by
+//! ≈ Δ²/(2 (κ_r − κ_w)) (κ the lateral curvatures: 2 µm at Δ = 1 mrad on a near-conformal
+//! contact 2 % from the rail's R80). The read contact stays the row's (the contact angle is the
+//! rail's at P_σ, unchanged to first order). On the centred track Δ = 0 and the entry is the
+//! table itself. The y′ range is that of the centred table narrowed by |gv|/2 (each wheel within
+//! it) — the same as the KEC equivalent profiles', whose knife edges stand at the same offsets.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::lookup::{enter_rotated, LookupTable1, RailPairMotion, TableError, TableRow};
+use crate::track::RailOffsets;
+
+/// Newton iterations of the per-wheel entry at most (it converges in 2–4).
+const MAX_ITERATIONS: usize = 30;
+/// The per-wheel Newton stops when its step is below this (m in u, rad in φ).
+const TOLERANCE: f64 = 1e-14;
+
+/// One side's wheelset centre after the turn about its contact point, with its derivatives in
+/// its entry u and in the roll φ.
+struct SideCentre {
+    row: TableRow,
+    centre: (f64, f64),
+    d_u: (f64, f64),
+    d_phi: (f64, f64),
+}
+
+/// Side `i` (0 left, 1 right) read at `u` with the wheelset's roll `phi`, its rail moved by
+/// σ gv/2.
+fn side_centre(table: &LookupTable1, i: usize, u: f64, phi: f64, gv: f64) -> Result<SideCentre, TableError> {
+    let (row, ps) = table.lookup_with_position_slopes(u)?;
+    let sigma = if i == 0 { 1.0 } else { -1.0 };
+    let p = (row.position[2 * i], row.position[2 * i + 1]);
+    let v = (u - p.0, row.x[0] - p.1);
+    let (sd, cd) = (phi - row.x[1]).sin_cos();
+    let rot = |a: (f64, f64)| (cd * a.0 - sd * a.1, sd * a.0 + cd * a.1);
+    let w = rot(v);
+    let wp = (-w.1, w.0);
+    let dp = (ps[2 * i], ps[2 * i + 1]);
+    let dc = (1.0, row.dx_dy[0]);
+    let turned = rot((dc.0 - dp.0, dc.1 - dp.1));
+    let phi_u = row.dx_dy[1];
+    Ok(SideCentre {
+        row,
+        centre: (p.0 + w.0 + 0.5 * sigma * gv, p.1 + w.1),
+        d_u: (dp.0 + turned.0 - phi_u * wp.0, dp.1 + turned.1 - phi_u * wp.1),
+        d_phi: wp,
+    })
+}
+
+/// The configuration of a wheelset at lateral displacement `yp` on the ideal rail pair at gauge
+/// variation `gv` (each rail moved outwards by gv/2), from the centred table `table` by the
+/// per-wheel entry (module docs). The row's y is `yp`, its gv `gv`.
+pub fn per_wheel_row(table: &LookupTable1, yp: f64, gv: f64) -> Result<TableRow, TableError> {
+    let (lo, hi) = table.range();
+    let beyond = |u: f64| TableError::BeyondFlangeLimit {
+        y_mm: yp * 1e3,
+        gv_mm: gv * 1e3,
+        limit_mm: if u > hi { hi - 0.5 * gv.abs() } else { lo + 0.5 * gv.abs() } * 1e3,
+    };
+    let mut x = Vector3::new(yp - 0.5 * gv, yp + 0.5 * gv, 0.0);
+    for u in [x[0], x[1]] {
+        if !(lo..=hi).contains(&u) {
+            return Err(beyond(u));
+        }
+    }
+    x[2] = 0.5 * (table.lookup(x[0])?.x[1] + table.lookup(x[1])?.x[1]);
+    for iteration in 0.. {
+        let l = side_centre(table, 0, x[0], x[2], gv)?;
+        let r = side_centre(table, 1, x[1], x[2], gv)?;
+        let f = Vector3::new(l.centre.0 - yp, r.centre.0 - yp, l.centre.1 - r.centre.1);
+        let j = Matrix3::new(
+            l.d_u.0,
+            0.0,
+            l.d_phi.0,
+            0.0,
+            r.d_u.0,
+            r.d_phi.0,
+            l.d_u.1,
+            -r.d_u.1,
+            l.d_phi.1 - r.d_phi.1,
+        );
+        let lu = j.lu();
+        let step = lu
+            .solve(&f)
+            .ok_or_else(|| TableError::Invalid(format!("per-wheel entry at y = {:.4} mm, gv = {:.4} mm: singular Jacobian", yp * 1e3, gv * 1e3)))?;
+        let done = step.amax() <= TOLERANCE;
+        if done || iteration + 1 >= MAX_ITERATIONS {
+            if !done {
+                return Err(TableError::Invalid(format!(
+                    "per-wheel entry at y = {:.4} mm, gv = {:.4} mm: Newton did not converge in {MAX_ITERATIONS} iterations (last step {:.3e})",
+                    yp * 1e3,
+                    gv * 1e3,
+                    step.amax()
+                )));
+            }
+            // Converged at x (the step is round-off): the configuration and its slopes there.
+            let dy = lu.solve(&Vector3::new(1.0, 1.0, 0.0)).unwrap_or_default();
+            let dg = -lu.solve(&Vector3::new(0.5, -0.5, 0.0)).unwrap_or_default();
+            let mut out = l.row;
+            out.y = yp;
+            out.gv = gv;
+            out.x[0] = l.centre.1;
+            out.x[1] = x[2];
+            out.dx_dy[0] = l.d_u.1 * dy[0] + l.d_phi.1 * dy[2];
+            out.dx_dy[1] = dy[2];
+            out.dx_dgv[0] = l.d_u.1 * dg[0] + l.d_phi.1 * dg[2];
+            out.dx_dgv[1] = dg[2];
+            for (i, s) in [(0, &l), (1, &r)] {
+                for k in [2 + 2 * i, 3 + 2 * i] {
+                    out.x[k] = s.row.x[k];
+                    out.dx_dy[k] = s.row.dx_dy[k] * dy[i];
+                    out.dx_dgv[k] = s.row.dx_dy[k] * dg[i];
+                }
+                let sigma = if i == 0 { 1.0 } else { -1.0 };
+                out.position[2 * i] = s.row.position[2 * i] + 0.5 * sigma * gv;
+                out.position[2 * i + 1] = s.row.position[2 * i + 1];
+                out.contact_angle[i] = s.row.contact_angle[i];
+                out.rolling_radius[i] = s.row.rolling_radius[i];
+                out.curvature[2 * i] = s.row.curvature[2 * i];
+                out.curvature[2 * i + 1] = s.row.curvature[2 * i + 1];
+                out.two_point_gap[i] = s.row.two_point_gap[i];
+            }
+            return Ok(out);
+        }
+        x -= step;
+        for k in 0..2 {
+            if !(lo..=hi).contains(&x[k]) {
+                // Held at the table's end: converging there means beyond it.
+                x[k] = x[k].clamp(lo, hi);
+            }
+        }
+        if iteration > 2 && (x[0] == lo || x[0] == hi || x[1] == lo || x[1] == hi) {
+            return Err(beyond(if x[0] == hi || x[1] == hi { hi + 1.0 } else { lo - 1.0 }));
+        }
+    }
+    unreachable!("the loop returns")
+}
+
+/// The y′ range of the per-wheel entry at gauge variation `gv`: the centred table's, each wheel
+/// within it.
+pub fn per_wheel_range(table: &LookupTable1, gv: f64) -> (f64, f64) {
+    let (lo, hi) = table.range();
+    (lo + 0.5 * gv.abs(), hi - 0.5 * gv.abs())
+}
+
+/// The contact of a wheelset at `y` on rails with offsets `off` from the centred table `table`
+/// by the per-wheel entry, in the frame of the rail pair's rigid motion ([`enter_rotated`]: the
+/// cross level and the rails' common motion taken out exactly, the gauge variation left as ±gv/2).
+pub fn contact_per_wheel(table: &LookupTable1, y: f64, off: &RailOffsets) -> Result<TableRow, TableError> {
+    if table.gv != 0.0 {
+        return Err(TableError::Invalid(format!(
+            "the per-wheel entry reads the centred table (gv = 0), got gv = {} mm",
+            table.gv * 1e3
+        )));
+    }
+    let m = RailPairMotion::new(off, table.l_r);
+    let gv = m.gv;
+    let (lo, hi) = per_wheel_range(table, gv);
+    if lo >= hi {
+        return Err(TableError::BeyondFlangeLimit {
+            y_mm: y * 1e3,
+            gv_mm: gv * 1e3,
+            limit_mm: 0.0,
+        });
+    }
+    enter_rotated(
+        y,
+        &m,
+        table.z_r,
+        (lo, hi),
+        |v| per_wheel_row(table, v, gv),
+        |v| TableError::BeyondFlangeLimit {
+            y_mm: v * 1e3,
+            gv_mm: gv * 1e3,
+            limit_mm: if v > hi { hi } else { lo } * 1e3,
+        },
+    )
+}
