@@ -314,7 +314,15 @@ pub fn enter_rotated(
     if !(lo..=hi).contains(&yp) {
         return Err(out_of_range(yp));
     }
-    let r = row;
+    Ok(turned_back(&row, yp, y, m, z_r))
+}
+
+/// The last step of [`enter_rotated`]: the row `r` of the turned frame at y′ = `yp` (the ideal
+/// pair at the gauge variation of `m`) moved back onto the displaced rails, for the wheelset at
+/// `y`, with its derivatives by the chain rule (Eq. 46′ and below).
+pub fn turned_back(r: &TableRow, yp: f64, y: f64, m: &RailPairMotion, z_r: f64) -> TableRow {
+    let (s, c) = m.theta.sin_cos();
+    let r = *r;
     let inv = 1.0 / (c - s * r.dx_dy[0]);
     let zc = r.x[0] - z_r;
     let mut out = r;
@@ -340,7 +348,7 @@ pub fn enter_rotated(
     }
     out.contact_angle[0] = r.contact_angle[0] + m.theta;
     out.contact_angle[1] = r.contact_angle[1] - m.theta;
-    Ok(out)
+    out
 }
 
 /// Lookup-table errors.

@@ -15,7 +15,7 @@
 //! with the table's own interpolation, so that KEC and the table are compared on the same footing.
 //!
 //! **The entry.** On the ideal pair at gauge variation gv (the frame of the rail pair's rigid
-//! motion, [`enter_rotated`], takes the cross level out), side σ (+1 left, −1 right) reads the
+//! motion, [`enter_rotated`](super::lookup::enter_rotated), takes the cross level out), side σ (+1 left, −1 right) reads the
 //! centred row at u_σ: the wheelset's centre C(u_σ) = (u_σ, z(u_σ)), roll φ(u_σ), the contact
 //! point P_σ(u_σ). The real wheelset has a roll φ of its own; turned about P_σ by
 //! Δ_σ = φ − φ(u_σ) the wheel keeps its contact to first order (a body turned about its contact
@@ -40,9 +40,9 @@
 //! table itself. The y′ range is that of the centred table narrowed by |gv|/2 (each wheel within
 //! it) — the same as the KEC equivalent profiles', whose knife edges stand at the same offsets.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
 
-use super::lookup::{enter_rotated, LookupTable1, RailPairMotion, TableError, TableRow};
+use super::lookup::{turned_back, LookupTable1, RailPairMotion, TableError, TableRow};
 use crate::track::RailOffsets;
 
 /// Newton iterations of the per-wheel entry at most (it converges in 2–4).
@@ -82,93 +82,149 @@ fn side_centre(table: &LookupTable1, i: usize, u: f64, phi: f64, gv: f64) -> Res
     })
 }
 
+/// Where the wheelset stands in the frame of the ideal pair: at a given y′ (a row of the turned
+/// frame), or at the y′ that the rail pair's rigid motion gives for the wheelset at y
+/// ([`enter_rotated`](super::lookup::enter_rotated)'s G(y′) = c y′ − s (z(y′) − z_r) − (y − al) = 0, solved together with the
+/// per-wheel equations).
+#[derive(Clone, Copy)]
+enum Target {
+    Fixed(f64),
+    Turned { u0: f64, c: f64, s: f64, z_r: f64 },
+}
+
+/// The per-wheel Newton in X = [u_l, u_r, φ, y′] (module docs, with the fourth equation from
+/// `target`): the converged row of the ideal pair at gauge variation `gv` and its y′.
+fn solve(table: &LookupTable1, gv: f64, target: Target) -> Result<(TableRow, f64), TableError> {
+    let (lo, hi) = table.range();
+    let mut yp = match target {
+        Target::Fixed(yp) => yp,
+        Target::Turned { u0, c, s, z_r } => (u0 + s * (table.lookup(u0.clamp(lo, hi))?.x[0] - z_r)) / c,
+    };
+    let beyond = |yp: f64, high: bool| TableError::BeyondFlangeLimit {
+        y_mm: yp * 1e3,
+        gv_mm: gv * 1e3,
+        limit_mm: if high { hi - 0.5 * gv.abs() } else { lo + 0.5 * gv.abs() } * 1e3,
+    };
+    let mut x = Vector4::new(
+        (yp - 0.5 * gv).clamp(lo, hi),
+        (yp + 0.5 * gv).clamp(lo, hi),
+        0.0,
+        yp,
+    );
+    x[2] = 0.5 * (table.lookup(x[0])?.x[1] + table.lookup(x[1])?.x[1]);
+    let mut held = 0;
+    for _ in 0..MAX_ITERATIONS {
+        let l = side_centre(table, 0, x[0], x[2], gv)?;
+        let r = side_centre(table, 1, x[1], x[2], gv)?;
+        let (f4, j4) = match target {
+            Target::Fixed(yp) => (x[3] - yp, [0.0, 0.0, 0.0, 1.0]),
+            Target::Turned { u0, c, s, z_r } => (
+                c * x[3] - s * (l.centre.1 - z_r) - u0,
+                [-s * l.d_u.1, 0.0, -s * l.d_phi.1, c],
+            ),
+        };
+        let f = Vector4::new(l.centre.0 - x[3], r.centre.0 - x[3], l.centre.1 - r.centre.1, f4);
+        #[rustfmt::skip]
+        let j = Matrix4::new(
+            l.d_u.0, 0.0, l.d_phi.0, -1.0,
+            0.0, r.d_u.0, r.d_phi.0, -1.0,
+            l.d_u.1, -r.d_u.1, l.d_phi.1 - r.d_phi.1, 0.0,
+            j4[0], j4[1], j4[2], j4[3],
+        );
+        let step = j.lu().solve(&f).ok_or_else(|| {
+            TableError::Invalid(format!(
+                "per-wheel entry at y′ = {:.4} mm, gv = {:.4} mm: singular Jacobian",
+                x[3] * 1e3,
+                gv * 1e3
+            ))
+        })?;
+        if step.amax() <= TOLERANCE {
+            let row = converged(&l, &r, x[2], x[3], gv)?;
+            return Ok((row, x[3]));
+        }
+        x -= step;
+        // A wheel held at the table's end: converging there means beyond it.
+        let mut at_end = false;
+        for k in 0..2 {
+            if !(lo..=hi).contains(&x[k]) {
+                at_end = true;
+                x[k] = x[k].clamp(lo, hi);
+            }
+        }
+        held = if at_end { held + 1 } else { 0 };
+        if held > 2 {
+            // Beyond on the side the wheelset moved to.
+            return Err(beyond(x[3], x[3] > 0.0));
+        }
+        yp = x[3];
+    }
+    Err(TableError::Invalid(format!(
+        "per-wheel entry at y′ = {:.4} mm, gv = {:.4} mm: Newton did not converge in {MAX_ITERATIONS} iterations",
+        yp * 1e3,
+        gv * 1e3
+    )))
+}
+
+/// The row at a converged per-wheel solution: z and φ, each side's contact from its own row (its
+/// point moved with its rail), and the slopes dX/dy′ = J⁻¹ [1, 1, 0]ᵀ, dX/dgv = −J⁻¹ [½, −½, 0]ᵀ
+/// of the three per-wheel equations at fixed y′.
+fn converged(l: &SideCentre, r: &SideCentre, phi: f64, yp: f64, gv: f64) -> Result<TableRow, TableError> {
+    #[rustfmt::skip]
+    let j = Matrix3::new(
+        l.d_u.0, 0.0, l.d_phi.0,
+        0.0, r.d_u.0, r.d_phi.0,
+        l.d_u.1, -r.d_u.1, l.d_phi.1 - r.d_phi.1,
+    );
+    let lu = j.lu();
+    let singular = || {
+        TableError::Invalid(format!(
+            "per-wheel entry at y′ = {:.4} mm, gv = {:.4} mm: singular Jacobian",
+            yp * 1e3,
+            gv * 1e3
+        ))
+    };
+    let dy = lu.solve(&Vector3::new(1.0, 1.0, 0.0)).ok_or_else(singular)?;
+    let dg = -lu.solve(&Vector3::new(0.5, -0.5, 0.0)).ok_or_else(singular)?;
+    let mut out = l.row;
+    out.y = yp;
+    out.gv = gv;
+    out.x[0] = l.centre.1;
+    out.x[1] = phi;
+    out.dx_dy[0] = l.d_u.1 * dy[0] + l.d_phi.1 * dy[2];
+    out.dx_dy[1] = dy[2];
+    out.dx_dgv[0] = l.d_u.1 * dg[0] + l.d_phi.1 * dg[2];
+    out.dx_dgv[1] = dg[2];
+    for (i, s) in [(0, l), (1, r)] {
+        for k in [2 + 2 * i, 3 + 2 * i] {
+            out.x[k] = s.row.x[k];
+            out.dx_dy[k] = s.row.dx_dy[k] * dy[i];
+            out.dx_dgv[k] = s.row.dx_dy[k] * dg[i];
+        }
+        let sigma = if i == 0 { 1.0 } else { -1.0 };
+        out.position[2 * i] = s.row.position[2 * i] + 0.5 * sigma * gv;
+        out.position[2 * i + 1] = s.row.position[2 * i + 1];
+        out.contact_angle[i] = s.row.contact_angle[i];
+        out.rolling_radius[i] = s.row.rolling_radius[i];
+        out.curvature[2 * i] = s.row.curvature[2 * i];
+        out.curvature[2 * i + 1] = s.row.curvature[2 * i + 1];
+        out.two_point_gap[i] = s.row.two_point_gap[i];
+    }
+    Ok(out)
+}
+
 /// The configuration of a wheelset at lateral displacement `yp` on the ideal rail pair at gauge
 /// variation `gv` (each rail moved outwards by gv/2), from the centred table `table` by the
 /// per-wheel entry (module docs). The row's y is `yp`, its gv `gv`.
 pub fn per_wheel_row(table: &LookupTable1, yp: f64, gv: f64) -> Result<TableRow, TableError> {
-    let (lo, hi) = table.range();
-    let beyond = |u: f64| TableError::BeyondFlangeLimit {
-        y_mm: yp * 1e3,
-        gv_mm: gv * 1e3,
-        limit_mm: if u > hi { hi - 0.5 * gv.abs() } else { lo + 0.5 * gv.abs() } * 1e3,
-    };
-    let mut x = Vector3::new(yp - 0.5 * gv, yp + 0.5 * gv, 0.0);
-    for u in [x[0], x[1]] {
-        if !(lo..=hi).contains(&u) {
-            return Err(beyond(u));
-        }
+    let (lo, hi) = per_wheel_range(table, gv);
+    if !(lo..=hi).contains(&yp) {
+        return Err(TableError::BeyondFlangeLimit {
+            y_mm: yp * 1e3,
+            gv_mm: gv * 1e3,
+            limit_mm: if yp > hi { hi } else { lo } * 1e3,
+        });
     }
-    x[2] = 0.5 * (table.lookup(x[0])?.x[1] + table.lookup(x[1])?.x[1]);
-    for iteration in 0.. {
-        let l = side_centre(table, 0, x[0], x[2], gv)?;
-        let r = side_centre(table, 1, x[1], x[2], gv)?;
-        let f = Vector3::new(l.centre.0 - yp, r.centre.0 - yp, l.centre.1 - r.centre.1);
-        let j = Matrix3::new(
-            l.d_u.0,
-            0.0,
-            l.d_phi.0,
-            0.0,
-            r.d_u.0,
-            r.d_phi.0,
-            l.d_u.1,
-            -r.d_u.1,
-            l.d_phi.1 - r.d_phi.1,
-        );
-        let lu = j.lu();
-        let step = lu
-            .solve(&f)
-            .ok_or_else(|| TableError::Invalid(format!("per-wheel entry at y = {:.4} mm, gv = {:.4} mm: singular Jacobian", yp * 1e3, gv * 1e3)))?;
-        let done = step.amax() <= TOLERANCE;
-        if done || iteration + 1 >= MAX_ITERATIONS {
-            if !done {
-                return Err(TableError::Invalid(format!(
-                    "per-wheel entry at y = {:.4} mm, gv = {:.4} mm: Newton did not converge in {MAX_ITERATIONS} iterations (last step {:.3e})",
-                    yp * 1e3,
-                    gv * 1e3,
-                    step.amax()
-                )));
-            }
-            // Converged at x (the step is round-off): the configuration and its slopes there.
-            let dy = lu.solve(&Vector3::new(1.0, 1.0, 0.0)).unwrap_or_default();
-            let dg = -lu.solve(&Vector3::new(0.5, -0.5, 0.0)).unwrap_or_default();
-            let mut out = l.row;
-            out.y = yp;
-            out.gv = gv;
-            out.x[0] = l.centre.1;
-            out.x[1] = x[2];
-            out.dx_dy[0] = l.d_u.1 * dy[0] + l.d_phi.1 * dy[2];
-            out.dx_dy[1] = dy[2];
-            out.dx_dgv[0] = l.d_u.1 * dg[0] + l.d_phi.1 * dg[2];
-            out.dx_dgv[1] = dg[2];
-            for (i, s) in [(0, &l), (1, &r)] {
-                for k in [2 + 2 * i, 3 + 2 * i] {
-                    out.x[k] = s.row.x[k];
-                    out.dx_dy[k] = s.row.dx_dy[k] * dy[i];
-                    out.dx_dgv[k] = s.row.dx_dy[k] * dg[i];
-                }
-                let sigma = if i == 0 { 1.0 } else { -1.0 };
-                out.position[2 * i] = s.row.position[2 * i] + 0.5 * sigma * gv;
-                out.position[2 * i + 1] = s.row.position[2 * i + 1];
-                out.contact_angle[i] = s.row.contact_angle[i];
-                out.rolling_radius[i] = s.row.rolling_radius[i];
-                out.curvature[2 * i] = s.row.curvature[2 * i];
-                out.curvature[2 * i + 1] = s.row.curvature[2 * i + 1];
-                out.two_point_gap[i] = s.row.two_point_gap[i];
-            }
-            return Ok(out);
-        }
-        x -= step;
-        for k in 0..2 {
-            if !(lo..=hi).contains(&x[k]) {
-                // Held at the table's end: converging there means beyond it.
-                x[k] = x[k].clamp(lo, hi);
-            }
-        }
-        if iteration > 2 && (x[0] == lo || x[0] == hi || x[1] == lo || x[1] == hi) {
-            return Err(beyond(if x[0] == hi || x[1] == hi { hi + 1.0 } else { lo - 1.0 }));
-        }
-    }
-    unreachable!("the loop returns")
+    Ok(solve(table, gv, Target::Fixed(yp))?.0)
 }
 
 /// The y′ range of the per-wheel entry at gauge variation `gv`: the centred table's, each wheel
@@ -179,8 +235,10 @@ pub fn per_wheel_range(table: &LookupTable1, gv: f64) -> (f64, f64) {
 }
 
 /// The contact of a wheelset at `y` on rails with offsets `off` from the centred table `table`
-/// by the per-wheel entry, in the frame of the rail pair's rigid motion ([`enter_rotated`]: the
-/// cross level and the rails' common motion taken out exactly, the gauge variation left as ±gv/2).
+/// by the per-wheel entry, in the frame of the rail pair's rigid motion ([`enter_rotated`](super::lookup::enter_rotated): the
+/// cross level and the rails' common motion taken out exactly, the gauge variation left as ±gv/2):
+/// one Newton for the per-wheel equations and enter_rotated's G(y′) = 0 together, then
+/// [`turned_back`].
 pub fn contact_per_wheel(table: &LookupTable1, y: f64, off: &RailOffsets) -> Result<TableRow, TableError> {
     if table.gv != 0.0 {
         return Err(TableError::Invalid(format!(
@@ -189,25 +247,21 @@ pub fn contact_per_wheel(table: &LookupTable1, y: f64, off: &RailOffsets) -> Res
         )));
     }
     let m = RailPairMotion::new(off, table.l_r);
-    let gv = m.gv;
-    let (lo, hi) = per_wheel_range(table, gv);
-    if lo >= hi {
+    let (s, c) = m.theta.sin_cos();
+    let target = Target::Turned {
+        u0: y - m.al,
+        c,
+        s,
+        z_r: table.z_r,
+    };
+    let (row, yp) = solve(table, m.gv, target)?;
+    let (lo, hi) = per_wheel_range(table, m.gv);
+    if !(lo..=hi).contains(&yp) {
         return Err(TableError::BeyondFlangeLimit {
-            y_mm: y * 1e3,
-            gv_mm: gv * 1e3,
-            limit_mm: 0.0,
+            y_mm: yp * 1e3,
+            gv_mm: m.gv * 1e3,
+            limit_mm: if yp > hi { hi } else { lo } * 1e3,
         });
     }
-    enter_rotated(
-        y,
-        &m,
-        table.z_r,
-        (lo, hi),
-        |v| per_wheel_row(table, v, gv),
-        |v| TableError::BeyondFlangeLimit {
-            y_mm: v * 1e3,
-            gv_mm: gv * 1e3,
-            limit_mm: if v > hi { hi } else { lo } * 1e3,
-        },
-    )
+    Ok(turned_back(&row, yp, y, &m, table.z_r))
 }
