@@ -1,4 +1,4 @@
-//! `kecsim paper [SCENARIO.toml] [--tables lookup2|lookup] [--duration S]`: the paper's case (the
+//! `kecsim paper [SCENARIO.toml] [--tables lookup2|lookup2-paper|lookup] [--duration S]`: the paper's case (the
 //! embedded default scenario: the MS vehicle on the Tab. 6 track) run with KEC and with the
 //! tables, its Fig. 14–19 recorded in one recording laid out as the paper's, and its Tab. 7 and
 //! Fig. 18's summary printed beside the paper's numbers.
@@ -17,8 +17,9 @@ pub(super) struct PaperArgs {
     /// Scenario file (TOML) with a [simulation] and track sections; omit for the embedded default
     /// (the paper's case).
     scenario: Option<PathBuf>,
-    /// The lookup-table model KEC is compared with: lookup2 (y, gv) or lookup (1-entry).
-    #[arg(long, default_value = "lookup2", value_parser = ["lookup2", "lookup"])]
+    /// The lookup-table model KEC is compared with: lookup2 (gauge variation per wheel), lookup2-paper
+    /// (the paper's 2-entry table, 1 mm gauge columns) or lookup (1-entry).
+    #[arg(long, default_value = "lookup2", value_parser = ["lookup2", "lookup2-paper", "lookup"])]
     tables: String,
     /// Simulated time, s [default: the scenario's].
     #[arg(long, value_name = "S")]

@@ -37,8 +37,10 @@
 //! ≈ Δ²/(2 (κ_r − κ_w)) (κ the lateral curvatures: 2 µm at Δ = 1 mrad on a near-conformal
 //! contact 2 % from the rail's R80). The read contact stays the row's (the contact angle is the
 //! rail's at P_σ, unchanged to first order). On the centred track Δ = 0 and the entry is the
-//! table itself. The y′ range is that of the centred table narrowed by |gv|/2 (each wheel within
-//! it) — the same as the KEC equivalent profiles', whose knife edges stand at the same offsets.
+//! table itself. The y′ range ends where either wheel reaches its flange side's end of the
+//! centred table (its flange climb, moved with its rail); a wheel on its field side beyond the
+//! table (a widened gauge) is continued linearly in wheel-fixed terms (`side_centre`), as the KEC
+//! equivalent profiles extrapolate their end cubic.
 
 use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
 
@@ -59,26 +61,85 @@ struct SideCentre {
     d_phi: (f64, f64),
 }
 
+/// How far beyond the centred table a wheel on its field side is extrapolated at most, m.
+pub const FIELD_EXTRAPOLATION_MAX_M: f64 = 0.015;
+
+/// The field side of side `i` (0 left, 1 right) lies beyond the table's low end (left: the
+/// wheelset moved to −y) or its high end (right).
+fn field_side_low(i: usize) -> bool {
+    i == 0
+}
+
 /// Side `i` (0 left, 1 right) read at `u` with the wheelset's roll `phi`, its rail moved by
 /// σ gv/2.
+///
+/// **Beyond the table on the field side** (a widened gauge lets the wheelset run past the centred
+/// gauge's flange contact, so the other wheel stands further out on its field side than the
+/// centred table reaches) the side's data are continued linearly from the table's end e, in the
+/// quantities that belong to one wheel alone: the contact point on the rail P(u) and the wheel-fixed
+/// vector from the contact point to the wheelset centre w(u) = R(−φ(u)) (C(u) − P(u)) — with
+/// dw/du = R(−φ)[(dC − dP) − φ_u J (C − P)], J the quarter turn — so that
+/// C_σ = P + R(φ) w + (σ gv/2, 0) continues C¹ from the table; the surface parameters linearly, the
+/// contact angle, rolling radius and curvatures held at the end's. (The pair's own roll, steep at
+/// the end where the other wheel climbs its flange, drops out: it is the KEC equivalent profiles'
+/// extrapolation of their end cubic, in the same wheel-fixed terms.)
 fn side_centre(table: &LookupTable1, i: usize, u: f64, phi: f64, gv: f64) -> Result<SideCentre, TableError> {
-    let (row, ps) = table.lookup_with_position_slopes(u)?;
+    let (lo, hi) = table.range();
     let sigma = if i == 0 { 1.0 } else { -1.0 };
+    let beyond_field = if field_side_low(i) { u < lo } else { u > hi };
+    let e = if beyond_field { u.clamp(lo, hi) } else { u };
+    let (mut row, ps) = table.lookup_with_position_slopes(e)?;
     let p = (row.position[2 * i], row.position[2 * i + 1]);
-    let v = (u - p.0, row.x[0] - p.1);
-    let (sd, cd) = (phi - row.x[1]).sin_cos();
-    let rot = |a: (f64, f64)| (cd * a.0 - sd * a.1, sd * a.0 + cd * a.1);
-    let w = rot(v);
-    let wp = (-w.1, w.0);
     let dp = (ps[2 * i], ps[2 * i + 1]);
+    let v = (e - p.0, row.x[0] - p.1);
     let dc = (1.0, row.dx_dy[0]);
-    let turned = rot((dc.0 - dp.0, dc.1 - dp.1));
     let phi_u = row.dx_dy[1];
+    let rot = |a: f64, v: (f64, f64)| {
+        let (sa, ca) = a.sin_cos();
+        (ca * v.0 - sa * v.1, sa * v.0 + ca * v.1)
+    };
+    if !beyond_field {
+        let delta = phi - row.x[1];
+        let w = rot(delta, v);
+        let wp = (-w.1, w.0);
+        let turned = rot(delta, (dc.0 - dp.0, dc.1 - dp.1));
+        return Ok(SideCentre {
+            row,
+            centre: (p.0 + w.0 + 0.5 * sigma * gv, p.1 + w.1),
+            d_u: (dp.0 + turned.0 - phi_u * wp.0, dp.1 + turned.1 - phi_u * wp.1),
+            d_phi: wp,
+        });
+    }
+    let du = u - e;
+    if du.abs() > FIELD_EXTRAPOLATION_MAX_M {
+        return Err(TableError::OutOfRange {
+            what: "a wheel's offset from its rail (the per-wheel entry, field side)",
+            value_mm: u * 1e3,
+            min_mm: (lo - FIELD_EXTRAPOLATION_MAX_M) * 1e3,
+            max_mm: (hi + FIELD_EXTRAPOLATION_MAX_M) * 1e3,
+        });
+    }
+    // Wheel-fixed w(e) and its slope, then linear in u.
+    let we = rot(-row.x[1], v);
+    let jv = (-v.1, v.0);
+    let dw = rot(
+        -row.x[1],
+        (dc.0 - dp.0 - phi_u * jv.0, dc.1 - dp.1 - phi_u * jv.1),
+    );
+    let w0 = (we.0 + dw.0 * du, we.1 + dw.1 * du);
+    let pu = (p.0 + dp.0 * du, p.1 + dp.1 * du);
+    let w = rot(phi, w0);
+    let dwr = rot(phi, dw);
+    for k in 2..6 {
+        row.x[k] += row.dx_dy[k] * du;
+    }
+    row.position[2 * i] = pu.0;
+    row.position[2 * i + 1] = pu.1;
     Ok(SideCentre {
         row,
-        centre: (p.0 + w.0 + 0.5 * sigma * gv, p.1 + w.1),
-        d_u: (dp.0 + turned.0 - phi_u * wp.0, dp.1 + turned.1 - phi_u * wp.1),
-        d_phi: wp,
+        centre: (pu.0 + w.0 + 0.5 * sigma * gv, pu.1 + w.1),
+        d_u: (dp.0 + dwr.0, dp.1 + dwr.1),
+        d_phi: (-w.1, w.0),
     })
 }
 
@@ -103,15 +164,18 @@ fn solve(table: &LookupTable1, gv: f64, target: Target) -> Result<(TableRow, f64
     let beyond = |yp: f64, high: bool| TableError::BeyondFlangeLimit {
         y_mm: yp * 1e3,
         gv_mm: gv * 1e3,
-        limit_mm: if high { hi - 0.5 * gv.abs() } else { lo + 0.5 * gv.abs() } * 1e3,
+        limit_mm: if high { hi + 0.5 * gv } else { lo - 0.5 * gv } * 1e3,
     };
-    let mut x = Vector4::new(
-        (yp - 0.5 * gv).clamp(lo, hi),
-        (yp + 0.5 * gv).clamp(lo, hi),
-        0.0,
-        yp,
-    );
-    x[2] = 0.5 * (table.lookup(x[0])?.x[1] + table.lookup(x[1])?.x[1]);
+    // Each wheel held short of its flange side's end (its field side may go beyond: side_centre).
+    let hold = |x: &mut Vector4<f64>| {
+        let held = x[0] > hi || x[1] < lo;
+        x[0] = x[0].min(hi);
+        x[1] = x[1].max(lo);
+        held
+    };
+    let mut x = Vector4::new(yp - 0.5 * gv, yp + 0.5 * gv, 0.0, yp);
+    hold(&mut x);
+    x[2] = 0.5 * (table.lookup(x[0].clamp(lo, hi))?.x[1] + table.lookup(x[1].clamp(lo, hi))?.x[1]);
     let mut held = 0;
     for _ in 0..MAX_ITERATIONS {
         let l = side_centre(table, 0, x[0], x[2], gv)?;
@@ -144,14 +208,7 @@ fn solve(table: &LookupTable1, gv: f64, target: Target) -> Result<(TableRow, f64
         }
         x -= step;
         // A wheel held at the table's end: converging there means beyond it.
-        let mut at_end = false;
-        for k in 0..2 {
-            if !(lo..=hi).contains(&x[k]) {
-                at_end = true;
-                x[k] = x[k].clamp(lo, hi);
-            }
-        }
-        held = if at_end { held + 1 } else { 0 };
+        held = if hold(&mut x) { held + 1 } else { 0 };
         if held > 2 {
             // Beyond on the side the wheelset moved to.
             return Err(beyond(x[3], x[3] > 0.0));
@@ -227,11 +284,13 @@ pub fn per_wheel_row(table: &LookupTable1, yp: f64, gv: f64) -> Result<TableRow,
     Ok(solve(table, gv, Target::Fixed(yp))?.0)
 }
 
-/// The y′ range of the per-wheel entry at gauge variation `gv`: the centred table's, each wheel
-/// within it.
+/// The y′ range of the per-wheel entry at gauge variation `gv`: each wheel short of its flange
+/// side's end of the centred table (its rail moved by ±gv/2: the flange contact moves with it),
+/// the other wheel's field side continued beyond the table where a widened gauge needs it (up
+/// to [`FIELD_EXTRAPOLATION_MAX_M`]).
 pub fn per_wheel_range(table: &LookupTable1, gv: f64) -> (f64, f64) {
     let (lo, hi) = table.range();
-    (lo + 0.5 * gv.abs(), hi - 0.5 * gv.abs())
+    (lo - 0.5 * gv, hi + 0.5 * gv)
 }
 
 /// The contact of a wheelset at `y` on rails with offsets `off` from the centred table `table`

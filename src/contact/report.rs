@@ -297,29 +297,49 @@ pub fn kec_irregularity_errors(
         };
         for k in 0..points {
             let y = -y_max + 2.0 * y_max * k as f64 / (points - 1) as f64;
-            let case = |what: &str, e: &dyn std::fmt::Display| format!("{what}, gv {} mm, cl {} mm, y {:.3} mm: {e}", gv * 1e3, cl * 1e3, y * 1e3);
+            let case = |what: &str, e: &dyn std::fmt::Display| {
+                format!(
+                    "{what}, gv {} mm, cl {} mm, y {:.3} mm: {e}",
+                    gv * 1e3,
+                    cl * 1e3,
+                    y * 1e3
+                )
+            };
             let o = geom.solve(y, &off).map_err(|e| case("online", &e))?;
-            let kec = model.solve(y, off.to_array(), None).map_err(|e| case("KEC", &e))?;
+            let kec = model
+                .solve(y, off.to_array(), None)
+                .map_err(|e| case("KEC", &e))?;
             row.kec.update(
                 kec.z,
                 kec.phi,
                 [kec.real[0].contact_angle, kec.real[1].contact_angle],
                 &o,
             );
-            let pw = super::per_wheel::contact_per_wheel(table1, y, &off).map_err(|e| case("per-wheel table", &e))?;
+            let pw = super::per_wheel::contact_per_wheel(table1, y, &off)
+                .map_err(|e| case("per-wheel table", &e))?;
             at(&mut row.per_wheel, &pw, &o);
-            let t2 = tables.table2.contact(y, &off).map_err(|e| case("2-entry table", &e))?;
+            let t2 = tables
+                .table2
+                .contact(y, &off)
+                .map_err(|e| case("2-entry table", &e))?;
             at(&mut row.table2, &t2, &o);
             if let (Some((fine, _)), Some(acc)) = (tables.table2_fine, row.table2_fine.as_mut()) {
-                let f = fine.contact(y, &off).map_err(|e| case("fine 2-entry table", &e))?;
+                let f = fine
+                    .contact(y, &off)
+                    .map_err(|e| case("fine 2-entry table", &e))?;
                 at(acc, &f, &o);
             }
             let t1 = table1.contact(y, &off).map_err(|e| case("1-entry table", &e))?;
             at(&mut row.table1, &t1, &o);
             let paper = CrossLevelEntry::Paper;
-            let t2p = tables.table2.contact_with(y, &off, paper).map_err(|e| case("2-entry table", &e))?;
+            let t2p = tables
+                .table2
+                .contact_with(y, &off, paper)
+                .map_err(|e| case("2-entry table", &e))?;
             at(&mut row.table2_printed, &t2p, &o);
-            let t1p = table1.contact_with(y, &off, paper).map_err(|e| case("1-entry table", &e))?;
+            let t1p = table1
+                .contact_with(y, &off, paper)
+                .map_err(|e| case("1-entry table", &e))?;
             at(&mut row.table1_printed, &t1p, &o);
             row.points += 1;
         }
@@ -344,7 +364,14 @@ pub fn kec_error_markdown(rows: &[KecErrorRow], fine_step_m: Option<f64>) -> Str
         s += "---|";
     }
     s += "---|---|---|---|\n";
-    let e = |v: &EntryError| format!("{:.3} / {:.3} / {:.2}", v.z * 1e3, v.phi * 1e3, v.angle.to_degrees());
+    let e = |v: &EntryError| {
+        format!(
+            "{:.3} / {:.3} / {:.2}",
+            v.z * 1e3,
+            v.phi * 1e3,
+            v.angle.to_degrees()
+        )
+    };
     for r in rows {
         let (p2, p1) = if r.cl == 0.0 {
             ("same".to_string(), "same".to_string())

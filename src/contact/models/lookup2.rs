@@ -23,7 +23,9 @@ use serde::Deserialize;
 use super::{check_range, ContactBuildError, ContactModelSettings};
 use crate::contact::cache::TableCache;
 use crate::contact::geometry::ContactGeometry;
-use crate::contact::lookup::{CrossLevelEntry, LookupTable1, LookupTable2, TableError, TableRow, TableSettings};
+use crate::contact::lookup::{
+    CrossLevelEntry, LookupTable1, LookupTable2, TableError, TableRow, TableSettings,
+};
 use crate::contact::model::{Configuration, ContactModel, ContactModelError, WarmStart};
 use crate::contact::per_wheel::{contact_per_wheel, per_wheel_row};
 use crate::profile::placement::WheelRailPair;
@@ -186,7 +188,9 @@ impl ContactModelSettings for Lookup2Settings {
     ) -> Result<Arc<dyn ContactModel>, ContactBuildError> {
         let tp = (self.two_point_approach_m, self.two_point_max_width_m);
         match self.gauge_entry {
-            GaugeEntry::Columns => build_columns(pair, cache, &self.gauge_variations(), tp, self.cross_level_entry),
+            GaugeEntry::Columns => {
+                build_columns(pair, cache, &self.gauge_variations(), tp, self.cross_level_entry)
+            }
             GaugeEntry::PerWheel => {
                 let geometry = ContactGeometry::with_defaults(pair.clone());
                 let table = super::table1(&geometry, cache)?.with_two_point_transition(tp.0, tp.1);
@@ -233,7 +237,12 @@ pub enum GaugeTable {
 
 impl GaugeTable {
     /// The contact at `y` on rails displaced by `rails`, entered under cross level by `entry`.
-    pub fn contact_with(&self, y: f64, rails: &RailOffsets, entry: CrossLevelEntry) -> Result<TableRow, TableError> {
+    pub fn contact_with(
+        &self,
+        y: f64,
+        rails: &RailOffsets,
+        entry: CrossLevelEntry,
+    ) -> Result<TableRow, TableError> {
         match (self, entry) {
             (GaugeTable::Columns(t), e) => t.contact_with(y, rails, e),
             (GaugeTable::PerWheel(t), CrossLevelEntry::Rotated) => contact_per_wheel(t, y, rails),
