@@ -318,13 +318,15 @@ pub fn contact_table(rows: &[ContactBenchRow]) -> String {
     s
 }
 
-/// The KEC solve against the 2-entry table and the online constraints on S1002/60E1 at 1:40, at
+/// The KEC solve against the tables (the 2-entry table's 1 mm columns and the per-wheel entry of
+/// the centred table) and the online constraints on S1002/60E1 at 1:40, at
 /// `n` random (y, gv) with gv within ±10 mm: cost per call and error against the online solution,
 /// measured in one run. KEC cold starts from Eq. (51); warm from the previous step's solution.
 pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
     use crate::contact::geometry::ContactGeometry;
     use crate::contact::kec::KecModel;
     use crate::contact::lookup::{LookupTable1, LookupTable2, TableSettings};
+    use crate::contact::per_wheel::contact_per_wheel;
     use crate::profile::placement::WheelRailPair;
     use crate::track::RailOffsets;
 
@@ -440,6 +442,22 @@ pub fn kec(n: usize) -> Result<(Vec<ContactBenchRow>, String), String> {
             .unwrap_or((f64::NAN, f64::NAN))
     };
     rows.push(errors(&look).row("2-entry table look-up (y, gv), 1 mm gv step", us));
+    // The per-wheel entry of the centred table (lookup2's default).
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for k in 0..n {
+        acc += contact_per_wheel(&t1, black_box(ys[k]), &offs[k])
+            .map_err(|e| e.to_string())?
+            .x[0];
+    }
+    black_box(acc);
+    let us = t.elapsed().as_secs_f64() * 1e6 / n as f64;
+    let per_wheel = |k: usize| {
+        contact_per_wheel(&t1, ys[k], &offs[k])
+            .map(|r| (r.z(), r.phi()))
+            .unwrap_or((f64::NAN, f64::NAN))
+    };
+    rows.push(errors(&per_wheel).row("table look-up per wheel (lookup2)", us));
     let builds = format!(
         "preprocessing: 1-entry table + KEC profiles {:.0} ms; 2-entry table (21 gauge variations) {:.0} ms\n(KEC warm: errors along its own drifting path)\n",
         build_kec * 1e3,
