@@ -201,9 +201,39 @@ fn hard_cases_end_in_physical_answers() {
     assert_eq!(fra.outcome, "derailed", "{:?}", fra.error);
     assert!(fra.derailment_max_y_over_q_2m.unwrap() > nadal);
     assert_eq!(find("gauge_widening", "kec").output.summary.outcome, "completed");
-    let table = &find("gauge_widening", "lookup2").output.summary;
-    assert_eq!(table.outcome, "failed");
-    let e = table.error.as_deref().unwrap();
+    // The per-wheel table (lookup2) follows the widened gauge as KEC does — each wheel at its
+    // own rail, the field side continued beyond the centred table (measured over 2 s, the first
+    // wheelset: 0.27 mm from KEC, 0.48 mm from the elastic model, KEC 0.36 mm from it); the
+    // paper's 2-entry table ends at its last gauge column.
+    let (k, t, el) = (
+        find("gauge_widening", "kec"),
+        find("gauge_widening", "lookup2"),
+        find("gauge_widening", "elastic"),
+    );
+    assert_eq!(
+        t.output.summary.outcome, "completed",
+        "{:?}",
+        t.output.summary.error
+    );
+    let apart = |a: &kecsim::bench::hard::HardRun, b: &kecsim::bench::hard::HardRun| {
+        a.output
+            .samples()
+            .iter()
+            .zip(b.output.samples())
+            .map(|(p, q)| (p.y - q.y).abs())
+            .fold(0.0, f64::max)
+    };
+    let (dk, de, dke) = (apart(k, t), apart(el, t), apart(el, k));
+    println!(
+        "gauge widening: lookup2 (per wheel) max |Δy| {:.4} mm from KEC, {:.4} mm from elastic (KEC {:.4} mm from elastic)",
+        dk * 1e3,
+        de * 1e3,
+        dke * 1e3
+    );
+    assert!(dk < 0.4e-3 && de < 0.7e-3, "{dk} {de}");
+    let paper = &find("gauge_widening", "lookup2-paper").output.summary;
+    assert_eq!(paper.outcome, "failed");
+    let e = paper.error.as_deref().unwrap();
     assert!(e.contains("gv = 10.0000 mm is outside the table"), "{e}");
 }
 

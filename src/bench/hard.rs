@@ -81,7 +81,7 @@ pub const HARD_SCENES: [HardScene; 11] = [
             "gauge_widening.csv",
             include_str!("../../assets/scenes/hard/gauge_widening.csv"),
         )],
-        also: &["kec", "lookup2"],
+        also: &["kec", "lookup2", "lookup2-paper"],
     },
     HardScene {
         name: "alignment_kink",
