@@ -244,6 +244,24 @@ mod tests {
         assert!(
             matches!(p, ContactModelSpec::Lookup2(ref t) if t.cross_level_entry == CrossLevelEntry::Paper)
         );
+        // lookup2: the per-wheel entry by default, gauge columns (0.1 mm) on request; the
+        // paper's 1 mm columns under their own name.
+        use lookup2::GaugeEntry;
+        assert!(matches!(p, ContactModelSpec::Lookup2(ref t) if t.gauge_entry == GaugeEntry::PerWheel));
+        let c: ContactModelSpec = toml::from_str("model = \"lookup2\"\ngauge_entry = \"columns\"").unwrap();
+        assert!(
+            matches!(c, ContactModelSpec::Lookup2(ref t) if t.gauge_entry == GaugeEntry::Columns && t.gauge_variations().len() == 201)
+        );
+        let paper: ContactModelSpec = toml::from_str("model = \"lookup2-paper\"").unwrap();
+        assert!(matches!(paper, ContactModelSpec::Lookup2Paper(ref t) if t.gauge_variations().len() == 21));
+        let e = toml::from_str::<ContactModelSpec>("model = \"lookup2\"\ngauge_entry = \"blend\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("per_wheel") && e.contains("columns"), "{e}");
+        let e = toml::from_str::<ContactModelSpec>("model = \"lookup2-paper\"\ngauge_entry = \"columns\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("gauge_entry"), "{e}");
         let e = toml::from_str::<ContactModelSpec>("model = \"lookup\"\ncross_level_entry = \"tilted\"")
             .unwrap_err()
             .to_string();
