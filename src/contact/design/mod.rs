@@ -876,7 +876,7 @@ impl DesignReport {
         let reference_table =
             LookupTable1::build(&ContactGeometry::with_defaults(reference.clone()), &settings)
                 .map_err(table_error)?;
-        let realism = Realism::new(&table, &pair.rail)?;
+        let realism = Realism::new(&table, &pair.rail).map_err(table_error)?;
         let reference_realism = Realism::new(&reference_table, &reference.rail).ok();
         let amps: Vec<f64> = (1..=6).map(|k| k as f64 * 1e-3).collect();
         let c = super::report::conicity(&table, &amps);

@@ -45,8 +45,7 @@
 //!   of an IRW wheel (μ ≈ 0.3–0.4 of the load), so a wheelset pushed by its creep force stops
 //!   there (the MS stand-in's reasoning, docs/method.md).
 
-use super::DesignError;
-use crate::contact::lookup::LookupTable1;
+use crate::contact::lookup::{LookupTable1, TableError};
 use crate::profile::Profile;
 
 /// Smallest curvature margin (R_w − R_r)/R_r accepted on a rail arc.
@@ -213,17 +212,12 @@ pub struct Realism {
 
 impl Realism {
     /// The figures of the centred gauge's table `table` of a pair on `rail`.
-    pub fn new(table: &LookupTable1, rail: &Profile) -> Result<Self, DesignError> {
+    pub fn new(table: &LookupTable1, rail: &Profile) -> Result<Self, TableError> {
         let (lo, hi) = table.range();
         let n = ((hi - lo) / SAMPLE_STEP_M).floor() as usize;
         let joints = rail_joints(rail);
         let rows: Vec<_> = (0..=n)
-            .map(|k| {
-                let y = lo + k as f64 * SAMPLE_STEP_M;
-                table
-                    .lookup(y)
-                    .map_err(|e| DesignError::Result(format!("the table at y = {:.4} mm: {e}", y * 1e3)))
-            })
+            .map(|k| table.lookup(lo + k as f64 * SAMPLE_STEP_M))
             .collect::<Result<_, _>>()?;
         let at = |r: &crate::contact::lookup::TableRow, value: f64| Extreme {
             value,
