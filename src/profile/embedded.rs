@@ -5,6 +5,10 @@
 //!   CAF wheel is not public): designed by `kecsim design-wheel` from
 //!   `assets/designs/ms-standin.toml`, jump-free by construction, flange S_h 28 mm, S_d 32.5 mm at
 //!   a 1366 mm back-to-back, 70° flank. The file's header holds the target and the result.
+//! * **ms-tram** — its redesign for realism (issue 48), from `assets/designs/ms-tram.toml`: the
+//!   same rail and flange, the wheel's radius at least 10 % above the rail's on every rail arc
+//!   (ms-standin: 2–6 %), no dwell on the rail's arc joints, conicity 0.29 at 2 mm; its wall at
+//!   ±4.1 mm (ms-standin ±3.2), S_d 31.7 mm at 1366 mm. Points every 0.02 mm.
 
 use super::curve::{Profile, ProfileKind};
 use super::error::ProfileError;
@@ -21,12 +25,20 @@ pub struct EmbeddedProfile {
 }
 
 /// Every shipped profile.
-pub const ALL: [EmbeddedProfile; 1] = [EmbeddedProfile {
-    name: "ms-standin",
-    kind: ProfileKind::Wheel,
-    file: "profiles/ms-standin.csv",
-    csv: include_str!("../../profiles/ms-standin.csv"),
-}];
+pub const ALL: [EmbeddedProfile; 2] = [
+    EmbeddedProfile {
+        name: "ms-standin",
+        kind: ProfileKind::Wheel,
+        file: "profiles/ms-standin.csv",
+        csv: include_str!("../../profiles/ms-standin.csv"),
+    },
+    EmbeddedProfile {
+        name: "ms-tram",
+        kind: ProfileKind::Wheel,
+        file: "profiles/ms-tram.csv",
+        csv: include_str!("../../profiles/ms-tram.csv"),
+    },
+];
 
 impl EmbeddedProfile {
     /// Looks a shipped profile up by name (case-insensitive).

@@ -125,7 +125,10 @@ mod tests {
     fn resolve_reports_unknown_names_and_wrong_kinds() {
         let e = Profile::resolve("s1003", ProfileKind::Wheel).unwrap_err();
         assert!(e.to_string().contains("unknown profile 's1003'"), "{e}");
-        assert!(e.to_string().contains("s1002, 60e1, 54e1, ms-standin"), "{e}");
+        assert!(
+            e.to_string().contains("s1002, 60e1, 54e1, ms-standin, ms-tram"),
+            "{e}"
+        );
         let e = Profile::resolve("60e1", ProfileKind::Wheel).unwrap_err();
         assert!(e.to_string().contains("rail profile"), "{e}");
     }

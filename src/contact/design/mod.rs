@@ -24,11 +24,19 @@
 //! repeats until φ changes by less than 1e-9 rad, so that the designed pair realises the target
 //! γ(y) on the constraints themselves.
 //!
-//! This is the "direct design from a target contact-point function" the issue names beside
-//! Shevtsov, Markine & Esveld's inverse method (Wear 258, 2005, 1022–1030: a wheel from a target
-//! rolling-radius-difference function by optimisation over B-spline parameters); γ(y) and the
-//! rail contact point s^r(y) are one function (the rail head is convex), and the rolling radius
-//! difference follows from it (Δr′(y) = tan γ · ds^w/dy per wheel).
+//! What this is: the *conjugate* (envelope) construction of a wheel from a prescribed
+//! contact-angle function γ(y) on a given rail — the wheel point for each y placed on the rail
+//! point with that normal, parallel to it — which is the "design by the contact angle function" of
+//! Shen, Ayasse, Chollet & Pratt ("A unique design method for wheel profiles by considering the
+//! contact angle function", Proc. IMechE Part F 217, 2003, 25–30; cited from the literature, its
+//! text not checked here), not an optimisation. It is not Shevtsov, Markine & Esveld's method
+//! (Wear 258, 2005, 1022–1030), which optimises B-spline parameters of the wheel towards a target
+//! rolling-radius-difference function; nor Polach's design for a target conicity (Wear 271,
+//! 2011, 195–202), which shapes the tread from the conicity and the contact position. γ(y), the
+//! rail contact point s^r(y) (the rail head is convex) and Δr(y) are one function of the other
+//! (Δr′(y) = tan γ · ds^w/dy per wheel), so the three approaches aim at the same object by
+//! different handles. The design is only as realistic as its target: [`realism`] measures what
+//! it gives (curvature margin, contact speed, dwell on the rail's arc joints, conicity, wall).
 //!
 //! **Beyond the designed range.** Towards the field side the wheel continues straight with its last
 //! slope; beyond the flank's contact end the flank continues straight at its angle, a tip circle
@@ -36,8 +44,10 @@
 //! touches the rail; it exists so that the flange measures — EN 13715's S_h, S_d, qR — are
 //! defined, see [`crate::profile::measures`]).
 
+pub mod realism;
 pub mod target;
 
+pub use realism::Realism;
 pub use target::parse_target;
 
 use crate::profile::measures::{flange_measures, FlangeMeasures};
@@ -64,6 +74,15 @@ pub struct DesignTarget {
     pub flange_tip_radius_m: f64,
     /// Lateral end of the profile on the field side, m from the taping line.
     pub field_end_m: f64,
+    /// Largest rate of change of ln ρ_w with the contact angle where the rail's curvature
+    /// jumps, 1/rad ([`CURVATURE_RAMP_PER_RAD`] unless the target says otherwise): the slower
+    /// the ramp, the longer the contact dwells on the rail's arc joint (issue 48).
+    pub curvature_ramp_per_rad: f64,
+    /// Arc-length spacing of the designed part's output points, m ([`OUTPUT_STEP_M`] unless the
+    /// target says otherwise). The profile is a C² spline through its points: a fast curvature
+    /// ramp drawn with few points makes it ring, locally more curved than the rail (refused by
+    /// the conformity check); a finer spacing lets it follow.
+    pub output_step_m: f64,
 }
 
 /// Design errors: a target no wheel can meet, or a placement that does not fit it.
@@ -86,7 +105,7 @@ const ROLL_TOLERANCE_RAD: f64 = 1e-9;
 /// At most this many roll iterations.
 const MAX_ROLL_ITERATIONS: usize = 12;
 /// Arc-length spacing of the output points, m (as the standard profiles: 0.1 mm).
-const OUTPUT_STEP_M: f64 = 1e-4;
+pub const OUTPUT_STEP_M: f64 = 1e-4;
 /// Steepest slope kept at the flange back (as S1002's generated profile), |dz/ds|.
 const BACK_SLOPE: f64 = 10.0;
 
@@ -162,6 +181,18 @@ impl DesignTarget {
             p.push(format!(
                 "flange_tip_radius_mm = {:.3}: expected 1 .. 50 mm",
                 self.flange_tip_radius_m * 1e3
+            ));
+        }
+        if !(10.0..=1e5).contains(&self.curvature_ramp_per_rad) {
+            p.push(format!(
+                "curvature_ramp_per_rad = {}: expected 10 .. 100000",
+                self.curvature_ramp_per_rad
+            ));
+        }
+        if !(5e-6..=OUTPUT_STEP_M).contains(&self.output_step_m) {
+            p.push(format!(
+                "output_step_mm = {}: expected 0.005 .. 0.1",
+                self.output_step_m * 1e3
             ));
         }
         if !(0.01..=0.2).contains(&self.field_end_m) {
@@ -345,6 +376,7 @@ pub fn design_wheel(
             let pair = WheelRailPair::new(profile.clone(), rail.clone(), inclination, gauge, wheelset)?;
             let geom = ContactGeometry::with_defaults(pair);
             let max_angle_error_rad = angle_error(&geom, &ys, &gammas);
+            conformity_check(&profile, rail, &nodes)?;
             return Ok(WheelDesign {
                 target: target.clone(),
                 flank_shift_m: y1 - target_y1,
@@ -358,6 +390,31 @@ pub fn design_wheel(
             });
         }
     }
+}
+
+/// Refuses a designed wheel whose radius of curvature falls below the rail's at one of its
+/// designed contacts: there the concave wheel is more curved than the convex rail, the contact
+/// is not a single point but two (it jumps). The conjugate construction keeps ρ_w = ρ_r + Δ > ρ_r
+/// on paper; the profile's spline through the points can still ring below it next to a steep
+/// curvature ramp ([`DesignTarget::curvature_ramp_per_rad`]). (A small positive margin is not
+/// refused but flagged by the realism checks, [`realism`].)
+fn conformity_check(profile: &Profile, rail: &Profile, nodes: &[DesignNode]) -> Result<(), DesignError> {
+    for n in nodes {
+        let kw = profile.eval(n.s_wheel).curvature();
+        let kr = -rail.eval(n.s_rail).curvature();
+        if kw < 0.0 && kr + kw < 0.0 {
+            return Err(DesignError::Result(format!(
+                "at y = {:.3} mm (contact angle {:.2}°) the wheel's radius of curvature R{:.2} mm falls below the rail's R{:.2} mm: \
+                 the wheel would be more curved than the rail there and touch it at two points (a contact jump); \
+                 ramp the curvature more slowly (curvature_ramp_per_rad) or let the contact angle rise more slowly there",
+                n.y * 1e3,
+                n.gamma.to_degrees(),
+                -1e3 / kw,
+                1e3 / kr
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Largest rate of change of ln ρ_w with the contact angle, 1/rad: where the rail's curvature
@@ -431,7 +488,7 @@ fn realisable_angle(target: &DesignTarget, side: &RailSide) -> Result<Vec<(f64, 
         delta_t.push(1.0 / (gamma_of(y_of(g)).1.max(1e-12) * g.cos()));
     }
     let j_mid = gs.partition_point(|&g| g < g_mid).clamp(1, n - 1);
-    let step = (g1 - g0) / n as f64 * CURVATURE_RAMP_PER_RAD;
+    let step = (g1 - g0) / n as f64 * target.curvature_ramp_per_rad;
     // y(γ) for the scale factors (λ below γ_t(0), λ above).
     let build = |lam_lo: f64, lam_hi: f64| -> Vec<(f64, f64)> {
         let mut ln_w: Vec<f64> = (0..=n)
@@ -466,7 +523,7 @@ fn realisable_angle(target: &DesignTarget, side: &RailSide) -> Result<Vec<(f64, 
         if eval(0.0) > 0.0 {
             return Err(DesignError::Target(format!(
                 "the rail's curvature jumps alone (ramped over {} per rad) take more lateral play than the target gives {} the centred position: widen the contact_angle range there",
-                CURVATURE_RAMP_PER_RAD,
+                target.curvature_ramp_per_rad,
                 if low { "on the field side of" } else { "between the flank and" }
             )));
         }
@@ -635,6 +692,7 @@ fn assemble(
     wheelset: &WheelsetGeometry,
 ) -> Result<Profile, DesignError> {
     let r0 = wheelset.nominal_radius_m;
+    let step = target.output_step_m;
     // (s, z) with z = r0 − h^w; the designed part from the flange end (last node) to the field.
     let z_of = |nd: &DesignNode| r0 - nd.radius;
     let flank = &nodes[nodes.len() - 1];
@@ -676,12 +734,12 @@ fn assemble(
     // Back circle (centre (sc, −h + rb)), from where |dz/ds| = BACK_SLOPE to the bottom.
     let zb = -h + rb;
     let u_start = rb * BACK_SLOPE / (1.0 + BACK_SLOPE * BACK_SLOPE).sqrt();
-    arc(sc, zb, rb, -u_start, 0.0, &mut push);
+    arc(sc, zb, rb, -u_start, 0.0, step, &mut push);
     // Tip circle from the bottom to the tangent point on the flank.
-    arc(sc, zc, rt, 0.0, s_t - sc, &mut push);
+    arc(sc, zc, rt, 0.0, s_t - sc, step, &mut push);
     // The flank line to the contact end.
-    line((s_t, z_t), (s_f, z_f), &mut push);
-    // The designed part, resampled every OUTPUT_STEP_M of arc length by cubic Hermite on the
+    line((s_t, z_t), (s_f, z_f), step, &mut push);
+    // The designed part, resampled every `step` of arc length by cubic Hermite on the
     // nodes' values and slopes (dz/ds = −h^w′).
     let rev: Vec<&DesignNode> = nodes.iter().rev().collect();
     let mut s = s_f;
@@ -694,7 +752,7 @@ fn assemble(
         let (a, b) = (rev[k], rev[k + 1]);
         let (z, dz, _) = cubic_hermite(a.s_wheel, b.s_wheel, z_of(a), z_of(b), -a.slope, -b.slope, s);
         push((s, z));
-        s += OUTPUT_STEP_M / (1.0 + dz * dz).sqrt();
+        s += step / (1.0 + dz * dz).sqrt();
     }
     let last = rev[rev.len() - 1];
     let (s_l, z_l, m_l) = (last.s_wheel, z_of(last), -last.slope);
@@ -704,6 +762,7 @@ fn assemble(
         line(
             (s_l, z_l),
             (target.field_end_m, z_l + m_l * (target.field_end_m - s_l)),
+            step,
             &mut push,
         );
     }
@@ -719,20 +778,20 @@ fn assemble(
 }
 
 /// Points of the lower arc of the circle (centre (sc, zc), radius r) for s − sc in [u0, u1],
-/// every [`OUTPUT_STEP_M`] of arc length, both ends included.
-fn arc(sc: f64, zc: f64, r: f64, u0: f64, u1: f64, push: &mut impl FnMut((f64, f64))) {
+/// every `step` of arc length, both ends included.
+fn arc(sc: f64, zc: f64, r: f64, u0: f64, u1: f64, step: f64, push: &mut impl FnMut((f64, f64))) {
     let (a0, a1) = ((u0 / r).clamp(-1.0, 1.0).asin(), (u1 / r).clamp(-1.0, 1.0).asin());
-    let n = (((a1 - a0).abs() * r) / OUTPUT_STEP_M).ceil().max(1.0) as usize;
+    let n = (((a1 - a0).abs() * r) / step).ceil().max(1.0) as usize;
     for i in 0..=n {
         let a = a0 + (a1 - a0) * i as f64 / n as f64;
         push((sc + r * a.sin(), zc - r * a.cos()));
     }
 }
 
-/// Points of a straight segment every [`OUTPUT_STEP_M`], both ends included.
-fn line(p: (f64, f64), q: (f64, f64), push: &mut impl FnMut((f64, f64))) {
+/// Points of a straight segment every `step`, both ends included.
+fn line(p: (f64, f64), q: (f64, f64), step: f64, push: &mut impl FnMut((f64, f64))) {
     let len = ((q.0 - p.0).powi(2) + (q.1 - p.1).powi(2)).sqrt();
-    let n = (len / OUTPUT_STEP_M).ceil().max(1.0) as usize;
+    let n = (len / step).ceil().max(1.0) as usize;
     for i in 0..=n {
         let t = i as f64 / n as f64;
         push((p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1)));
@@ -792,6 +851,10 @@ pub struct DesignReport {
     pub design_s: f64,
     /// The rail's name.
     pub rail: String,
+    /// The realism checks of the designed and the reference pair ([`realism`]); the reference's
+    /// is None where its table cannot be swept.
+    pub realism: Realism,
+    pub reference_realism: Option<Realism>,
 }
 
 impl DesignReport {
@@ -803,12 +866,18 @@ impl DesignReport {
         checks: &[ColumnCheck],
         reference_checks: &[ColumnCheck],
         design_s: f64,
-    ) -> Result<Self, super::lookup::TableError> {
+    ) -> Result<Self, DesignError> {
         use super::lookup::{LookupTable1, TableSettings};
+        let table_error =
+            |e: super::lookup::TableError| DesignError::Result(format!("its contact table: {e}"));
         let settings = TableSettings::default();
-        let table = LookupTable1::build(&ContactGeometry::with_defaults(pair.clone()), &settings)?;
+        let table = LookupTable1::build(&ContactGeometry::with_defaults(pair.clone()), &settings)
+            .map_err(table_error)?;
         let reference_table =
-            LookupTable1::build(&ContactGeometry::with_defaults(reference.clone()), &settings)?;
+            LookupTable1::build(&ContactGeometry::with_defaults(reference.clone()), &settings)
+                .map_err(table_error)?;
+        let realism = Realism::new(&table, &pair.rail).map_err(table_error)?;
+        let reference_realism = Realism::new(&reference_table, &reference.rail).ok();
         let amps: Vec<f64> = (1..=6).map(|k| k as f64 * 1e-3).collect();
         let c = super::report::conicity(&table, &amps);
         let cr = super::report::conicity(&reference_table, &amps);
@@ -832,6 +901,8 @@ impl DesignReport {
             conicity,
             design_s,
             rail: pair.rail.name.clone(),
+            realism,
+            reference_realism,
         })
     }
 
@@ -897,7 +968,7 @@ impl DesignReport {
         );
         s += &format!(
             "Realised against the target: the wheel's curvature ramped where the rail's jumps (ln ρ_w by at most {} per rad), the target's Δ scaled to keep y = 0 and the flank where the target puts them: each angle reached within {:.3} mm of the target's y, the last one {:.3} mm later\n\n",
-            CURVATURE_RAMP_PER_RAD,
+            t.curvature_ramp_per_rad,
             d.max_departure_m * 1e3,
             d.flank_shift_m * 1e3
         );
@@ -953,6 +1024,14 @@ impl DesignReport {
         for (a, c, r) in &self.conicity {
             s += &format!("| {:.1} | {} | {} |\n", a * 1e3, f(c), f(r));
         }
+        s += "\nRealism on the centred gauge (issue 48; the thresholds and their reasons: `kecsim::contact::design::realism`; a failed check is flagged here, not refused):\n\n";
+        let mut names = vec![t.name.as_str()];
+        let mut figures = vec![&self.realism];
+        if let Some(r) = &self.reference_realism {
+            names.push(&self.reference_name);
+            figures.push(r);
+        }
+        s += &Realism::markdown(&names, &figures);
         s
     }
 
@@ -984,10 +1063,12 @@ impl DesignReport {
                     .join(", ")
             ),
             format!(
-                "flange: height {:.2} mm, tip radius {:.2} mm; field side to {:.1} mm",
+                "flange: height {:.2} mm, tip radius {:.2} mm; field side to {:.1} mm; curvature ramp {} per rad, points every {} mm",
                 t.flange_height_m * 1e3,
                 t.flange_tip_radius_m * 1e3,
-                t.field_end_m * 1e3
+                t.field_end_m * 1e3,
+                t.curvature_ramp_per_rad,
+                t.output_step_m * 1e3
             ),
             format!(
                 "result: S_h {:.2} mm, S_d {:.2} mm, qR {:.2} mm, steepest flank {:.2} deg; flange contact at +-{:.2} mm; {}",
@@ -997,6 +1078,21 @@ impl DesignReport {
                 d.measures.steepest_angle_rad.to_degrees(),
                 self.table.range().1 * 1e3,
                 jump_free_span(&self.checks)
+            ),
+            format!(
+                "realism: curvature margin >= {:.1} %, |ds_w/dy| <= {:.2}, |ds_r/dy| <= {:.2}, longest dwell on a rail joint {:.3} mm, conicity {}, wall (35 deg) at +-{}; checks failed: {}",
+                self.realism.margin.value * 100.0,
+                self.realism.wheel_speed.value,
+                self.realism.rail_speed.value,
+                self.realism.dwell.iter().map(|d| d.span_m).fold(0.0, f64::max) * 1e3,
+                self.realism
+                    .conicity
+                    .iter()
+                    .map(|(a, c)| format!("{:.0} mm {}", a * 1e3, c.map_or("-".into(), |c| format!("{c:.3}"))))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                self.realism.wall_m().map_or("-".into(), |w| format!("{:.2} mm", w * 1e3)),
+                self.realism.problems().len()
             ),
         ]
     }
@@ -1040,5 +1136,7 @@ pub fn jump_free_span(checks: &[ColumnCheck]) -> String {
     s
 }
 
+#[cfg(test)]
+mod brute_tests;
 #[cfg(test)]
 mod tests;

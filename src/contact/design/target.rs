@@ -12,6 +12,11 @@
 //! flange_height_mm = 28.0
 //! flange_tip_radius_mm = 10.0
 //! field_end_mm = 60.0
+//! # optional: how fast the wheel's curvature may follow a jump of the rail's, 1/rad (of ln ρ_w
+//! # per rad of contact angle; default 220)
+//! curvature_ramp_per_rad = 220.0
+//! # optional: spacing of the designed part's points, mm (default 0.1; finer for fast ramps)
+//! output_step_mm = 0.1
 //! # where the wheel will run (each optional; the command line's flags override them)
 //! rail = "54e1"
 //! inclination = "1:20"
@@ -35,6 +40,10 @@ struct TargetFile {
     flange_tip_radius_mm: f64,
     #[serde(default = "default_field_end")]
     field_end_mm: f64,
+    #[serde(default = "default_ramp")]
+    curvature_ramp_per_rad: f64,
+    #[serde(default = "default_step")]
+    output_step_mm: f64,
     rail: Option<String>,
     inclination: Option<String>,
     gauge_mm: Option<f64>,
@@ -55,6 +64,14 @@ pub struct PlacementSpec {
 
 fn default_field_end() -> f64 {
     60.0
+}
+
+fn default_step() -> f64 {
+    super::OUTPUT_STEP_M * 1e3
+}
+
+fn default_ramp() -> f64 {
+    super::CURVATURE_RAMP_PER_RAD
 }
 
 #[derive(Debug, Deserialize)]
@@ -90,6 +107,8 @@ pub fn parse_target(text: &str, origin: &str) -> Result<(DesignTarget, Placement
         flange_height_m: f.flange_height_mm * 1e-3,
         flange_tip_radius_m: f.flange_tip_radius_mm * 1e-3,
         field_end_m: f.field_end_mm * 1e-3,
+        curvature_ramp_per_rad: f.curvature_ramp_per_rad,
+        output_step_m: f.output_step_mm * 1e-3,
     };
     let mut problems = Vec::new();
     if f.name.trim().is_empty() || f.name.contains(['/', '\\', '\n']) {
