@@ -464,27 +464,26 @@ fn ms_vehicle_kec_and_table_match_online_until_the_first_contact_jump() {
     );
 }
 
-/// The paper's case as shipped (the MS vehicle on the designed stand-in wheel, a jump-free pair):
-/// KEC and both tables against the online constraints — the independent reference — over the
-/// first 4 s (the straight with the irregularities growing in, into the transition; at 4.5 s the
-/// middle bogie's leading wheelset crosses from one flange wall to the other, where the models
-/// part for a second: README, *The paper's comparison*). Every wheelset in single-point contact
-/// throughout (the pair has no jump), so the whole window compares the models themselves: KEC
-/// within 0.3 mm and 0.3 mrad of online (measured 0.19 mm, 0.10 mrad), the 2-entry table (with
-/// its cross-level entry) within the paper's 1 mm and 0.5 mrad (measured 0.71 mm, 0.40 mrad:
-/// across its 1 mm gauge columns it interpolates the contact points and angles, which on this
-/// near-conformal flange root move fast with the gauge), the 1-entry table, blind to the gauge
-/// variation (±1.1 mm here), further off than the 2-entry one — why the 2-entry table is the
-/// paper's fair baseline.
+/// The paper's case as shipped (the MS vehicle on the designed stand-in wheel `ms-tram`, a
+/// jump-free pair): KEC and the tables against the online constraints — the independent
+/// reference — over the first 10 s (the straight with the irregularities growing in, the
+/// transition and the curve's entry, where the middle bogie's leading wheelset crosses from one
+/// flange wall to the other). Every wheelset in single-point contact throughout (the pair has no
+/// jump), so the whole window compares the models themselves: KEC and `lookup2` (each wheel read
+/// at its own rail) within 0.3 mm and 0.3 mrad of online (issue 48's bound; measured 0.037 mm,
+/// 0.024 mrad, and on the first stand-in `ms-standin` 1.3 mm, 0.72 mrad), the paper's 2-entry
+/// table `lookup2-paper` within the paper's 1 mm and 0.5 mrad, the 1-entry table, blind to the
+/// gauge variation (±1.1 mm here), further off than either.
 #[test]
-#[ignore = "slow: the online reference solved at every evaluation over 4 s of the six-wheelset vehicle (~80 s)"]
-fn ms_standin_kec_and_tables_match_online() {
+#[ignore = "slow: the online reference solved at every evaluation over 10 s of the six-wheelset vehicle (~40 s)"]
+fn ms_tram_kec_and_tables_match_online() {
     let sc = scene("ms_vehicle_tab6.toml");
+    assert_eq!(sc.pair.wheel.name, "ms-tram");
     assert!(
         !kecsim::compare::pair_has_jumps(&sc.pair),
         "the stand-in pair is jump-free"
     );
-    let go = |kind| run_scene(&sc, kind, |s| s.duration_s = 4.0);
+    let go = |kind| run_scene(&sc, kind, |s| s.duration_s = 10.0);
     let online = go("online");
     assert_eq!(online.summary.outcome, "completed", "{:?}", online.summary.error);
     let max_y = online
@@ -495,10 +494,10 @@ fn ms_standin_kec_and_tables_match_online() {
         .fold(0.0, f64::max);
     assert!(
         max_y > 3e-3,
-        "the irregularities move the wheelsets to their walls: {max_y}"
+        "the irregularities and the curve move the wheelsets to their walls: {max_y}"
     );
     let mut worst = std::collections::HashMap::new();
-    for model in ["kec", "lookup2", "lookup"] {
+    for model in ["kec", "lookup2", "lookup2-paper", "lookup"] {
         let o = go(model);
         assert_eq!(o.summary.outcome, "completed", "{model}: {:?}", o.summary.error);
         let (mut dy, mut dpsi) = (0.0f64, 0.0f64);
@@ -510,12 +509,12 @@ fn ms_standin_kec_and_tables_match_online() {
             }
         }
         println!(
-            "{model} vs online over 4 s (max |y| {:.2} mm): {dy:.4} mm, {dpsi:.4} mrad",
+            "{model} vs online over 10 s (max |y| {:.2} mm): {dy:.4} mm, {dpsi:.4} mrad",
             max_y * 1e3
         );
         let bound = match model {
-            "kec" => (0.3, 0.3),
-            "lookup2" => (1.0, 0.5),
+            "kec" | "lookup2" => (0.3, 0.3),
+            "lookup2-paper" => (1.0, 0.5),
             _ => (f64::INFINITY, f64::INFINITY),
         };
         assert!(
@@ -524,7 +523,10 @@ fn ms_standin_kec_and_tables_match_online() {
         );
         worst.insert(model, dy);
     }
-    assert!(worst["lookup"] > worst["lookup2"], "{worst:?}");
+    assert!(
+        worst["lookup"] > worst["lookup2-paper"] && worst["lookup2-paper"] > worst["lookup2"],
+        "{worst:?}"
+    );
 }
 
 /// The wheelsets of a right-hand side are evaluated in parallel (the run in a pool of its own of

@@ -16,13 +16,14 @@ use kecsim::track::TrackGauge;
 
 use super::{positive_mm, SinkArgs};
 
-/// The MS vehicle's stand-in wheel's target (the default).
-pub(super) const MS_STANDIN_TARGET: &str = include_str!("../../assets/designs/ms-standin.toml");
+/// The MS vehicle's stand-in wheel's target (the default): `ms-tram` since issue 48 (the first
+/// stand-in, `ms-standin`, is `--target assets/designs/ms-standin.toml`).
+pub(super) const MS_TRAM_TARGET: &str = include_str!("../../assets/designs/ms-tram.toml");
 
 #[derive(Args)]
 pub(super) struct DesignArgs {
     /// Design target (TOML: name, contact_angle points, flange) [default: the MS vehicle's
-    /// stand-in wheel, assets/designs/ms-standin.toml].
+    /// stand-in wheel, assets/designs/ms-tram.toml].
     #[arg(long, value_name = "FILE")]
     target: Option<PathBuf>,
     /// Rail profile: standard name (54e1, 60e1) or file [default: the target's, else 60e1].
@@ -62,8 +63,8 @@ pub(super) fn run(a: DesignArgs) -> Result<()> {
             p.display().to_string(),
         ),
         None => (
-            MS_STANDIN_TARGET.to_string(),
-            "<embedded ms-standin target>".to_string(),
+            MS_TRAM_TARGET.to_string(),
+            "<embedded ms-tram target>".to_string(),
         ),
     };
     let (target, placed) = parse_target(&text, &origin).map_err(anyhow::Error::msg)?;

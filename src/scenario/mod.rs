@@ -564,7 +564,7 @@ mod tests {
     fn default_scenario_compiles() {
         let s = Scenario::parse(DEFAULT_SCENARIO, "<default>").unwrap();
         let scene = s.compile("<default>", Path::new(".")).unwrap();
-        assert_eq!(scene.pair.wheel.name, "ms-standin");
+        assert_eq!(scene.pair.wheel.name, "ms-tram");
         assert_eq!(scene.pair.rail.name, "54e1");
         assert!(scene.simulation.is_some() && scene.track.is_some());
         assert_eq!(scene.contact_forces.model.name(), "polach");
