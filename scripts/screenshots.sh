@@ -80,7 +80,7 @@ k() { echo "+ kecsim $*" >&2; "$KECSIM" "$@" >"$WORK/last.log" 2>&1 || { cat "$W
 profiles()     { k profiles --wheel s1002 --rail 60e1 --inclination 1:40 --save "$WORK/p.rrd"; shot profiles "$WORK/p.rrd"; }
 contact()      { k contact --csv "$WORK/table.csv" --save "$WORK/c.rrd"; shot contact "$WORK/c.rrd"; }
 kec()          { k kec --accuracy --save "$WORK/k.rrd"; shot kec "$WORK/k.rrd"; }
-design_wheel() { k design-wheel --csv "$WORK/ms-standin.csv" --save "$WORK/d.rrd"; shot design_wheel "$WORK/d.rrd"; }
+design_wheel() { k design-wheel --csv "$WORK/ms-tram.csv" --reference ms-standin --save "$WORK/d.rrd"; shot design_wheel "$WORK/d.rrd"; }
 creep()        { k creep --normal-force-n 80000 --a-mm 6 --b-mm 4 --spin 1 --save "$WORK/cr.rrd"; shot creep "$WORK/cr.rrd"; }
 track()        { k track assets/track/tab6_irregular.toml --csv "$WORK/track.csv" --save "$WORK/t.rrd"; shot track "$WORK/t.rrd"; }
 run()          { k run --csv "$WORK/out" --json "$WORK/summary.json" --save "$WORK/r.rrd"; shot run "$WORK/r.rrd" 30; }
@@ -115,7 +115,7 @@ print(sys.argv[2])" "$WORK/live_run_$k.png" "$OUT/live_run_$k.png"
   kill -- -"$viewer" 2>/dev/null || true
   wait "$viewer" 2>/dev/null || true
 }
-compare()      { k compare assets/scenes/ms_vehicle_tab6.toml --contact kec,lookup,lookup2 --duration 10 --save "$WORK/cmp.rrd"; shot compare "$WORK/cmp.rrd" 15; }
+compare()      { k compare assets/scenes/ms_vehicle_tab6.toml --contact kec,lookup2,lookup2-paper,online --duration 10 --save "$WORK/cmp.rrd"; shot compare "$WORK/cmp.rrd" 15; }
 paper()        { k paper --duration 10 --save "$WORK/pa.rrd"; shot paper "$WORK/pa.rrd" 15; }
 study()        { k study assets/studies/wheelset_speed_sweep.toml --out "$WORK/sweep"; shot study "$WORK/sweep/study.rrd" 15; }
 bench_precision() {

@@ -23,7 +23,7 @@ pub(super) struct KecArgs {
     #[command(flatten)]
     table: TableArgs,
     /// Also measure KEC and every table against the online constraints under gauge variation and
-    /// cross level (±10 mm; builds 2-entry tables with 1 mm and 0.1 mm columns, a minute).
+    /// cross level (±10 mm; builds 2-entry tables with 1 mm columns and 0.1 mm columns around each case, a minute).
     #[arg(long)]
     accuracy: bool,
     #[command(flatten)]
@@ -75,8 +75,18 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
             (-n..=n).map(|k| k as f64 * step).collect()
         };
         let table2 = LookupTable2::build(&geom, &columns(1e-3), &settings)?;
+        // The 0.1 mm columns only around each case's gv (the four the interpolation reads there).
         let fine_step = 1e-4;
-        let fine = LookupTable2::build(&geom, &columns(fine_step), &settings)?;
+        let mut around: Vec<i64> = cases.iter().map(|c| (c.0 / fine_step).floor() as i64).collect();
+        around.sort_unstable();
+        around.dedup();
+        let fine = around
+            .iter()
+            .map(|&k| {
+                let gvs: Vec<f64> = (k - 1..=k + 2).map(|j| j as f64 * fine_step).collect();
+                LookupTable2::build(&geom, &gvs, &settings)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let tables = MeasuredTables {
             table1: &table,
             table2: &table2,

@@ -227,8 +227,11 @@ pub struct MeasuredTables<'a> {
     pub table1: &'a LookupTable1,
     /// The paper's 2-entry table (1 mm columns).
     pub table2: &'a super::lookup::LookupTable2,
-    /// Finer gauge columns, with their spacing (m).
-    pub table2_fine: Option<(&'a super::lookup::LookupTable2, f64)>,
+    /// Finer gauge columns, with their spacing (m): tables each covering some of the cases' gauge
+    /// variations (a case is measured on the first whose columns bracket its gv with a column
+    /// either side — what the Catmull–Rom interpolation across gv reads of a table with columns
+    /// everywhere).
+    pub table2_fine: Option<(&'a [super::lookup::LookupTable2], f64)>,
 }
 
 /// Error of the KEC model and of the lookup tables against the online approximate constraints for
@@ -324,9 +327,15 @@ pub fn kec_irregularity_errors(
                 .map_err(|e| case("2-entry table", &e))?;
             at(&mut row.table2, &t2, &o);
             if let (Some((fine, _)), Some(acc)) = (tables.table2_fine, row.table2_fine.as_mut()) {
-                let f = fine
-                    .contact(y, &off)
-                    .map_err(|e| case("fine 2-entry table", &e))?;
+                let covers = |t: &&super::lookup::LookupTable2| {
+                    let g = t.gvs();
+                    g.len() >= 4 && g[1] <= gv && gv <= g[g.len() - 2]
+                };
+                let t = fine
+                    .iter()
+                    .find(covers)
+                    .ok_or_else(|| format!("no fine gauge columns around gv {} mm", gv * 1e3))?;
+                let f = t.contact(y, &off).map_err(|e| case("fine 2-entry table", &e))?;
                 at(acc, &f, &o);
             }
             let t1 = table1.contact(y, &off).map_err(|e| case("1-entry table", &e))?;
