@@ -298,6 +298,21 @@ pub fn kec_irregularity_errors(
         let at = |acc: &mut EntryError, r: &TableRow, o: &super::geometry::ContactSolution| {
             acc.update(r.z(), r.phi(), r.contact_angle, o)
         };
+        // The fine columns around this case's gv, once per case.
+        let fine = match tables.table2_fine {
+            Some((fine, _)) => {
+                let covers = |t: &&super::lookup::LookupTable2| {
+                    let g = t.gvs();
+                    g.len() >= 4 && g[1] <= gv && gv <= g[g.len() - 2]
+                };
+                Some(
+                    fine.iter()
+                        .find(covers)
+                        .ok_or_else(|| format!("no fine gauge columns around gv {} mm", gv * 1e3))?,
+                )
+            }
+            None => None,
+        };
         for k in 0..points {
             let y = -y_max + 2.0 * y_max * k as f64 / (points - 1) as f64;
             let case = |what: &str, e: &dyn std::fmt::Display| {
@@ -326,15 +341,7 @@ pub fn kec_irregularity_errors(
                 .contact(y, &off)
                 .map_err(|e| case("2-entry table", &e))?;
             at(&mut row.table2, &t2, &o);
-            if let (Some((fine, _)), Some(acc)) = (tables.table2_fine, row.table2_fine.as_mut()) {
-                let covers = |t: &&super::lookup::LookupTable2| {
-                    let g = t.gvs();
-                    g.len() >= 4 && g[1] <= gv && gv <= g[g.len() - 2]
-                };
-                let t = fine
-                    .iter()
-                    .find(covers)
-                    .ok_or_else(|| format!("no fine gauge columns around gv {} mm", gv * 1e3))?;
+            if let (Some(t), Some(acc)) = (fine, row.table2_fine.as_mut()) {
                 let f = t.contact(y, &off).map_err(|e| case("fine 2-entry table", &e))?;
                 at(acc, &f, &o);
             }
@@ -357,7 +364,7 @@ pub fn kec_irregularity_errors(
     Ok(rows)
 }
 
-/// The error table as markdown: per case and model, max |Δz| [mm] / |Δφ| [mrad] / |Δγ| [°]
+/// The error table as markdown: per case and model, max |Δz| (mm) / |Δφ| (mrad) / |Δγ| (°)
 /// against the online constraints.
 pub fn kec_error_markdown(rows: &[KecErrorRow], fine_step_m: Option<f64>) -> String {
     let fine = rows.first().is_some_and(|r| r.table2_fine.is_some());

@@ -68,7 +68,7 @@ pub const WALL_ANGLE_RAD: f64 = 0.610_865_238_198_015_3;
 pub const SAMPLE_STEP_M: f64 = 1e-6;
 /// A change of the rail's curvature radius by this factor within ±[`JOINT_WINDOW_M`] marks a
 /// joint between two arcs.
-const JOINT_RATIO: f64 = 1.5;
+pub const JOINT_RATIO: f64 = 1.5;
 /// Half-width of the window across which [`rail_joints`] compares the rail's radii, m; also the
 /// half-width of the joint regions left out of the per-arc margin and the speed checks: a rail
 /// drawn as a C² spline through points of its arcs (kecsim's 54E1, 60E1: every 0.1 mm and at
@@ -82,7 +82,7 @@ pub const JOINT_WINDOW_M: f64 = 5e-4;
 /// 2–4 mm inside a mainline wheel's flange contact).
 pub const CONICITY_WALL_CLEARANCE_M: f64 = 1e-3;
 /// Radius standing for a straight stretch of the rail, m.
-const STRAIGHT_RADIUS_M: f64 = 10.0;
+pub const STRAIGHT_RADIUS_M: f64 = 10.0;
 
 /// A joint between two arcs of a rail head (left orientation).
 #[derive(Debug, Clone, Copy, PartialEq)]

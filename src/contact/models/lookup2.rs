@@ -126,15 +126,20 @@ pub fn gauge_variations(gv_max_m: f64, gv_step_m: f64) -> Vec<f64> {
     (-n..=n).map(|k| k as f64 * gv_step_m).collect()
 }
 
-fn column_problems(p: &mut Vec<String>, gv_max_m: f64, gv_step_m: f64) {
-    check_range(p, "gv_max_m", gv_max_m, 1e-4, 0.03);
-    check_range(p, "gv_step_m", gv_step_m, 1e-5, 0.01);
+/// The problems of either model's keys: the gauge columns' range and step, the two-point
+/// transitions.
+fn table_problems(gv_max_m: f64, gv_step_m: f64, approach_m: f64, width_m: f64) -> Vec<String> {
+    let mut p = Vec::new();
+    check_range(&mut p, "gv_max_m", gv_max_m, 1e-4, 0.03);
+    check_range(&mut p, "gv_step_m", gv_step_m, 1e-5, 0.01);
     if p.is_empty() && gv_max_m / gv_step_m > 200.0 {
         p.push(format!(
             "simulation.contact: gv_max_m / gv_step_m = {:.0}: at most 200 columns each side",
             gv_max_m / gv_step_m
         ));
     }
+    super::lookup::transition_problems(&mut p, approach_m, width_m);
+    p
 }
 
 /// The gauge columns' table as a model.
@@ -175,10 +180,12 @@ impl Lookup2PaperSettings {
 
 impl ContactModelSettings for Lookup2Settings {
     fn problems(&self) -> Vec<String> {
-        let mut p = Vec::new();
-        column_problems(&mut p, self.gv_max_m, self.gv_step_m);
-        super::lookup::transition_problems(&mut p, self.two_point_approach_m, self.two_point_max_width_m);
-        p
+        table_problems(
+            self.gv_max_m,
+            self.gv_step_m,
+            self.two_point_approach_m,
+            self.two_point_max_width_m,
+        )
     }
 
     fn build(
@@ -205,10 +212,12 @@ impl ContactModelSettings for Lookup2Settings {
 
 impl ContactModelSettings for Lookup2PaperSettings {
     fn problems(&self) -> Vec<String> {
-        let mut p = Vec::new();
-        column_problems(&mut p, self.gv_max_m, self.gv_step_m);
-        super::lookup::transition_problems(&mut p, self.two_point_approach_m, self.two_point_max_width_m);
-        p
+        table_problems(
+            self.gv_max_m,
+            self.gv_step_m,
+            self.two_point_approach_m,
+            self.two_point_max_width_m,
+        )
     }
 
     fn build(
@@ -273,9 +282,4 @@ impl ContactModel for Lookup2Contact {
             &self.table.contact_with(y, rails, self.entry)?,
         ))
     }
-}
-
-/// The per-wheel entry of a centred table, for a caller that holds one (`kecsim kec --accuracy`).
-pub fn per_wheel_contact(table: &LookupTable1, y: f64, rails: &RailOffsets) -> Result<TableRow, TableError> {
-    contact_per_wheel(table, y, rails)
 }
