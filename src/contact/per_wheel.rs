@@ -49,6 +49,8 @@ use crate::track::RailOffsets;
 
 /// Newton iterations of the per-wheel entry at most (it converges in 2–4).
 const MAX_ITERATIONS: usize = 30;
+/// The longest Newton step in a wheel's entry u, m.
+const MAX_STEP_M: f64 = 1e-3;
 /// The per-wheel Newton stops when its step is below this (m in u, rad in φ).
 const TOLERANCE: f64 = 1e-14;
 /// Where Newton cycles across a contact jump of the table, an iterate whose residual (m) is
@@ -213,7 +215,15 @@ fn solve(table: &LookupTable1, gv: f64, target: Target) -> Result<(TableRow, f64
         if best.as_ref().is_none_or(|(b, _)| f.amax() < *b) {
             best = Some((f.amax(), x));
         }
-        x -= step;
+        // A step in either wheel's entry longer than MAX_STEP_M is shortened (the direction
+        // kept): near a contact jump or both flanges the Jacobian of one side can nearly vanish and
+        // a full step throw a wheel tens of millimetres off its table.
+        let longest = step[0].abs().max(step[1].abs());
+        x -= if longest > MAX_STEP_M {
+            step * (MAX_STEP_M / longest)
+        } else {
+            step
+        };
         // A wheel held at the table's end: converging there means beyond it.
         held = if hold(&mut x) { held + 1 } else { 0 };
         if held > 2 {

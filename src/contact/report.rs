@@ -395,7 +395,7 @@ pub fn kec_error_markdown(rows: &[KecErrorRow], fine_step_m: Option<f64>) -> Str
             (e(&r.table2_printed), e(&r.table1_printed))
         };
         s += &format!(
-            "| {:+.1} | {:+.1} | {:.2} | {} | {} |",
+            "| {:+.2} | {:+.1} | {:.2} | {} | {} |",
             r.gv * 1e3,
             r.cl * 1e3,
             r.y_max * 1e3,
