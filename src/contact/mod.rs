@@ -19,6 +19,7 @@ pub mod forces;
 pub mod geometry;
 pub mod kec;
 pub mod lookup;
+pub mod nonhertz;
 pub mod model;
 pub mod models;
 pub mod per_wheel;
