@@ -9,6 +9,7 @@
 mod common;
 mod contact_geometry;
 mod contact_models;
+mod contact_patches;
 mod creep_forces;
 mod dynamics;
 mod elastic;

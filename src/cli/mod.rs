@@ -9,6 +9,7 @@ mod design;
 mod generate;
 mod kec;
 mod paper;
+mod patch;
 mod profiles;
 mod progress;
 mod run;
@@ -93,6 +94,10 @@ enum Command {
     /// Creep-force curves (force vs creepage) of the creep-force models for one contact ellipse.
     #[command(allow_negative_numbers = true)]
     Creep(creep::CreepArgs),
+    /// Contact patches of one wheelset at lateral shifts, yaw and a vertical wheel load: Hertz
+    /// and the non-Hertzian strip model (one or more patches each), pressure, area, creep forces.
+    #[command(allow_negative_numbers = true)]
+    Patch(patch::PatchArgs),
     /// The track: centreline from its sections, curvature, cant, twist, irregularities.
     #[command(allow_negative_numbers = true)]
     Track(track::TrackArgs),
@@ -134,6 +139,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Contact(a) => contact::run(a),
         Command::Kec(a) => kec::run(a),
         Command::Creep(a) => creep::run(a),
+        Command::Patch(a) => patch::run(a),
         Command::Track(a) => track::run(a),
         Command::GenerateProfiles(a) => generate::run(a),
         Command::DesignWheel(a) => design::run(a),

@@ -20,6 +20,7 @@ pub mod bands;
 pub mod compare;
 pub mod contact;
 pub mod creep;
+pub mod patch;
 pub mod design;
 pub mod kec;
 pub mod layout;

@@ -119,6 +119,8 @@ pub struct GapInput {
     pub rail_angle: f64,
     /// Angle of the approach direction u from the rail frame's vertical, towards +s, rad.
     pub approach_angle: f64,
+    /// Half-width of the window sampled each side of the contact, m ([`GAP_WINDOW_M`]).
+    pub half_window: f64,
 }
 
 impl GapInput {
@@ -138,6 +140,7 @@ impl GapSection {
             nominal_radius,
             rail_angle,
             approach_angle,
+            half_window,
         } = *input;
         for (v, what) in [
             (s_wheel, "s_w"),
@@ -145,6 +148,7 @@ impl GapSection {
             (nominal_radius, "r0"),
             (rail_angle, "rail angle"),
             (approach_angle, "approach angle"),
+            (half_window, "window"),
         ] {
             if !v.is_finite() {
                 return Err(GapError::NonFinite(what));
@@ -159,7 +163,8 @@ impl GapSection {
         let (st, ct) = theta.sin_cos();
         let c = (s_rail, pr.z);
         let (w0, _) = to_uv(c);
-        let n_half = (GAP_WINDOW_M / GAP_STEP_M).round() as usize;
+        let half_window = half_window.clamp(GAP_STEP_M * 10.0, 0.1);
+        let n_half = (half_window / GAP_STEP_M).round() as usize;
         let sample = |centre: f64, domain: (f64, f64), f: &dyn Fn(f64) -> (f64, f64)| {
             let mut s = Vec::with_capacity(2 * n_half + 1);
             let mut w = Vec::with_capacity(2 * n_half + 1);
@@ -190,10 +195,10 @@ impl GapSection {
         let rg = Graph::monotone_around(s, w, v, ci);
         let (s, w, v, ci) = sample(s_wheel, wheel.domain_side(side), &wheel_xy);
         let wg = Graph::monotone_around(s, w, v, ci);
-        let lo = rg.w[0].max(wg.w[0]).max(-GAP_WINDOW_M);
+        let lo = rg.w[0].max(wg.w[0]).max(-half_window);
         let hi = rg.w[rg.w.len() - 1]
             .min(wg.w[wg.w.len() - 1])
-            .min(GAP_WINDOW_M);
+            .min(half_window);
         if !(lo < -GAP_STEP_M && hi > GAP_STEP_M) {
             return Err(GapError::Folded(1e3 * lo.abs().min(hi.abs())));
         }
@@ -279,6 +284,7 @@ mod tests {
                 nominal_radius: 0.46,
                 rail_angle: 0.0,
                 approach_angle: 0.0,
+                half_window: GAP_WINDOW_M,
             },
         )
         .unwrap();
@@ -312,6 +318,7 @@ mod tests {
                 nominal_radius: 0.46,
                 rail_angle: 0.025,
                 approach_angle: 0.0,
+                half_window: GAP_WINDOW_M,
             },
         )
         .unwrap();

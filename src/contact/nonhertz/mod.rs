@@ -11,6 +11,7 @@
 
 pub mod gap;
 pub mod strips;
+pub mod sweep;
 pub mod validity;
 
 pub use gap::{GapError, GapInput, GapSection};

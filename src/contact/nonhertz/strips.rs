@@ -628,6 +628,7 @@ mod tests {
                     nominal_radius: 0.46,
                     rail_angle: 0.0,
                     approach_angle: 0.0,
+                    half_window: crate::contact::nonhertz::gap::GAP_WINDOW_M,
                 },
             )
             .unwrap();
