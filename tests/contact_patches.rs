@@ -100,10 +100,11 @@ fn manchester_benchmark_against_contact() {
     let mut ys: Vec<f64> = refs.iter().map(|r| r.y_mm).collect();
     ys.sort_by(f64::total_cmp);
     ys.dedup();
-    println!("| y mm | wheel | angle ° C/kp | N kN C/kp | pmax MPa CONTACT | kp | Hertz | area mm² C/kp | s_w mm C/kp | |Ft| N C/kp |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("| y mm | wheel | angle ° C/kp | N kN C/kp | pmax MPa CONTACT | kp | Hertz | D | area mm² C/kp | s_w mm C/kp | |Ft| N C/kp |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut worst = [(0.0f64, 0.0f64); 2]; // (kp tread, kp flange) |rel| for pmax, per class
     let mut worst_hertz: f64 = 0.0;
+    let mut worst_hertz_valid: f64 = 0.0;
     for &y in &ys {
         let vpitch = refs.iter().find(|r| r.y_mm == y).unwrap().vpitch.abs();
         let run = |model| -> ShiftPatches {
@@ -122,11 +123,19 @@ fn manchester_benchmark_against_contact() {
             let e = rel(kp_pmax, r.pmax).abs();
             let cls = usize::from(flange);
             worst[cls].0 = worst[cls].0.max(e);
-            worst_hertz = worst_hertz.max(rel(h.max_pressure * 1e-6, r.pmax).abs());
+            let eh = rel(h.max_pressure * 1e-6, r.pmax).abs();
+            worst_hertz = worst_hertz.max(eh);
+            // Where Hertz's gap deviation says it holds, Hertz must agree with CONTACT too (a clamp
+            // of the curvature ratio once raised its flange pmax by 20–35 % here).
+            let dev = hz.wheels[side].hertz_deviation;
+            if dev <= kecsim::contact::nonhertz::HERTZ_VALIDITY_LIMIT {
+                worst_hertz_valid = worst_hertz_valid.max(eh);
+                assert!(eh < if flange { 0.20 } else { 0.15 }, "y = {y} side {side}: Hertz valid (D = {dev:.2}) but pmax {:.0} vs CONTACT {:.0}", h.max_pressure * 1e-6, r.pmax);
+            }
             let ft_c = r.fx_n.hypot(r.fs_n);
             let ft_k = kmain.creep.fx.hypot(kmain.creep.fy);
             println!(
-                "| {y:.1} | {} | {:.2}/{:.2} | {:.2}/{:.2} | {:.0} | {:.0} ({:+.1} %) | {:.0} ({:+.1} %) | {:.1}/{:.1} | {:.2}/{:.2} | {:.0}/{:.0} |",
+                "| {y:.1} | {} | {:.2}/{:.2} | {:.2}/{:.2} | {:.0} | {:.0} ({:+.1} %) | {:.0} ({:+.1} %) | {:.2} | {:.1}/{:.1} | {:.2}/{:.2} | {:.0}/{:.0} |",
                 ["left", "right"][side],
                 r.delta.abs().to_degrees(),
                 kmain.contact_angle.abs().to_degrees(),
@@ -137,10 +146,11 @@ fn manchester_benchmark_against_contact() {
                 100.0 * rel(kp_pmax, r.pmax),
                 h.max_pressure * 1e-6,
                 100.0 * rel(h.max_pressure * 1e-6, r.pmax),
+                hz.wheels[side].hertz_deviation,
                 r.area_mm2,
                 k.iter().map(|p| p.area).sum::<f64>() * 1e6,
                 -r.ycp_w,
-                kmain.s_wheel * 1e3 * if side == 0 { 1.0 } else { 1.0 },
+                kmain.s_wheel * 1e3,
                 ft_c,
                 ft_k
             );
@@ -167,11 +177,13 @@ fn manchester_benchmark_against_contact() {
         }
     }
     println!(
-        "worst |pmax − CONTACT|/CONTACT: kp tread {:.1} %, kp flange {:.1} %, Hertz {:.1} %",
+        "worst |pmax − CONTACT|/CONTACT: kp tread {:.1} %, kp flange {:.1} %, Hertz {:.1} % (where its deviation D ≤ {}: {:.1} %)",
         100.0 * worst[0].0,
         100.0 * worst[1].0,
-        100.0 * worst_hertz
+        100.0 * worst_hertz,
+        kecsim::contact::nonhertz::HERTZ_VALIDITY_LIMIT,
+        100.0 * worst_hertz_valid
     );
-    // Hertz misses the flange's pmax by far more: the comparison separates the models.
-    assert!(worst_hertz > 0.3, "Hertz's worst {worst_hertz}");
+    // Where Hertz is flagged invalid it misses CONTACT by more than the strip model does.
+    assert!(worst_hertz > worst[0].0.max(worst[1].0), "Hertz's worst {worst_hertz}");
 }

@@ -139,18 +139,19 @@ impl RelativeCurvature {
         let b = 0.5 * (wheel_curvature + rail_curvature);
         // Conformal contact (a wheel throat hugging the rail's gauge corner: B → 0): Hertz's
         // ellipse would grow without bound across a band where the profiles are only nearly
-        // conformal. The ratio of the curvatures is held to MAX_CURVATURE_RATIO (semi-axes ratio
-        // ≈ 10, where Kalker's tables end) — a stated limit, not Hertz. Concave-on-concave (B < 0
-        // by more than the limit would lift) stays an error.
+        // conformal. B is held to A / MAX_CURVATURE_RATIO — Hertz is not valid there at all, and
+        // the run says so ([`crate::contact::nonhertz::validity`]); its p0, area and wear come from
+        // the strip model. Concave-on-concave (B < 0 by more than the limit would lift) stays an
+        // error. The other way (B ≫ A, a flange: B/A ≈ 70 on a 20 mm flange root at 70°) is
+        // Hertz's and is not clamped: the clamp A ≥ B/31.6 that stood here raised p0 by ~18 %
+        // there (3.36 → 3.95 GPa at 60 kN); Kalker's coefficients beyond a/b = 0.1 follow their
+        // narrow-ellipse asymptotes ([`super::kalker`]).
         let b = if b > -a { b.max(a / MAX_CURVATURE_RATIO) } else { b };
-        RelativeCurvature {
-            a: a.max(b / MAX_CURVATURE_RATIO),
-            b,
-        }
+        RelativeCurvature { a, b }
     }
 }
 
-/// The largest ratio of the two relative curvatures a wheel–rail contact is given (see
+/// The smallest B/A a conformal wheel–rail contact is given (B ≥ A / this; see
 /// [`RelativeCurvature::wheel_rail`]): 31.6 = 10^1.5, where Johnson's g ≈ (A/B)^(2/3) reaches
 /// b/a = 0.1, the end of Kalker's tables.
 pub const MAX_CURVATURE_RATIO: f64 = 31.6;
