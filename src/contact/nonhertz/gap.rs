@@ -29,7 +29,7 @@ use crate::profile::Profile;
 use crate::track::Side;
 
 /// Lateral sampling of the profiles and the gap, m.
-pub const GAP_STEP_M: f64 = 5e-5;
+pub const GAP_STEP_M: f64 = 1e-4;
 /// Half-width of the window the gap is sampled over, each side of the contact, m.
 pub const GAP_WINDOW_M: f64 = 0.025;
 
