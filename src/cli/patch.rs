@@ -21,7 +21,13 @@ pub(super) struct PatchArgs {
     pair: PairArgs,
     /// Lateral shifts of the wheelset, mm, comma separated (positive to the left: the right
     /// wheel's flange approaches its rail at negative y).
-    #[arg(long, value_name = "Y1,Y2,…", value_delimiter = ',', allow_hyphen_values = true, required = true)]
+    #[arg(
+        long,
+        value_name = "Y1,Y2,…",
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        required = true
+    )]
     y_mm: Vec<f64>,
     /// Yaw per mm of shift, mrad (yaw = y × this; the Manchester benchmark: 2.4).
     #[arg(long, value_name = "MRAD", default_value_t = 0.0, allow_hyphen_values = true)]
@@ -76,12 +82,19 @@ pub(super) fn run(a: PatchArgs) -> Result<()> {
         yaw_per_mm.is_finite() && yaw_per_mm.abs() <= 100.0,
         "--yaw-per-mm {yaw_per_mm}: expected a yaw of at most 100 mrad per mm"
     );
-    anyhow::ensure!(mu.is_finite() && mu > 0.0 && mu <= 1.5, "--mu {mu}: expected a coefficient of friction in (0, 1.5]");
+    anyhow::ensure!(
+        mu.is_finite() && mu > 0.0 && mu <= 1.5,
+        "--mu {mu}: expected a coefficient of friction in (0, 1.5]"
+    );
     anyhow::ensure!(
         speed_m_s.is_finite() && speed_m_s > 0.0 && speed_m_s <= 200.0,
         "--speed-m-s {speed_m_s}: expected a forward speed in (0, 200] m/s"
     );
-    anyhow::ensure!(y_mm.len() <= 10_000, "--y-mm: {} shifts; at most 10000", y_mm.len());
+    anyhow::ensure!(
+        y_mm.len() <= 10_000,
+        "--y-mm: {} shifts; at most 10000",
+        y_mm.len()
+    );
     for &y in &y_mm {
         anyhow::ensure!(y.is_finite(), "--y-mm {y}: expected a finite shift in mm");
     }
@@ -135,7 +148,8 @@ pub(super) fn run(a: PatchArgs) -> Result<()> {
     };
     print!("{summary}");
     if let Some(path) = csv {
-        let rows = sweep::write_csv(&path, &shifts).with_context(|| format!("cannot write {}", path.display()))?;
+        let rows =
+            sweep::write_csv(&path, &shifts).with_context(|| format!("cannot write {}", path.display()))?;
         println!("wrote {} ({rows} rows)", path.display());
     }
     println!("{}", delivered.map_err(anyhow::Error::msg)?);

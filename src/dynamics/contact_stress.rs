@@ -1,8 +1,9 @@
 //! Contact stress against the rail steel's shakedown limit, per wheel, as engineers read rolling
 //! contact fatigue off a run.
 //!
-//! Each sample's contact gives the maximum Hertz pressure p0 = 3N/(2π a b) (Johnson, *Contact
-//! Mechanics*, Eq. 4.29; [`Sample::max_pressure`]) and the traction coefficient μ = √(Fx² +
+//! Each sample's contact gives its maximum pressure p0 — Hertz's 3N/(2π a b) (Johnson, *Contact
+//! Mechanics*, Eq. 4.29) where Hertz holds, the strip model's pmax where the gap deviates from
+//! Hertz's quadratic ([`Sample::contact_pressure`], [`super::patches`]) — and the traction coefficient μ = √(Fx² +
 //! Fy²)/N (the friction the patch uses). On **Johnson's shakedown map** (Johnson K.L., "The
 //! strength of surfaces in rolling contact", *Proc. IMechE C* 203 (1989) 151–163; kinematically
 //! hardening material) a contact at (μ, p0/k), k the steel's yield stress in shear, shakes down
@@ -70,7 +71,8 @@ pub fn surface_fatigue_index(mu: f64, p0_over_k: f64) -> f64 {
 /// One wheel's contact in a sample on the shakedown map: (μ, p0/k), or None off the rail.
 pub fn map_point(sample: &Sample, wheel: usize, steel: RailSteel) -> Option<(f64, f64)> {
     let n = sample.normal[wheel];
-    let p0 = sample.max_pressure()[wheel];
+    // The pressure of the model valid at the contact (Hertz, or the strip model beyond it).
+    let p0 = sample.contact_pressure()[wheel];
     if n <= 0.0 || p0 <= 0.0 {
         return None;
     }
@@ -99,6 +101,12 @@ pub struct WheelStress {
     /// Shares of the distance rolled on the rail beyond the shakedown limit and in ratchetting.
     pub share_beyond_shakedown: f64,
     pub share_ratchetting: f64,
+    /// Share of the distance rolled on the rail where Hertz does not hold (its gap deviation D
+    /// beyond [`crate::contact::nonhertz::HERTZ_VALIDITY_LIMIT`]): p0, the map and the wear there
+    /// come from the strip model.
+    pub share_non_hertzian: f64,
+    /// The largest p0 Hertz alone would have given, MPa.
+    pub max_p0_hertz_mpa: f64,
 }
 
 /// A run's contact stress.
@@ -110,6 +118,16 @@ pub struct ContactStress {
     pub max_wheel: String,
     /// The largest share of any wheel's distance in ratchetting.
     pub max_share_ratchetting: f64,
+    /// The largest share of any wheel's distance where Hertz does not hold.
+    pub max_share_non_hertzian: f64,
+    /// The largest p0 Hertz alone would have given (any wheel), MPa.
+    pub max_p0_hertz_mpa: f64,
+    /// Contacts outside Hertz's validity where the strip model found no patch (the overlap wider
+    /// than its window): Hertz's p0 and area kept there.
+    pub patches_unresolved: usize,
+    /// Whether the p0 outside Hertz's validity came from the strip model (false:
+    /// `[contact_forces] patches = "hertz"`, Hertz's everywhere).
+    pub non_hertzian_recomputed: bool,
     pub wheels: Vec<WheelStress>,
 }
 
@@ -127,7 +145,14 @@ pub fn wheel_stress(wheelset: &str, wheel: usize, samples: &[Sample], steel: Rai
         max_fi_surf: f64::NEG_INFINITY,
         share_beyond_shakedown: 0.0,
         share_ratchetting: 0.0,
+        share_non_hertzian: 0.0,
+        max_p0_hertz_mpa: 0.0,
     };
+    for s in samples {
+        if s.normal[wheel] > 0.0 {
+            w.max_p0_hertz_mpa = w.max_p0_hertz_mpa.max(s.max_pressure()[wheel] * 1e-6);
+        }
+    }
     let points: Vec<Option<(f64, f64)>> = samples.iter().map(|s| map_point(s, wheel, steel)).collect();
     for &(mu, pk) in points.iter().flatten() {
         w.max_p0_over_k = w.max_p0_over_k.max(pk);
@@ -139,11 +164,14 @@ pub fn wheel_stress(wheelset: &str, wheel: usize, samples: &[Sample], steel: Rai
             (w.worst_traction, w.worst_p0_over_k, w.worst_load_factor) = (mu, pk, factor);
         }
     }
-    let (mut on_rail, mut beyond, mut ratchet) = (0.0, 0.0, 0.0);
+    let (mut on_rail, mut beyond, mut ratchet, mut non_hertz) = (0.0, 0.0, 0.0, 0.0);
     for (pair, pts) in samples.windows(2).zip(points.windows(2)) {
         let ds = (pair[1].s - pair[0].s).abs();
-        for &(mu, pk) in pts.iter().flatten() {
+        for (k, (mu, pk)) in pts.iter().enumerate().filter_map(|(k, p)| p.map(|p| (k, p))) {
             on_rail += 0.5 * ds;
+            if pair[k].hertz_deviation[wheel] > crate::contact::nonhertz::HERTZ_VALIDITY_LIMIT {
+                non_hertz += 0.5 * ds;
+            }
             if pk > shakedown_limit(mu) {
                 beyond += 0.5 * ds;
             }
@@ -155,6 +183,7 @@ pub fn wheel_stress(wheelset: &str, wheel: usize, samples: &[Sample], steel: Rai
     if on_rail > 0.0 {
         w.share_beyond_shakedown = beyond / on_rail;
         w.share_ratchetting = ratchet / on_rail;
+        w.share_non_hertzian = non_hertz / on_rail;
     }
     if !w.max_fi_surf.is_finite() {
         w.max_fi_surf = 0.0;
@@ -174,6 +203,10 @@ pub fn assess(wheelsets: &[(String, Vec<Sample>)], steel: RailSteel) -> ContactS
         max_p0_mpa: worst.map_or(0.0, |w| w.max_p0_mpa),
         max_wheel: worst.map_or(String::new(), |w| format!("{} {}", w.wheelset, w.wheel)),
         max_share_ratchetting: wheels.iter().map(|w| w.share_ratchetting).fold(0.0, f64::max),
+        max_share_non_hertzian: wheels.iter().map(|w| w.share_non_hertzian).fold(0.0, f64::max),
+        max_p0_hertz_mpa: wheels.iter().map(|w| w.max_p0_hertz_mpa).fold(0.0, f64::max),
+        patches_unresolved: 0,
+        non_hertzian_recomputed: true,
         wheels,
     }
 }
@@ -200,11 +233,33 @@ impl std::fmt::Display for ContactStress {
                 w.wheelset, w.wheel, w.worst_traction, w.worst_p0_over_k, w.worst_load_factor
             )?;
         }
-        writeln!(
+        write!(
             f,
             "; ratchetting (FI_surf = μ − k/p0 > 0) on up to {:.1} % of a wheel's distance",
             100.0 * self.max_share_ratchetting
-        )
+        )?;
+        if self.non_hertzian_recomputed {
+            writeln!(
+                f,
+                "; Hertz outside its validity on up to {:.1} % of a wheel's distance (p0 there from the strip model; Hertz alone: up to {:.0} MPa)",
+                100.0 * self.max_share_non_hertzian,
+                self.max_p0_hertz_mpa
+            )?;
+        } else {
+            writeln!(
+                f,
+                "; Hertz outside its validity on up to {:.1} % of a wheel's distance (patches = \"hertz\": its p0 kept there)",
+                100.0 * self.max_share_non_hertzian
+            )?;
+        }
+        if self.patches_unresolved > 0 {
+            writeln!(
+                f,
+                "  warning: {} contacts outside Hertz's validity had no strip solution (Hertz's p0 kept there)",
+                self.patches_unresolved
+            )?;
+        }
+        Ok(())
     }
 }
 

@@ -34,6 +34,7 @@ pub mod kinematics;
 pub mod linear;
 pub mod multibody;
 pub mod output;
+pub mod patches;
 mod reactions;
 pub mod reference;
 pub mod resistance;

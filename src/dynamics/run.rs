@@ -37,6 +37,9 @@ pub struct RunSettings {
     pub stop: StopConditions,
     /// The threads of the run ([`RunPool::new`]; default: the caller's).
     pub pool: RunPool,
+    /// The profiles the samples' patches are recomputed from where Hertz does not hold
+    /// ([`super::patches`]); None: Hertz's everywhere (a run built without its scene).
+    pub patches: Option<std::sync::Arc<super::patches::PatchPostProcess>>,
 }
 
 /// Conditions that end a run normally, before its duration.
@@ -396,6 +399,11 @@ enum RecordFailure {
 struct Recorder<'v, 'o, 'p> {
     out: Evaluator<'v>,
     r0: f64,
+    patches: Option<std::sync::Arc<super::patches::PatchPostProcess>>,
+    /// Contacts where the strip model found no solution (Hertz's kept).
+    patches_unresolved: usize,
+    /// Each wheelset's wheels' last approach (the strip model's warm start).
+    patch_warm: Vec<[Option<f64>; 2]>,
     wheelsets: Vec<(String, Vec<Sample>)>,
     bodies: Vec<(String, Vec<(f64, BodySample)>)>,
     /// Per floor point: its accelerations at each sample.
@@ -412,6 +420,12 @@ impl Recorder<'_, '_, '_> {
             .iter()
             .map(|w| Sample::new(t, w, self.r0).with_traction(&s.traction))
             .collect();
+        if let Some(p) = &self.patches {
+            self.patch_warm.resize(row.len(), [None; 2]);
+            for (w, warm) in row.iter_mut().zip(self.patch_warm.iter_mut()) {
+                self.patches_unresolved += p.apply(w, warm);
+            }
+        }
         for (k, w) in row.iter_mut().enumerate() {
             w.set_wear_number_2m(&self.wheelsets[k].1);
             self.wheelsets[k].1.push(*w);
@@ -475,6 +489,9 @@ fn run_here(
     let mut recorder = Recorder {
         out: Evaluator::new(vehicle),
         r0,
+        patches: settings.patches.clone(),
+        patches_unresolved: 0,
+        patch_warm: Vec::new(),
         wheelsets: names.iter().map(|n| (n.clone(), Vec::new())).collect(),
         bodies: body_names.iter().map(|n| (n.clone(), Vec::new())).collect(),
         floor: floor_points.iter().map(|p| (p.clone(), Vec::new())).collect(),
@@ -577,6 +594,7 @@ fn run_here(
         bodies,
         floor,
         observers,
+        patches_unresolved,
         ..
     } = recorder;
     let wall_s = t_run.elapsed().as_secs_f64();
@@ -638,10 +656,10 @@ fn run_here(
     }
     if wheelsets.iter().any(|w| !w.1.is_empty()) {
         summary.wear = Some(super::wear::assess(&wheelsets));
-        summary.contact_stress = Some(super::contact_stress::assess(
-            &wheelsets,
-            super::contact_stress::R260,
-        ));
+        let mut stress = super::contact_stress::assess(&wheelsets, super::contact_stress::R260);
+        stress.patches_unresolved = patches_unresolved;
+        stress.non_hertzian_recomputed = settings.patches.as_ref().is_some_and(|p| p.recompute);
+        summary.contact_stress = Some(stress);
     }
     summary.comfort = super::ride::assess(&floor, settings.record_rate_hz);
     let curves = super::resistance::curves(vehicle.reference().track.as_deref());

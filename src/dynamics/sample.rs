@@ -79,6 +79,17 @@ pub struct Sample {
     /// track up to this sample (EN 14363's window, as Y/Q's), N: set by the run from the samples
     /// before it ([`Sample::set_wear_number_2m`]); over the first 2 m, the mean of what there is.
     pub tgamma_2m: [f64; 2],
+    /// Each wheel's maximum contact pressure from the patch model valid at its contact, Pa: Hertz's
+    /// p0 where Hertz holds, the strip model's pmax where it does not (0: not assessed — a run
+    /// without the profiles; [`Self::contact_pressure`] then falls back to Hertz).
+    pub pmax: [f64; 2],
+    /// Each wheel's contact area from the same model, m² (0: not assessed).
+    pub contact_area: [f64; 2],
+    /// Hertz's gap deviation D at each wheel's contact
+    /// ([`crate::contact::nonhertz::validity`]; NaN: not assessed, off the rail).
+    pub hertz_deviation: [f64; 2],
+    /// Patches the strip model found at each wheel (0 where Hertz holds or not assessed).
+    pub patches: [u8; 2],
 }
 
 impl Sample {
@@ -116,7 +127,39 @@ impl Sample {
             semi_axes: d.semi_axes.map(|(a, b)| [a, b]),
             spin_moment: [d.creep[0].mz, d.creep[1].mz],
             tgamma_2m: [0.0; 2],
+            pmax: [0.0; 2],
+            contact_area: [0.0; 2],
+            hertz_deviation: [f64::NAN; 2],
+            patches: [0; 2],
         }
+    }
+
+    /// Each wheel's maximum contact pressure from the model valid at its contact ([`Self::pmax`]),
+    /// Hertz's p0 where none was assessed, Pa (0 for a lifted wheel).
+    pub fn contact_pressure(&self) -> [f64; 2] {
+        let hertz = self.max_pressure();
+        [0, 1].map(|i| {
+            if self.normal[i] <= 0.0 {
+                0.0
+            } else if self.pmax[i] > 0.0 {
+                self.pmax[i]
+            } else {
+                hertz[i]
+            }
+        })
+    }
+
+    /// Each wheel's contact area ([`Self::contact_area`]), the Hertz ellipse's πab where none was
+    /// assessed, m².
+    pub fn patch_area(&self) -> [f64; 2] {
+        [0, 1].map(|i| {
+            if self.contact_area[i] > 0.0 {
+                self.contact_area[i]
+            } else {
+                let [a, b] = self.semi_axes[i];
+                std::f64::consts::PI * a * b
+            }
+        })
     }
 
     /// The sample with the vehicle's traction (force and power) and speed of its evaluation.
@@ -212,6 +255,8 @@ impl Unit {
     pub const N_M: Unit = Unit::new("n_m", "N m", 1.0);
     /// Kilowatt (power).
     pub const KW: Unit = Unit::new("kw", "kW", 1e-3);
+    /// Square millimetre (contact area).
+    pub const MM2: Unit = Unit::new("mm2", "mm²", 1e6);
 
     const fn new(suffix: &'static str, label: &'static str, per_si: f64) -> Unit {
         Unit {
@@ -651,6 +696,36 @@ pub const QUANTITIES: &[Quantity] = &[
         csv: Csv::Columns("traction_power", Unit::KW),
         series: vehicle_own("traction_power", Unit::KW, "traction power"),
     },
+    // Issue 49: the patch beyond Hertz (appended: the columns before keep their places).
+    Quantity {
+        name: "maximum contact pressure (Hertz where valid, else the strip model)",
+        value: Value::Wheels(Sample::contact_pressure),
+        csv: Csv::Columns("pmax", Unit::MPA),
+        series: plot(
+            "pmax",
+            Unit::MPA,
+            "max. contact pressure (valid model)",
+            Panel::Wear,
+        ),
+    },
+    Quantity {
+        name: "contact area (Hertz where valid, else the strip model)",
+        value: Value::Wheels(Sample::patch_area),
+        csv: Csv::Columns("contact_area", Unit::MM2),
+        series: None,
+    },
+    Quantity {
+        name: "Hertz's gap deviation D over its patch",
+        value: Value::Wheels(|s| s.hertz_deviation),
+        csv: Csv::Columns("hertz_dev", Unit::RATIO),
+        series: None,
+    },
+    Quantity {
+        name: "patches of the strip model",
+        value: Value::Wheels(|s| s.patches.map(f64::from)),
+        csv: Csv::Columns("patches", Unit::RATIO),
+        series: None,
+    },
 ];
 
 #[cfg(test)]
@@ -687,6 +762,10 @@ impl Sample {
             semi_axes: [[0.0; 2]; 2],
             spin_moment: [0.0; 2],
             tgamma_2m: [0.0; 2],
+            pmax: [0.0; 2],
+            contact_area: [0.0; 2],
+            hertz_deviation: [f64::NAN; 2],
+            patches: [0; 2],
         }
     }
 
@@ -721,6 +800,10 @@ impl Sample {
             semi_axes: [[6.1e-3, 4.1e-3], [7.1e-3, 3.1e-3]],
             spin_moment: [11.0, -13.0],
             tgamma_2m: [7.5, 12.5],
+            pmax: [1.2e9, 0.9e9],
+            contact_area: [80e-6, 70e-6],
+            hertz_deviation: [0.125, 0.5],
+            patches: [1, 2],
         }
     }
 }

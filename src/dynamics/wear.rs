@@ -84,8 +84,8 @@ pub fn usfd_wear_rate(index_n_mm2: f64) -> f64 {
 /// the mass it loses per metre rolled K·A (µg/m = mg/km); (0, 0) for a wheel off its rail or
 /// without a patch.
 pub fn wear_of(sample: &Sample, wheel: usize) -> (f64, f64) {
-    let [a, b] = sample.semi_axes[wheel];
-    let area_mm2 = std::f64::consts::PI * a * b * 1e6;
+    // The patch's real area where Hertz does not hold (the strip model's), else Hertz's πab.
+    let area_mm2 = sample.patch_area()[wheel] * 1e6;
     if sample.normal[wheel] <= 0.0 || area_mm2.is_nan() || area_mm2 <= 0.0 {
         return (0.0, 0.0);
     }

@@ -785,14 +785,25 @@ fn solve(
             side,
             message: e.to_string(),
         })?;
-        patch0[i] = Some(
-            ContactPatch::from_hertz(&hertz, &forces.material, forces.friction, &forces.kalker).map_err(
-                |e| WheelsetError::Contact {
-                    side,
-                    message: e.to_string(),
-                },
-            )?,
-        );
+        let strip = forces.patches.as_ref().and_then(|dp| {
+            let e_star = forces.material.contact_modulus(&forces.material);
+            dp.ellipse(Side::BOTH[i], c, hertz.b, hertz.normal_force, e_star)
+        });
+        let patch = match strip {
+            Some((a, b)) => ContactPatch::new(
+                a,
+                b,
+                hertz.normal_force,
+                forces.material.shear_modulus(),
+                forces.friction,
+                &forces.kalker,
+            ),
+            None => ContactPatch::from_hertz(&hertz, &forces.material, forces.friction, &forces.kalker),
+        };
+        patch0[i] = Some(patch.map_err(|e| WheelsetError::Contact {
+            side,
+            message: e.to_string(),
+        })?);
     }
     let lu = Reactions::new(matrix(inertia, &geo, &kin, lifts, track));
     let lift_gap = lifts.map(|l| l.map_or(0.0, |l| l.gap()));

@@ -30,9 +30,11 @@ pub fn blueprint() -> Layout {
     let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
     let side_views = |side: &str| -> Container {
         Container::vertical([
-            View::spatial2d(&format!("{side}: profiles and pressure along the rail (1 mm = {MPA_PER_MM} MPa)"))
-                .origin(format!("/patch/section/{side}"))
-                .into(),
+            View::spatial2d(&format!(
+                "{side}: profiles and pressure along the rail (1 mm = {MPA_PER_MM} MPa)"
+            ))
+            .origin(format!("/patch/section/{side}"))
+            .into(),
             View::spatial2d(&format!("{side}: patches from above (x rolling, lateral up), mm"))
                 .origin(format!("/patch/shape/{side}"))
                 .into(),
@@ -106,19 +108,30 @@ fn shape_outline(p: &PatchResult) -> Vec<[f32; 2]> {
                 .iter()
                 .map(|s| s.half_length * s.half_length * s.width * s.w)
                 .sum::<f64>()
-                / sp
-                    .strips
+                / sp.strips
                     .iter()
                     .map(|s| s.half_length * s.half_length * s.width)
                     .sum::<f64>();
             let mut lat = Vec::with_capacity(sp.strips.len());
-            let mut acc = -sp.strips.iter().take_while(|s| s.w < w0).map(|s| s.width).sum::<f64>();
+            let mut acc = -sp
+                .strips
+                .iter()
+                .take_while(|s| s.w < w0)
+                .map(|s| s.width)
+                .sum::<f64>();
             for s in &sp.strips {
                 lat.push((acc + 0.5 * s.width, s.half_length));
                 acc += s.width;
             }
-            let mut pts: Vec<[f32; 2]> = lat.iter().map(|(y, l)| [(l * 1e3) as f32, (-y * 1e3) as f32]).collect();
-            pts.extend(lat.iter().rev().map(|(y, l)| [(-l * 1e3) as f32, (-y * 1e3) as f32]));
+            let mut pts: Vec<[f32; 2]> = lat
+                .iter()
+                .map(|(y, l)| [(l * 1e3) as f32, (-y * 1e3) as f32])
+                .collect();
+            pts.extend(
+                lat.iter()
+                    .rev()
+                    .map(|(y, l)| [(-l * 1e3) as f32, (-y * 1e3) as f32]),
+            );
             if let Some(f) = pts.first().copied() {
                 pts.push(f);
             }
@@ -183,8 +196,24 @@ pub fn record(
                 }
             }
         }
-        send_scalar_columns(rec, TIMELINE, &format!("patch/pmax_mpa/{}", side.name()), &ys, pmax, &name_refs, colors.clone())?;
-        send_scalar_columns(rec, TIMELINE, &format!("patch/fn_kn/{}", side.name()), &ys, fnk, &name_refs, colors)?;
+        send_scalar_columns(
+            rec,
+            TIMELINE,
+            &format!("patch/pmax_mpa/{}", side.name()),
+            &ys,
+            pmax,
+            &name_refs,
+            colors.clone(),
+        )?;
+        send_scalar_columns(
+            rec,
+            TIMELINE,
+            &format!("patch/fn_kn/{}", side.name()),
+            &ys,
+            fnk,
+            &name_refs,
+            colors,
+        )?;
     }
     for sh in shifts {
         rec.set_time_sequence(TIMELINE, tick(sh.y));
@@ -203,13 +232,24 @@ pub fn record(
             let (w0, w1) = pair.wheel.domain_side(*side);
             let wheel: Vec<[f32; 2]> = (0..=600)
                 .map(|k| w0 + (w1 - w0) * k as f64 / 600.0)
-                .map(|s| pair.wheelset.wheel_point(&pair.wheel, *side, s, sh.y, sh.z, sh.roll))
+                .map(|s| {
+                    pair.wheelset
+                        .wheel_point(&pair.wheel, *side, s, sh.y, sh.z, sh.roll)
+                })
                 .filter(|p| (p.0 - cy).abs() < 0.04)
                 .map(|p| super::section_mm(p.0, p.1))
                 .collect();
             if sh.model == PatchModel::ALL[0] || !shifts.iter().any(|s| s.model == PatchModel::ALL[0]) {
-                log(rec, &format!("{base}/rail"), &LineStrips2D::new([rail]).with_colors([Color::from_rgb(150, 150, 150)]))?;
-                log(rec, &format!("{base}/wheel"), &LineStrips2D::new([wheel]).with_colors([Color::from_rgb(110, 110, 120)]))?;
+                log(
+                    rec,
+                    &format!("{base}/rail"),
+                    &LineStrips2D::new([rail]).with_colors([Color::from_rgb(150, 150, 150)]),
+                )?;
+                log(
+                    rec,
+                    &format!("{base}/wheel"),
+                    &LineStrips2D::new([wheel]).with_colors([Color::from_rgb(110, 110, 120)]),
+                )?;
             }
             // Each patch's pressure along the rail normal.
             let mut lines = Vec::new();

@@ -68,6 +68,10 @@ pub struct ContactForcesSpec {
     pub poisson_ratio: f64,
     #[serde(default)]
     pub creep: CreepModel,
+    /// `patches = "post" | "dynamics" | "hertz"`: where the strip model replaces Hertz outside
+    /// its validity ([`crate::contact::nonhertz::PatchesMode`]).
+    #[serde(default)]
+    pub patches: crate::contact::nonhertz::PatchesMode,
 }
 
 impl Default for ContactForcesSpec {
@@ -77,6 +81,7 @@ impl Default for ContactForcesSpec {
             young_modulus_pa: default_young(),
             poisson_ratio: default_poisson(),
             creep: CreepModel::default(),
+            patches: Default::default(),
         }
     }
 }
@@ -372,6 +377,12 @@ impl Scenario {
         };
         let pair = WheelRailPair::new(wheel, rail, inclination, gauge, wheelset)
             .map_err(|e| invalid(vec![e.to_string()]))?;
+        let mut contact_forces = contact_forces;
+        if self.contact_forces.patches == crate::contact::nonhertz::PatchesMode::Dynamics {
+            contact_forces.patches = Some(std::sync::Arc::new(
+                crate::contact::nonhertz::DynamicPatches::new(pair.clone()),
+            ));
+        }
         if let Some(t) = &track {
             inputs.extend(t.source_files.iter().cloned());
         }
@@ -381,6 +392,7 @@ impl Scenario {
             origin: origin.to_string(),
             pair,
             contact_forces,
+            patches: self.contact_forces.patches,
             track,
             simulation,
             warnings,

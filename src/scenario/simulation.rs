@@ -435,6 +435,7 @@ impl SimulationSpec {
                 lateral_m: self.stop_lateral_m,
             },
             pool: RunPool::default(),
+            patches: None,
         }
     }
 }
@@ -447,6 +448,8 @@ pub struct Scene {
     pub origin: String,
     pub pair: WheelRailPair,
     pub contact_forces: ContactForceSettings,
+    /// `[contact_forces] patches`: where the strip model replaces Hertz.
+    pub patches: crate::contact::nonhertz::PatchesMode,
     pub track: Option<Arc<Track>>,
     /// The simulation and its vehicle, when the scenario has both.
     pub simulation: Option<(SimulationSpec, VehicleSpec)>,
@@ -848,6 +851,10 @@ impl Scene {
         ));
         let mut settings = sim.run_settings(&self.name);
         settings.integrator.cancel = options.cancel.clone();
+        settings.patches = Some(std::sync::Arc::new(crate::dynamics::patches::PatchPostProcess {
+            recompute: self.patches != crate::contact::nonhertz::PatchesMode::Hertz,
+            ..crate::dynamics::patches::PatchPostProcess::new(self.pair.clone(), self.contact_forces.material)
+        }));
         Ok(BuiltRun {
             vehicle,
             settings,

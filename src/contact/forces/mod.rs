@@ -165,6 +165,9 @@ pub struct ContactForceSettings {
     pub material: Material,
     /// Kalker's table for the material's Poisson's ratio.
     pub kalker: KalkerTable,
+    /// The strip model in the dynamics where Hertz does not hold (`[contact_forces] patches =
+    /// "dynamics"`); None: Hertz's ellipse everywhere in the dynamics.
+    pub patches: Option<std::sync::Arc<crate::contact::nonhertz::DynamicPatches>>,
 }
 
 impl ContactForceSettings {
@@ -215,6 +218,7 @@ impl ContactForceSettings {
                 friction,
                 material,
                 kalker: KalkerTable::new(material.poisson),
+                patches: None,
             })
         } else {
             Err(p)

@@ -70,12 +70,14 @@ struct Graph {
     w: Vec<f64>,
     v: Vec<f64>,
     s: Vec<f64>,
+    /// A profile value carried along (the rail's slope dz/ds, the wheel's z).
+    x: Vec<f64>,
 }
 
 impl Graph {
     /// The part of the sampled curve (s_i, w_i, v_i), ordered by s, that is a graph in w
     /// (w increasing) and contains sample `c`.
-    fn monotone_around(s: Vec<f64>, w: Vec<f64>, v: Vec<f64>, c: usize) -> Graph {
+    fn monotone_around(s: Vec<f64>, w: Vec<f64>, v: Vec<f64>, x: Vec<f64>, c: usize) -> Graph {
         let n = w.len();
         let mut lo = c;
         while lo > 0 && w[lo - 1] < w[lo] {
@@ -89,11 +91,12 @@ impl Graph {
             w: w[lo..=hi].to_vec(),
             v: v[lo..=hi].to_vec(),
             s: s[lo..=hi].to_vec(),
+            x: x[lo..=hi].to_vec(),
         }
     }
 
     /// Linear interpolation of (v, s) at `x`, walking the cursor `k` forwards (x increasing).
-    fn at(&self, x: f64, k: &mut usize) -> (f64, f64) {
+    fn at(&self, x: f64, k: &mut usize) -> (f64, f64, f64) {
         while *k + 2 < self.w.len() && self.w[*k + 1] < x {
             *k += 1;
         }
@@ -102,6 +105,7 @@ impl Graph {
         (
             self.v[*k] + t * (self.v[*k + 1] - self.v[*k]),
             self.s[*k] + t * (self.s[*k + 1] - self.s[*k]),
+            self.x[*k] + t * (self.x[*k + 1] - self.x[*k]),
         )
     }
 }
@@ -165,10 +169,11 @@ impl GapSection {
         let (w0, _) = to_uv(c);
         let half_window = half_window.clamp(GAP_STEP_M * 10.0, 0.1);
         let n_half = (half_window / GAP_STEP_M).round() as usize;
-        let sample = |centre: f64, domain: (f64, f64), f: &dyn Fn(f64) -> (f64, f64)| {
+        let sample = |centre: f64, domain: (f64, f64), f: &dyn Fn(f64) -> ((f64, f64), f64)| {
             let mut s = Vec::with_capacity(2 * n_half + 1);
             let mut w = Vec::with_capacity(2 * n_half + 1);
             let mut v = Vec::with_capacity(2 * n_half + 1);
+            let mut x = Vec::with_capacity(2 * n_half + 1);
             let mut c_idx = 0;
             for i in 0..=2 * n_half {
                 let si = centre + (i as f64 - n_half as f64) * GAP_STEP_M;
@@ -178,27 +183,31 @@ impl GapSection {
                 if i == n_half {
                     c_idx = s.len();
                 }
-                let (wi, vi) = to_uv(f(si));
+                let (p, xi) = f(si);
+                let (wi, vi) = to_uv(p);
                 s.push(si);
                 w.push(wi - w0);
                 v.push(vi);
+                x.push(xi);
             }
-            (s, w, v, c_idx)
+            (s, w, v, x, c_idx)
         };
-        let rail_xy = |s: f64| (s, rail.eval_side(side, s).z);
+        let rail_xy = |s: f64| {
+            let p = rail.eval_side(side, s);
+            ((s, p.z), p.dz)
+        };
         let wheel_xy = |s: f64| {
-            let dz = wheel.eval_side(side, s).z - pw.z;
+            let z = wheel.eval_side(side, s).z;
+            let dz = z - pw.z;
             let ds = s - s_wheel;
-            (c.0 + ct * ds - st * dz, c.1 + st * ds + ct * dz)
+            ((c.0 + ct * ds - st * dz, c.1 + st * ds + ct * dz), z)
         };
-        let (s, w, v, ci) = sample(s_rail, rail.domain_side(side), &rail_xy);
-        let rg = Graph::monotone_around(s, w, v, ci);
-        let (s, w, v, ci) = sample(s_wheel, wheel.domain_side(side), &wheel_xy);
-        let wg = Graph::monotone_around(s, w, v, ci);
+        let (s, w, v, x, ci) = sample(s_rail, rail.domain_side(side), &rail_xy);
+        let rg = Graph::monotone_around(s, w, v, x, ci);
+        let (s, w, v, x, ci) = sample(s_wheel, wheel.domain_side(side), &wheel_xy);
+        let wg = Graph::monotone_around(s, w, v, x, ci);
         let lo = rg.w[0].max(wg.w[0]).max(-half_window);
-        let hi = rg.w[rg.w.len() - 1]
-            .min(wg.w[wg.w.len() - 1])
-            .min(half_window);
+        let hi = rg.w[rg.w.len() - 1].min(wg.w[wg.w.len() - 1]).min(half_window);
         if !(lo < -GAP_STEP_M && hi > GAP_STEP_M) {
             return Err(GapError::Folded(1e3 * lo.abs().min(hi.abs())));
         }
@@ -219,18 +228,17 @@ impl GapSection {
         let sigma = side.sign();
         for i in i_lo..=i_hi {
             let x = i as f64 * GAP_STEP_M;
-            let (vr, sr) = rg.at(x, &mut kr);
-            let (vw, sw) = wg.at(x, &mut kw);
-            let p = rail.eval_side(side, sr);
+            let (vr, sr, dzr) = rg.at(x, &mut kr);
+            let (vw, sw, zw) = wg.at(x, &mut kw);
             // Rail slope against w: the profile's slope angle less the approach angle.
-            let slope = p.dz.atan() + approach_angle;
+            let slope = dzr.atan() + approach_angle;
             out.w.push(x);
             out.gap.push(vw - vr);
             out.s_rail.push(sr);
             out.s_wheel.push(sw);
             out.cos_slope.push(slope.cos().max(1e-3));
-            out.contact_angle.push(sigma * p.dz.atan() + rail_angle * sigma);
-            out.radius.push(nominal_radius - wheel.eval_side(side, sw).z);
+            out.contact_angle.push(sigma * dzr.atan() + rail_angle * sigma);
+            out.radius.push(nominal_radius - zw);
         }
         Ok(out)
     }
@@ -241,11 +249,7 @@ impl GapSection {
         let g = &self.gap;
         let n = g.len();
         let mut m: Vec<usize> = (0..n)
-            .filter(|&i| {
-                g[i] < limit
-                    && (i == 0 || g[i] <= g[i - 1])
-                    && (i + 1 == n || g[i] < g[i + 1])
-            })
+            .filter(|&i| g[i] < limit && (i == 0 || g[i] <= g[i - 1]) && (i + 1 == n || g[i] < g[i + 1]))
             .collect();
         m.sort_by(|&a, &b| g[a].total_cmp(&g[b]));
         m

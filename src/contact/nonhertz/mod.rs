@@ -9,11 +9,13 @@
 //! Kalker coefficients made of it — are not the patch's. The strip model works from the gap
 //! itself and reduces to Hertz on a quadratic gap.
 
+pub mod dynamics;
 pub mod gap;
 pub mod strips;
 pub mod sweep;
 pub mod validity;
 
+pub use dynamics::{DynamicPatches, PatchesMode};
 pub use gap::{GapError, GapInput, GapSection};
 pub use strips::{StripError, StripPatch, StripSettings};
 pub use validity::{hertz_deviation, HERTZ_VALIDITY_LIMIT};

@@ -149,7 +149,9 @@ pub enum StripError {
     Window(f64),
     #[error("non-Hertzian patch: no overlap carries the load (approach {0:.3e} m)")]
     NoPatch(f64),
-    #[error("non-Hertzian patch: the approach did not converge in {0} iterations (load {1:.4e} of {2:.4e} N)")]
+    #[error(
+        "non-Hertzian patch: the approach did not converge in {0} iterations (load {1:.4e} of {2:.4e} N)"
+    )]
     NoConvergence(usize, f64, f64),
 }
 
@@ -238,10 +240,7 @@ fn band_integral(l: f64, d_lo: f64, d_hi: f64, gl: &[(f64, f64)]) -> f64 {
 /// The Hertz-matching factors (ε, c_x) for relative curvatures (A, B) (module documentation).
 fn hertz_factors(a_curv: f64, b_curv: f64) -> Option<(f64, f64)> {
     let h = HertzContact::solve(
-        RelativeCurvature {
-            a: a_curv,
-            b: b_curv,
-        },
+        RelativeCurvature { a: a_curv, b: b_curv },
         1.0,
         &Material::STEEL,
         &Material::STEEL,
@@ -393,7 +392,10 @@ fn patches_at(
         }
         if let Some(s) = shape(sec, arc, c, delta, settings)? {
             // A later (shallower) minimum whose region swallows an earlier patch is the same patch.
-            if shapes.iter().any(|o| sec.w[o.centre] >= s.lo && sec.w[o.centre] <= s.hi) {
+            if shapes
+                .iter()
+                .any(|o| sec.w[o.centre] >= s.lo && sec.w[o.centre] <= s.hi)
+            {
                 continue;
             }
             shapes.push(s);
@@ -425,7 +427,10 @@ fn patches_at(
             }
         }
         let p = solve_small(m, d);
-        if let Some(worst) = (0..k).filter(|&j| !(p[j] > 0.0)).min_by(|&a, &b| p[a].total_cmp(&p[b])) {
+        if let Some(worst) = (0..k)
+            .filter(|&j| !(p[j] > 0.0))
+            .min_by(|&a, &b| p[a].total_cmp(&p[b]))
+        {
             shapes.remove(worst);
             continue;
         }
@@ -477,17 +482,29 @@ pub fn solve(
     e_star: f64,
     settings: &StripSettings,
 ) -> Result<Vec<StripPatch>, StripError> {
+    solve_from(sec, load, e_star, settings, None).map(|(p, _)| p)
+}
+
+/// [`solve`] from a guess of the rigid approach δ along u (m; e.g. the previous sample's), and
+/// the approach it found. The approach is found by the secant method on ln F(ln δ) (F ∝ δ^{3/2}
+/// for Hertz, closer to δ for a conformal patch), safeguarded by bisection once bracketed.
+pub fn solve_from(
+    sec: &GapSection,
+    load: f64,
+    e_star: f64,
+    settings: &StripSettings,
+    guess: Option<f64>,
+) -> Result<(Vec<StripPatch>, f64), StripError> {
     if !(load.is_finite() && load > 0.0) {
         return Err(StripError::Load(load));
     }
     let arc = arc_lengths(sec);
     let gl = gauss_legendre_half_pi(settings.nodes.max(4));
-    let candidates: Vec<usize> = sec
+    let mut candidates: Vec<usize> = sec
         .minima(sec.gap[sec.contact].max(0.0) + settings.candidate_gap_m)
         .into_iter()
         .filter(|&i| i > 0 && i + 1 < sec.w.len())
         .collect();
-    let mut candidates = candidates;
     if !candidates.contains(&sec.contact) {
         candidates.insert(0, sec.contact);
     }
@@ -500,35 +517,53 @@ pub fn solve(
             .sum();
         Ok((f, shapes, p))
     };
-    // Hertz: F ∝ δ^{3/2}; safeguarded by a bracket once one is known.
     let gmin = sec.gap[sec.contact].max(0.0);
-    let mut delta = gmin + 2e-5;
-    let (mut lo, mut hi) = (gmin, f64::INFINITY);
+    // x = ln(δ − g_min), the secant's variable.
+    let mut x = guess
+        .filter(|g| g.is_finite() && *g > gmin)
+        .map_or((2e-5f64).ln(), |g| (g - gmin).ln());
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    let mut prev: Option<(f64, f64)> = None;
     let max_iter = 80;
     let mut last = (0.0, Vec::new(), Vec::new());
+    let target = load.ln();
     for _ in 0..max_iter {
+        let delta = gmin + x.exp();
         last = total(delta)?;
         let f = last.0;
         if (f / load - 1.0).abs() < 1e-6 {
-            return Ok(build(sec, &last.1, &last.2));
+            return Ok((build(sec, &last.1, &last.2), delta));
         }
         if f < load {
-            lo = lo.max(delta);
+            lo = lo.max(x);
         } else {
-            hi = hi.min(delta);
+            hi = hi.min(x);
         }
-        let mut next = if f > 0.0 {
-            gmin + (delta - gmin) * (load / f).powf(2.0 / 3.0)
+        let next = if f > 0.0 {
+            let lf = f.ln();
+            let slope = match prev {
+                Some((px, pf)) if (x - px).abs() > 1e-12 && (lf - pf).abs() > 1e-12 => {
+                    ((lf - pf) / (x - px)).clamp(0.3, 3.0)
+                }
+                _ => 1.5,
+            };
+            prev = Some((x, lf));
+            x + (target - lf) / slope
         } else {
-            gmin + 2.0 * (delta - gmin)
+            x + std::f64::consts::LN_2
         };
-        if !(next > lo && next < hi) {
-            next = if hi.is_finite() { 0.5 * (lo + hi) } else { gmin + 2.0 * (lo - gmin) };
-        }
-        delta = next;
+        x = if next > lo && next < hi {
+            next
+        } else if lo.is_finite() && hi.is_finite() {
+            0.5 * (lo + hi)
+        } else if f < load {
+            x + 1.0
+        } else {
+            x - 1.0
+        };
     }
     if last.1.is_empty() {
-        return Err(StripError::NoPatch(delta));
+        return Err(StripError::NoPatch(gmin + x.exp()));
     }
     Err(StripError::NoConvergence(max_iter, last.0, load))
 }
@@ -580,7 +615,7 @@ mod tests {
     fn circle(kind: ProfileKind, r: f64) -> Profile {
         let n = 2001;
         let s: Vec<f64> = (0..n)
-              .map(|i| 0.8 * r.min(0.05) * (2.0 * i as f64 / (n - 1) as f64 - 1.0))
+            .map(|i| 0.8 * r.min(0.05) * (2.0 * i as f64 / (n - 1) as f64 - 1.0))
             .collect();
         let sign = if kind == ProfileKind::Rail { -1.0 } else { 1.0 };
         let z = s.iter().map(|s| sign * (r - (r * r - s * s).sqrt())).collect();
@@ -644,12 +679,27 @@ mod tests {
             };
             let h = HertzContact::solve(curv, n, &Material::STEEL, &Material::STEEL).unwrap();
             let rel = |x: f64, y: f64| (x / y - 1.0).abs();
-            assert!(rel(p.max_pressure, h.max_pressure) < 5e-3, "{r_wheel_lat}/{r_rail}: p0 {} vs Hertz {}", p.max_pressure, h.max_pressure);
+            assert!(
+                rel(p.max_pressure, h.max_pressure) < 5e-3,
+                "{r_wheel_lat}/{r_rail}: p0 {} vs Hertz {}",
+                p.max_pressure,
+                h.max_pressure
+            );
             assert!(rel(p.normal_force, n) < 1e-6);
             assert!(rel(0.5 * p.width, h.b) < 5e-3, "b {} vs {}", 0.5 * p.width, h.b);
             assert!(rel(0.5 * p.length, h.a) < 5e-3, "a {} vs {}", 0.5 * p.length, h.a);
-            assert!(rel(p.area, std::f64::consts::PI * h.a * h.b) < 1.5e-2, "area {} vs {}", p.area, std::f64::consts::PI * h.a * h.b);
-            assert!(rel(p.approach, h.penetration) < 5e-3, "δ {} vs {}", p.approach, h.penetration);
+            assert!(
+                rel(p.area, std::f64::consts::PI * h.a * h.b) < 1.5e-2,
+                "area {} vs {}",
+                p.area,
+                std::f64::consts::PI * h.a * h.b
+            );
+            assert!(
+                rel(p.approach, h.penetration) < 5e-3,
+                "δ {} vs {}",
+                p.approach,
+                h.penetration
+            );
         }
     }
 }
@@ -668,23 +718,52 @@ mod timing {
         let rail = StandardProfile::Rail60E1.profile();
         let e_star = Material::STEEL.contact_modulus(&Material::STEEL);
         for (sw, sr) in [(0.003, -0.003), (-0.03, -0.031)] {
-            let input = GapInput { side: Side::Left, s_wheel: sw, s_rail: sr, nominal_radius: 0.46, rail_angle: 0.025, approach_angle: 0.0, half_window: GAP_WINDOW_M };
+            let input = GapInput {
+                side: Side::Left,
+                s_wheel: sw,
+                s_rail: sr,
+                nominal_radius: 0.46,
+                rail_angle: 0.025,
+                approach_angle: 0.0,
+                half_window: GAP_WINDOW_M,
+            };
             let t = std::time::Instant::now();
             let n = 200;
             let mut sec = None;
-            for _ in 0..n { sec = Some(GapSection::new(&wheel, &rail, &input).unwrap()); }
+            for _ in 0..n {
+                sec = Some(GapSection::new(&wheel, &rail, &input).unwrap());
+            }
             let t_gap = t.elapsed().as_secs_f64() / n as f64;
             let sec = sec.unwrap();
             let t = std::time::Instant::now();
             let mut r = Vec::new();
-            for _ in 0..n { r = solve(&sec, 50e3, e_star, &StripSettings::default()).unwrap_or_default(); }
+            for _ in 0..n {
+                r = solve(&sec, 50e3, e_star, &StripSettings::default()).unwrap_or_default();
+            }
             let t_solve = t.elapsed().as_secs_f64() / n as f64;
-            println!("gap {:.1} µs, solve {:.1} µs, patches {}, pmax {:.1}", t_gap * 1e6, t_solve * 1e6, r.len(), r[0].max_pressure * 1e-6);
+            println!(
+                "gap {:.1} µs, solve {:.1} µs, patches {}, pmax {:.1}",
+                t_gap * 1e6,
+                t_solve * 1e6,
+                r.len(),
+                r[0].max_pressure * 1e-6
+            );
             for (strips, nodes) in [(24, 8), (32, 8), (24, 6), (16, 6), (80, 16)] {
-                let st = StripSettings { strips, nodes, ..StripSettings::default() };
+                let st = StripSettings {
+                    strips,
+                    nodes,
+                    ..StripSettings::default()
+                };
                 let t = std::time::Instant::now();
-                for _ in 0..n { r = solve(&sec, 50e3, e_star, &st).unwrap_or_default(); }
-                println!("  {strips}/{nodes}: {:.1} µs pmax {:.1} area {:.3}", t.elapsed().as_secs_f64() / n as f64 * 1e6, r[0].max_pressure * 1e-6, r[0].area * 1e6);
+                for _ in 0..n {
+                    r = solve(&sec, 50e3, e_star, &st).unwrap_or_default();
+                }
+                println!(
+                    "  {strips}/{nodes}: {:.1} µs pmax {:.1} area {:.3}",
+                    t.elapsed().as_secs_f64() / n as f64 * 1e6,
+                    r[0].max_pressure * 1e-6,
+                    r[0].area * 1e6
+                );
             }
         }
     }

@@ -38,6 +38,9 @@ use crate::contact::ContactPoint;
 use crate::profile::placement::WheelRailPair;
 use crate::track::{RailOffsets, Side};
 
+/// A contact within this of the flange tip's radius is on the tip (the wheel derailed), m.
+pub const FLANGE_TIP_M: f64 = 5e-4;
+
 /// The patch model: Hertz at the rigid contact point, or the strip model from the gap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PatchModel {
@@ -188,6 +191,33 @@ fn patches_with(
 ) -> Result<ShiftPatches, PatchSweepError> {
     let off = RailOffsets::default();
     let sol = geometry.solve(y, &off).map_err(|e| err(y, e))?;
+    // On or past the flange tip (within [`FLANGE_TIP_M`] of the wheel's largest radius, on its
+    // flange side — left-side orientation s < 0): the wheelset has climbed over its flange.
+    let (ks, kz) = pair.wheel.knots();
+    let tip = ks
+        .iter()
+        .zip(kz)
+        .filter(|(s, _)| **s < 0.0)
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(s, z)| (*s, *z));
+    if let Some((tip_s, tip_z)) = tip {
+        for side in Side::BOTH {
+            let sw = side.sign() * sol.point(side).s_wheel;
+            let z = pair.wheel.eval(sw).z;
+            if sw < 0.0 && (sw < tip_s || z < tip_z + FLANGE_TIP_M) {
+                return Err(err(
+                    y,
+                    format!(
+                        "the {} wheel rides on its flange tip (contact at s_w = {:.2} mm, {:.2} mm below the tip's radius; the tip at s_w = {:.2} mm): the wheelset has climbed over its flange — give a smaller shift",
+                        side.name(),
+                        sol.point(side).s_wheel * 1e3,
+                        (z - tip_z) * 1e3,
+                        side.sign() * tip_s * 1e3
+                    ),
+                ));
+            }
+        }
+    }
     let yaw = settings.yaw_per_m * y;
     let e_star = settings
         .forces
@@ -196,9 +226,14 @@ fn patches_with(
     let wheel = |side: Side| -> Result<WheelPatches, PatchSweepError> {
         let point = *sol.point(side);
         let hz_curv = RelativeCurvature::at_contact(&point);
-        let hz_dev = HertzContact::solve(hz_curv, settings.load, &settings.forces.material, &settings.forces.material)
-            .map(|h| hertz_deviation(&pair.wheel, &pair.rail, side, point.s_wheel, point.s_rail, h.b))
-            .unwrap_or(f64::INFINITY);
+        let hz_dev = HertzContact::solve(
+            hz_curv,
+            settings.load,
+            &settings.forces.material,
+            &settings.forces.material,
+        )
+        .map(|h| hertz_deviation(&pair.wheel, &pair.rail, side, point.s_wheel, point.s_rail, h.b))
+        .unwrap_or(f64::INFINITY);
         let kin = Kinematics {
             y,
             z: sol.z,
@@ -246,12 +281,18 @@ struct Kinematics {
 impl Kinematics {
     /// Contact frame, creepages at a contact point (Y, Z) with normal angle `angle` (track frame,
     /// from vertical towards the track centre) on `side`.
-    fn creepage(&self, side: Side, position: (f64, f64), angle: f64) -> Result<(ContactFrame, Creepage), String> {
+    fn creepage(
+        &self,
+        side: Side,
+        position: (f64, f64),
+        angle: f64,
+    ) -> Result<(ContactFrame, Creepage), String> {
         // Linearised rotation, as the dynamics (`dynamics::wheelset::axle_direction`).
         let axle = Vector3::new(-self.yaw, 1.0, self.roll).normalize();
         // Normal towards the track centre on each side: −Y on the left, +Y on the right.
         let (n_y, n_z) = (-side.sign() * angle.sin(), angle.cos());
-        let frame = ContactFrame::new(Vector3::new(0.0, n_y, n_z), axle, Vector3::x()).map_err(|e| e.to_string())?;
+        let frame =
+            ContactFrame::new(Vector3::new(0.0, n_y, n_z), axle, Vector3::x()).map_err(|e| e.to_string())?;
         // The yawed wheel touches where its normal is the rail's: ahead of or behind the axle by
         // u_x = ψ (n_Z u_Y − n_Y u_Z) / (n_Y φ − n_Z) (as `dynamics::wheelset::contact_geometry`;
         // on a flange at 66° and 15.6 mrad, 17 mm — the lateral creepage there is ψ / cos γ, not
@@ -276,7 +317,10 @@ fn balance(
     let q = settings.load;
     let nz = frame.normal.z;
     if nz <= 0.05 {
-        return Err(format!("contact normal {:.1}° from vertical: no vertical load can be carried", nz.acos().to_degrees()));
+        return Err(format!(
+            "contact normal {:.1}° from vertical: no vertical load can be carried",
+            nz.acos().to_degrees()
+        ));
     }
     let mut vertical_creep = 0.0;
     let mut last = None;
@@ -299,13 +343,19 @@ fn balance(
     last.ok_or_else(|| "no balance".to_string())
 }
 
-fn hertz_patch(point: &ContactPoint, kin: &Kinematics, side: Side, settings: &PatchSweepSettings) -> Result<PatchResult, String> {
+fn hertz_patch(
+    point: &ContactPoint,
+    kin: &Kinematics,
+    side: Side,
+    settings: &PatchSweepSettings,
+) -> Result<PatchResult, String> {
     let (frame, creepage) = kin.creepage(side, point.position, point.contact_angle)?;
     let curv = RelativeCurvature::at_contact(point);
     let m = settings.forces.material;
     let (n, patch, creep) = balance(&frame, &creepage, settings, |n| {
         let h = HertzContact::solve(curv, n, &m, &m).map_err(|e| e.to_string())?;
-        let p = ContactPatch::from_hertz(&h, &m, settings.forces.friction, &settings.forces.kalker).map_err(|e| e.to_string())?;
+        let p = ContactPatch::from_hertz(&h, &m, settings.forces.friction, &settings.forces.kalker)
+            .map_err(|e| e.to_string())?;
         Ok((p, h.max_pressure))
     })?;
     let h = HertzContact::solve(curv, n, &m, &m).map_err(|e| e.to_string())?;
@@ -352,7 +402,8 @@ fn strip_patches(
     let q = settings.load;
     let mut out = Vec::new();
     for _ in 0..60 {
-        let patches = strips::solve(&sec, q - vertical_creep, e_star, &settings.strips).map_err(|e| e.to_string())?;
+        let patches =
+            strips::solve(&sec, q - vertical_creep, e_star, &settings.strips).map_err(|e| e.to_string())?;
         out.clear();
         let mut fz_sum = 0.0;
         for p in patches {
@@ -361,8 +412,15 @@ fn strip_patches(
             let (py, pz) = pair.rail_placement.rail_point(&pair.rail, side, p.s_rail);
             let (frame, creepage) = kin.creepage(side, (py, pz), p.contact_angle)?;
             let (a, b) = p.equivalent_ellipse();
-            let patch = ContactPatch::new(a, b, p.normal_force, m.shear_modulus(), settings.forces.friction, &settings.forces.kalker)
-                .map_err(|e| e.to_string())?;
+            let patch = ContactPatch::new(
+                a,
+                b,
+                p.normal_force,
+                m.shear_modulus(),
+                settings.forces.friction,
+                &settings.forces.kalker,
+            )
+            .map_err(|e| e.to_string())?;
             let creep = settings
                 .forces
                 .model

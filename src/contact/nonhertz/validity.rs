@@ -32,7 +32,14 @@ pub const HERTZ_VALIDITY_LIMIT: f64 = 0.25;
 
 /// The gap deviation D of a contact (module documentation): wheel and rail parameters at the
 /// contact (paper convention, m) and Hertz's lateral semi-axis `b` (m).
-pub fn hertz_deviation(wheel: &Profile, rail: &Profile, side: Side, s_wheel: f64, s_rail: f64, b: f64) -> f64 {
+pub fn hertz_deviation(
+    wheel: &Profile,
+    rail: &Profile,
+    side: Side,
+    s_wheel: f64,
+    s_rail: f64,
+    b: f64,
+) -> f64 {
     let rel = |t: f64| -> f64 {
         let w = wheel.eval_side(side, s_wheel + t);
         let r = rail.eval_side(side, s_rail + t);
@@ -75,7 +82,9 @@ mod tests {
     fn arc_profile(kind: ProfileKind, radii: (f64, f64)) -> Profile {
         // Two arcs meeting tangentially at s = 0: radius radii.0 for s < 0, radii.1 for s > 0.
         let n = 801;
-        let s: Vec<f64> = (0..n).map(|i| -0.012 + 0.024 * i as f64 / (n - 1) as f64).collect();
+        let s: Vec<f64> = (0..n)
+            .map(|i| -0.012 + 0.024 * i as f64 / (n - 1) as f64)
+            .collect();
         let sign = if kind == ProfileKind::Rail { -1.0 } else { 1.0 };
         let z = s
             .iter()

@@ -1,0 +1,125 @@
+//! The contact patches of a run's samples beyond Hertz: where Hertz's gap deviation D
+//! ([`crate::contact::nonhertz::validity`]) says Hertz does not hold at a wheel's contact, the
+//! strip model ([`crate::contact::nonhertz::strips`]) recomputes its patch(es) from the real
+//! profiles at the sample's contact (s_w, s_r), approached along the contact normal under the
+//! sample's normal force: pmax, area, number of patches ([`Sample::pmax`] …). The run's p0, its
+//! shakedown map and wear (Tγ/A) read them ([`Sample::contact_pressure`],
+//! [`Sample::patch_area`]).
+//!
+//! **Post-processing, not the dynamics**: the creep forces of the run still come from the Hertz
+//! ellipse at the contact point (Kalker's coefficients at its a/b). The strip model costs
+//! ~0.1–0.2 ms a contact (`kecsim bench patch`); applied to the samples only where Hertz does not
+//! hold, on the output worker. The cross level's rotation of the rail is neglected in the gap
+//! (< 0.5 mrad; the contact point pair fixes the placement).
+
+use crate::contact::forces::Material;
+use crate::contact::nonhertz::gap::{GapInput, GapSection, GAP_WINDOW_M};
+use crate::contact::nonhertz::strips::{self, StripError, StripSettings};
+use crate::contact::nonhertz::{hertz_deviation, HERTZ_VALIDITY_LIMIT};
+use crate::profile::placement::WheelRailPair;
+use crate::track::Side;
+
+use super::sample::Sample;
+
+/// The window tried first, each side of the contact, m.
+pub const NARROW_WINDOW_M: f64 = 0.008;
+
+/// What the samples' patches are recomputed with: the scene's wheel–rail pair and material.
+#[derive(Debug, Clone)]
+pub struct PatchPostProcess {
+    pub pair: WheelRailPair,
+    pub material: Material,
+    pub strips: StripSettings,
+    /// Recompute the patches outside Hertz's validity (false: only measure D — `[contact_forces]
+    /// patches = "hertz"`).
+    pub recompute: bool,
+}
+
+impl PartialEq for PatchPostProcess {
+    fn eq(&self, o: &Self) -> bool {
+        self.pair.wheel.name == o.pair.wheel.name
+            && self.pair.rail.name == o.pair.rail.name
+            && self.pair.inclination == o.pair.inclination
+            && self.pair.wheelset == o.pair.wheelset
+            && self.material == o.material
+            && self.strips == o.strips
+            && self.recompute == o.recompute
+    }
+}
+
+impl PatchPostProcess {
+    pub fn new(pair: WheelRailPair, material: Material) -> Self {
+        PatchPostProcess {
+            pair,
+            material,
+            strips: StripSettings::default(),
+            recompute: true,
+        }
+    }
+
+    /// Sets the sample's [`Sample::hertz_deviation`], and its pressure, area and patches from the
+    /// model valid at each wheel's contact. A strip solution that fails (the overlap wider than
+    /// the sampled window) keeps Hertz's and is counted in the return value.
+    ///
+    /// `warm`: each wheel's approach at its previous sample (the strip model's starting guess),
+    /// updated.
+    pub fn apply(&self, s: &mut Sample, warm: &mut [Option<f64>; 2]) -> usize {
+        let mut failed = 0;
+        let hertz = s.max_pressure();
+        for (i, side) in Side::BOTH.into_iter().enumerate() {
+            let [a, b] = s.semi_axes[i];
+            if !(s.normal[i] > 0.0 && a > 0.0 && b > 0.0) {
+                continue;
+            }
+            let (sw, sr) = (s.s_wheel[i], s.s_rail[i]);
+            let d = hertz_deviation(&self.pair.wheel, &self.pair.rail, side, sw, sr, b);
+            s.hertz_deviation[i] = d;
+            s.pmax[i] = hertz[i];
+            s.contact_area[i] = std::f64::consts::PI * a * b;
+            if d <= HERTZ_VALIDITY_LIMIT || !self.recompute {
+                continue;
+            }
+            let e_star = self.material.contact_modulus(&self.material);
+            // A narrow window first (most patches are a few mm wide), the full one if the overlap
+            // reaches its end.
+            let mut solved = None;
+            for half_window in [NARROW_WINDOW_M, GAP_WINDOW_M] {
+                let input = GapInput {
+                    side,
+                    s_wheel: sw,
+                    s_rail: sr,
+                    nominal_radius: self.pair.wheelset.nominal_radius_m,
+                    rail_angle: side.sign() * self.pair.inclination.angle_rad,
+                    approach_angle: GapInput::along_normal(&self.pair.rail, side, sr),
+                    half_window,
+                };
+                let r = GapSection::new(&self.pair.wheel, &self.pair.rail, &input)
+                    .map_err(|_| ())
+                    .and_then(|sec| {
+                        strips::solve_from(&sec, s.normal[i], e_star, &self.strips, warm[i]).map_err(|e| {
+                            if matches!(e, StripError::Window(_)) {
+                            } else {
+                                warm[i] = None;
+                            }
+                        })
+                    });
+                if let Ok((p, delta)) = r {
+                    if !p.is_empty() {
+                        warm[i] = Some(delta);
+                        solved = Some(p);
+                    }
+                    break;
+                }
+            }
+            match solved {
+                Some(patches) => {
+                    s.pmax[i] = patches.iter().map(|p| p.max_pressure).fold(0.0, f64::max);
+                    s.contact_area[i] = patches.iter().map(|p| p.area).sum();
+                    s.patches[i] = patches.len().min(255) as u8;
+                }
+                None => failed += 1,
+            }
+        }
+        failed
+    }
+}
