@@ -843,3 +843,112 @@ pub fn track(n: usize) -> Result<(Vec<BenchRow>, String), crate::track::TrackErr
     );
     Ok((rows, notes))
 }
+
+/// The cost of one contact's patch: Hertz at the rigid contact point against the strip model (the
+/// gap section, then the strips) — S1002/60E1 at 1:40, 50 kN along the normal, at the rigid
+/// contacts of both wheels for y = −9 … 9 mm every 0.5 mm — with the gap deviation D and the strip
+/// model's pmax against Hertz's, measured in one run. `n`: repetitions of the set.
+pub fn patch(n: usize) -> Result<String, String> {
+    use crate::contact::forces::hertz::{HertzContact, Material, RelativeCurvature};
+    use crate::contact::geometry::ContactGeometry;
+    use crate::contact::nonhertz::gap::{GapInput, GapSection, GAP_WINDOW_M};
+    use crate::contact::nonhertz::strips::{self, StripSettings};
+    use crate::contact::nonhertz::{hertz_deviation, HERTZ_VALIDITY_LIMIT};
+    use crate::profile::placement::WheelRailPair;
+    use crate::profile::StandardProfile;
+    use crate::track::{RailOffsets, Side};
+    use std::time::Instant;
+    let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").map_err(|e| e.to_string())?;
+    let geom = ContactGeometry::with_defaults(pair.clone());
+    let m = Material::STEEL;
+    let e_star = m.contact_modulus(&m);
+    let load = 50e3;
+    let mut points = Vec::new();
+    for k in -18..=18 {
+        let sol = geom.solve(k as f64 * 5e-4, &RailOffsets::default()).map_err(|e| e.to_string())?;
+        for side in Side::BOTH {
+            points.push((side, *sol.point(side)));
+        }
+    }
+    let inputs: Vec<GapInput> = points
+        .iter()
+        .map(|(side, p)| GapInput {
+            side: *side,
+            s_wheel: p.s_wheel,
+            s_rail: p.s_rail,
+            nominal_radius: pair.wheelset.nominal_radius_m,
+            rail_angle: side.sign() * pair.inclination.angle_rad,
+            approach_angle: GapInput::along_normal(&pair.rail, *side, p.s_rail),
+            half_window: GAP_WINDOW_M,
+        })
+        .collect();
+    let reps = n.max(1);
+    let t = Instant::now();
+    let mut hz = Vec::new();
+    for _ in 0..reps {
+        hz = points
+            .iter()
+            .map(|(_, p)| HertzContact::solve(RelativeCurvature::at_contact(p), load, &m, &m).map(|h| (h.max_pressure, h.b)).unwrap_or((f64::NAN, f64::NAN)))
+            .collect();
+    }
+    let t_hertz = t.elapsed().as_secs_f64() / (reps * points.len()) as f64;
+    let t = Instant::now();
+    let mut dev = Vec::new();
+    for _ in 0..reps {
+        dev = points
+            .iter()
+            .zip(&hz)
+            .map(|((side, p), (_, b))| hertz_deviation(&pair.wheel, &pair.rail, *side, p.s_wheel, p.s_rail, *b))
+            .collect();
+    }
+    let t_dev = t.elapsed().as_secs_f64() / (reps * points.len()) as f64;
+    let t = Instant::now();
+    let mut secs = Vec::new();
+    for _ in 0..reps {
+        secs = inputs.iter().map(|i| GapSection::new(&pair.wheel, &pair.rail, i)).collect();
+    }
+    let t_gap = t.elapsed().as_secs_f64() / (reps * points.len()) as f64;
+    let t = Instant::now();
+    let mut kp = Vec::new();
+    for _ in 0..reps {
+        kp = secs
+            .iter()
+            .map(|s| {
+                s.as_ref()
+                    .ok()
+                    .and_then(|s| strips::solve(s, load, e_star, &StripSettings::default()).ok())
+                    .map(|p| p.iter().map(|q| q.max_pressure).fold(0.0, f64::max))
+                    .unwrap_or(f64::NAN)
+            })
+            .collect();
+    }
+    let t_strips = t.elapsed().as_secs_f64() / (reps * points.len()) as f64;
+    let (mut inside, mut outside, mut n_out) = (0.0f64, 0.0f64, 0);
+    for ((h, _), (d, k)) in hz.iter().zip(dev.iter().zip(&kp)) {
+        let e = (h / k - 1.0).abs();
+        if *d <= HERTZ_VALIDITY_LIMIT {
+            inside = inside.max(e);
+        } else {
+            outside = outside.max(e);
+            n_out += 1;
+        }
+    }
+    Ok(format!(
+        "contact patches, S1002/60E1 1:40, {} rigid contacts (y −9…9 mm, both wheels), 50 kN along the normal, {reps} repetitions\n\
+         {:<44} {:>10.2} µs\n{:<44} {:>10.2} µs\n{:<44} {:>10.2} µs\n{:<44} {:>10.2} µs\n\
+         strip model / Hertz: {:.0}× per contact\n\
+         Hertz's p0 against the strip model's pmax: within {:.1} % where D ≤ {HERTZ_VALIDITY_LIMIT}; up to {:.1} % on the {n_out} contacts beyond\n",
+        points.len(),
+        "Hertz (table shape)",
+        t_hertz * 1e6,
+        "Hertz's gap deviation D",
+        t_dev * 1e6,
+        "strip model: gap section (±25 mm at 0.1 mm)",
+        t_gap * 1e6,
+        "strip model: strips (24 × 8 nodes)",
+        t_strips * 1e6,
+        (t_gap + t_strips) / t_hertz,
+        100.0 * inside,
+        100.0 * outside,
+    ))
+}

@@ -74,6 +74,9 @@ enum BenchTarget {
     Creep,
     /// Track-frame and irregularity evaluation on the Tab. 6 track.
     Track,
+    /// One contact's patch: Hertz, its gap deviation and the strip model (gap section, strips),
+    /// µs per contact, and the strip model's pmax against Hertz's.
+    Patch,
     /// Real-time factor of every scene with every contact model, each model's difference from KEC
     /// on the same scene, the cost of streaming to a recording, and the contact-model dispatch.
     Dynamics,
@@ -191,6 +194,7 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
             print!("{}{notes}", kecsim::bench::table(&rows));
         }
         BenchTarget::Creep => print!("{}", kecsim::bench::creep(cap(1_000_000))?),
+        BenchTarget::Patch => print!("{}", kecsim::bench::patch(cap(20)).map_err(anyhow::Error::msg)?),
         BenchTarget::Kec => {
             let (rows, builds) = kecsim::bench::kec(cap(200_000)).map_err(anyhow::Error::msg)?;
             print!("{}{builds}", kecsim::bench::contact_table(&rows));

@@ -443,7 +443,7 @@ mod tests {
     /// name and position): pinned here, name by name and in order.
     #[test]
     fn csv_header_is_pinned() {
-        const PINNED: [&str; 52] = [
+        const PINNED: [&str; 60] = [
             "t_s",
             "s_m",
             "speed_m_s",
@@ -498,6 +498,15 @@ mod tests {
             "drive_torque_right_n_m",
             "traction_n",
             "traction_power_kw",
+            // Issue 49: the patch of the model valid at the contact.
+            "pmax_left_mpa",
+            "pmax_right_mpa",
+            "contact_area_left_mm2",
+            "contact_area_right_mm2",
+            "hertz_dev_left",
+            "hertz_dev_right",
+            "patches_left",
+            "patches_right",
         ];
         let header: Vec<&str> = CSV_COLUMNS.iter().copied().collect();
         assert_eq!(header, PINNED);
@@ -563,6 +572,14 @@ mod tests {
             65.0,
             450.0,
             8.55,
+            1200.0,
+            900.0,
+            80.0,
+            70.0,
+            0.125,
+            0.5,
+            1.0,
+            2.0,
         ];
         assert_eq!(row.len(), pinned.len());
         for (k, (a, b)) in row.iter().zip(pinned).enumerate() {

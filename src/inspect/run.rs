@@ -1460,6 +1460,7 @@ mod tests {
             ("p0_mpa".into(), lr(), vec![916.3659258389814, 1128.040487157459]),
             ("tgamma_n".into(), lr(), vec![9.0, 13.6]),
             ("tgamma_2m_n".into(), lr(), vec![7.5, 12.5]),
+            ("pmax_mpa".into(), lr(), vec![1200.0, 900.0]),
         ];
         let mut got = recorded_wheelset_series(QUANTITIES);
         pinned.sort_by(|a, b| a.0.cmp(&b.0));
@@ -1534,6 +1535,7 @@ mod tests {
                     ("max. Hertz pressure p0 [MPa]", "p0_mpa"),
                     ("wear number Tγ [N]", "tgamma_n"),
                     ("wear number Tγ, 2 m mean [N]", "tgamma_2m_n"),
+                    ("max. contact pressure (valid model) [MPa]", "pmax_mpa"),
                 ],
             ]
             .into_iter()
