@@ -81,6 +81,7 @@ profiles()     { k profiles --wheel s1002 --rail 60e1 --inclination 1:40 --save 
 contact()      { k contact --csv "$WORK/table.csv" --save "$WORK/c.rrd"; shot contact "$WORK/c.rrd"; }
 kec()          { k kec --accuracy --save "$WORK/k.rrd"; shot kec "$WORK/k.rrd"; }
 design_wheel() { k design-wheel --csv "$WORK/ms-tram.csv" --reference ms-standin --save "$WORK/d.rrd"; shot design_wheel "$WORK/d.rrd"; }
+patch()        { k patch --wheel s1002 --rail 60e1 --inclination 1:40 --y-mm 0,-1,-2,-3,-4,-5,-5.5,-6,-6.5,-7,-8,-10 --yaw-per-mm 2.4 --load-n 10000 --save "$WORK/pa.rrd"; shot patch "$WORK/pa.rrd"; }
 creep()        { k creep --normal-force-n 80000 --a-mm 6 --b-mm 4 --spin 1 --save "$WORK/cr.rrd"; shot creep "$WORK/cr.rrd"; }
 track()        { k track assets/track/tab6_irregular.toml --csv "$WORK/track.csv" --save "$WORK/t.rrd"; shot track "$WORK/t.rrd"; }
 run()          { k run --csv "$WORK/out" --json "$WORK/summary.json" --save "$WORK/r.rrd"; shot run "$WORK/r.rrd" 30; }
@@ -124,7 +125,7 @@ bench_precision() {
   shot bench_precision "$WORK/bp.rrd"
 }
 
-ALL=(profiles contact kec design_wheel creep track run run_safety run_curve live compare paper study bench_precision)
+ALL=(profiles contact kec design_wheel creep patch track run run_safety run_curve live compare paper study bench_precision)
 for name in "${@:-${ALL[@]}}"; do
   "$name"
 done

@@ -1300,13 +1300,27 @@ fn a_run_reports_wear_contact_stress_and_ride_comfort() {
         for (k, side) in ["left", "right"].iter().enumerate() {
             let c = |stem: &str, unit: &str| col(&format!("{stem}_{side}_{unit}"));
             let (n, fx, fy) = (c("n", "n"), c("fx", "n"), c("fy", "n"));
-            let (a, b, p0, tg, tg2) = (
-                c("a", "mm"),
-                c("b", "mm"),
+            // p0: the model valid at each contact (`pmax`: Hertz's p0 where D ≤ 0.25, the strip
+            // model's beyond); `p0` stays Hertz's; the area is the same model's.
+            let (p0, hertz_p0, area_mm2, dev, tg, tg2) = (
+                c("pmax", "mpa"),
                 c("p0", "mpa"),
+                c("contact_area", "mm2"),
+                col(&format!("hertz_dev_{side}")),
                 c("tgamma", "n"),
                 c("tgamma_2m", "n"),
             );
+            for r in &rows {
+                // Where Hertz holds, the valid model's pressure is Hertz's.
+                if r[n] > 0.0 && r[dev] <= kecsim::contact::nonhertz::HERTZ_VALIDITY_LIMIT {
+                    assert!(
+                        (r[p0] - r[hertz_p0]).abs() <= 1e-6 * r[hertz_p0],
+                        "{w} {side}: pmax {} vs p0 {}",
+                        r[p0],
+                        r[hertz_p0]
+                    );
+                }
+            }
             // The 2 m mean, causal, over the samples within 2 m behind.
             for (j, r) in rows.iter().enumerate() {
                 let window: Vec<f64> = rows[..=j]
@@ -1323,7 +1337,7 @@ fn a_run_reports_wear_contact_stress_and_ride_comfort() {
             }
             // Wear: K(Tγ/A)·A µg/m integrated over s.
             let rate = |r: &Vec<f64>| {
-                let area = std::f64::consts::PI * r[a] * r[b];
+                let area = r[area_mm2];
                 if r[n] > 0.0 && area > 0.0 {
                     usfd_published(r[tg] / area) * area
                 } else {
@@ -1376,6 +1390,34 @@ fn a_run_reports_wear_contact_stress_and_ride_comfort() {
                 (share - ratchet / distance).abs() < 1e-6,
                 "{w} {side}: ratchetting {share} vs {}",
                 ratchet / distance
+            );
+            // The share outside Hertz's validity and Hertz's own largest p0, from the CSV.
+            let non_hertz: f64 = rows
+                .windows(2)
+                .map(|p| {
+                    let out = |r: &Vec<f64>| {
+                        (r[n] > 0.0
+                            && r[p0] > 0.0
+                            && r[dev] > kecsim::contact::nonhertz::HERTZ_VALIDITY_LIMIT)
+                            as u8
+                    };
+                    0.5 * (p[1][s] - p[0][s]).abs() * (out(&p[0]) + out(&p[1])) as f64
+                })
+                .sum();
+            let share = js["share_non_hertzian"].as_f64().unwrap();
+            assert!(
+                (share - non_hertz / distance).abs() < 1e-6,
+                "{w} {side}: non-Hertzian {share} vs {}",
+                non_hertz / distance
+            );
+            let max_hertz = rows
+                .iter()
+                .filter(|r| r[n] > 0.0)
+                .map(|r| r[hertz_p0])
+                .fold(0.0, f64::max);
+            assert!(
+                (js["max_p0_hertz_mpa"].as_f64().unwrap() - max_hertz).abs() <= 1e-7 * max_hertz,
+                "{w} {side}: Hertz p0"
             );
         }
     }

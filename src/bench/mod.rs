@@ -858,14 +858,17 @@ pub fn patch(n: usize) -> Result<String, String> {
     use crate::profile::StandardProfile;
     use crate::track::{RailOffsets, Side};
     use std::time::Instant;
-    let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").map_err(|e| e.to_string())?;
+    let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40")
+        .map_err(|e| e.to_string())?;
     let geom = ContactGeometry::with_defaults(pair.clone());
     let m = Material::STEEL;
     let e_star = m.contact_modulus(&m);
     let load = 50e3;
     let mut points = Vec::new();
     for k in -18..=18 {
-        let sol = geom.solve(k as f64 * 5e-4, &RailOffsets::default()).map_err(|e| e.to_string())?;
+        let sol = geom
+            .solve(k as f64 * 5e-4, &RailOffsets::default())
+            .map_err(|e| e.to_string())?;
         for side in Side::BOTH {
             points.push((side, *sol.point(side)));
         }
@@ -888,7 +891,11 @@ pub fn patch(n: usize) -> Result<String, String> {
     for _ in 0..reps {
         hz = points
             .iter()
-            .map(|(_, p)| HertzContact::solve(RelativeCurvature::at_contact(p), load, &m, &m).map(|h| (h.max_pressure, h.b)).unwrap_or((f64::NAN, f64::NAN)))
+            .map(|(_, p)| {
+                HertzContact::solve(RelativeCurvature::at_contact(p), load, &m, &m)
+                    .map(|h| (h.max_pressure, h.b))
+                    .unwrap_or((f64::NAN, f64::NAN))
+            })
             .collect();
     }
     let t_hertz = t.elapsed().as_secs_f64() / (reps * points.len()) as f64;
@@ -898,14 +905,19 @@ pub fn patch(n: usize) -> Result<String, String> {
         dev = points
             .iter()
             .zip(&hz)
-            .map(|((side, p), (_, b))| hertz_deviation(&pair.wheel, &pair.rail, *side, p.s_wheel, p.s_rail, *b))
+            .map(|((side, p), (_, b))| {
+                hertz_deviation(&pair.wheel, &pair.rail, *side, p.s_wheel, p.s_rail, *b)
+            })
             .collect();
     }
     let t_dev = t.elapsed().as_secs_f64() / (reps * points.len()) as f64;
     let t = Instant::now();
     let mut secs = Vec::new();
     for _ in 0..reps {
-        secs = inputs.iter().map(|i| GapSection::new(&pair.wheel, &pair.rail, i)).collect();
+        secs = inputs
+            .iter()
+            .map(|i| GapSection::new(&pair.wheel, &pair.rail, i))
+            .collect();
     }
     let t_gap = t.elapsed().as_secs_f64() / (reps * points.len()) as f64;
     let t = Instant::now();

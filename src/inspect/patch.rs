@@ -30,12 +30,12 @@ pub fn blueprint() -> Layout {
     let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
     let side_views = |side: &str| -> Container {
         Container::vertical([
-            View::spatial2d(&format!(
+            View::spatial2d(format!(
                 "{side}: profiles and pressure along the rail (1 mm = {MPA_PER_MM} MPa)"
             ))
             .origin(format!("/patch/section/{side}"))
             .into(),
-            View::spatial2d(&format!("{side}: patches from above (x rolling, lateral up), mm"))
+            View::spatial2d(format!("{side}: patches from above (x rolling, lateral up), mm"))
                 .origin(format!("/patch/shape/{side}"))
                 .into(),
         ])

@@ -428,7 +428,7 @@ fn patches_at(
         }
         let p = solve_small(m, d);
         if let Some(worst) = (0..k)
-            .filter(|&j| !(p[j] > 0.0))
+            .filter(|&j| p[j].is_nan() || p[j] <= 0.0)
             .min_by(|&a, &b| p[a].total_cmp(&p[b]))
         {
             shapes.remove(worst);
@@ -449,8 +449,9 @@ fn solve_small(mut m: Vec<Vec<f64>>, mut d: Vec<f64>) -> Vec<f64> {
         d.swap(c, piv);
         for r in c + 1..k {
             let f = m[r][c] / m[c][c];
-            for cc in c..k {
-                m[r][cc] -= f * m[c][cc];
+            let pivot_row = m[c].clone();
+            for (x, &pv) in m[r].iter_mut().zip(&pivot_row).skip(c) {
+                *x -= f * pv;
             }
             d[r] -= f * d[c];
         }

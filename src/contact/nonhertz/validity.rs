@@ -48,7 +48,7 @@ pub fn hertz_deviation(
         0.5 * (w.curvature() - r.curvature())
     };
     let b0 = rel(0.0);
-    if !(b0 > 0.0) || !(b > 0.0) {
+    if b0.is_nan() || b0 <= 0.0 || b.is_nan() || b <= 0.0 {
         return f64::INFINITY;
     }
     let c = 1.0 / (1.0 + rail.eval_side(side, s_rail).dz.powi(2)).sqrt();
