@@ -76,7 +76,19 @@ impl PatchPostProcess {
             s.hertz_deviation[i] = d;
             s.pmax[i] = hertz[i];
             s.contact_area[i] = std::f64::consts::PI * a * b;
-            if d <= HERTZ_VALIDITY_LIMIT || !self.recompute {
+            // Hertz's ellipse in the dynamics is clamped to B/A ≤ 31.6 (deep flange contact;
+            // `RelativeCurvature::wheel_rail`): its p0 is then 20–35 % high, so such a contact is
+            // recomputed too (the strip model reproduces the unclamped Hertz on a quadratic gap).
+            let clamped = {
+                let w = self.pair.wheel.eval_side(side, sw);
+                let r = self.pair.rail.eval_side(side, sr);
+                let radius = self.pair.wheelset.nominal_radius_m - w.z;
+                let angle = r.dz.atan() + self.pair.inclination.angle_rad;
+                let a_curv = 0.5 * angle.cos().abs() / radius;
+                let b_curv = 0.5 * (w.curvature() - r.curvature());
+                b_curv > a_curv * crate::contact::forces::hertz::MAX_CURVATURE_RATIO
+            };
+            if (d <= HERTZ_VALIDITY_LIMIT && !clamped) || !self.recompute {
                 continue;
             }
             let e_star = self.material.contact_modulus(&self.material);
