@@ -33,7 +33,7 @@ use super::validity::hertz_deviation;
 use crate::contact::forces::creepage::{ContactFrame, Creepage};
 use crate::contact::forces::hertz::{HertzContact, RelativeCurvature};
 use crate::contact::forces::{ContactForceSettings, ContactPatch, CreepForce};
-use crate::contact::geometry::ContactGeometry;
+use crate::contact::geometry::{ContactGeometry, ContactSolution};
 use crate::contact::ContactPoint;
 use crate::profile::placement::WheelRailPair;
 use crate::track::{RailOffsets, Side};
@@ -153,8 +153,9 @@ pub fn patches_at(
     model: PatchModel,
     settings: &PatchSweepSettings,
 ) -> Result<ShiftPatches, PatchSweepError> {
+    let sol = rigid_contact(pair, geometry, y)?;
     if let Some(omega) = settings.pitch_rate {
-        return patches_with(pair, geometry, y, model, settings, omega);
+        return patches_with(pair, &sol, y, model, settings, omega);
     }
     let torque = |sh: &ShiftPatches| -> f64 {
         sh.wheels
@@ -164,11 +165,11 @@ pub fn patches_at(
             .sum()
     };
     let mut w0 = settings.speed / pair.wheelset.nominal_radius_m;
-    let mut s0 = patches_with(pair, geometry, y, model, settings, w0)?;
+    let mut s0 = patches_with(pair, &sol, y, model, settings, w0)?;
     let mut t0 = torque(&s0);
     let mut w1 = w0 * (1.0 + 1e-3);
     for _ in 0..40 {
-        let s1 = patches_with(pair, geometry, y, model, settings, w1)?;
+        let s1 = patches_with(pair, &sol, y, model, settings, w1)?;
         let t1 = torque(&s1);
         if t1.abs() < 1e-6 * settings.load * pair.wheelset.nominal_radius_m || t1 == t0 {
             return Ok(s1);
@@ -180,15 +181,13 @@ pub fn patches_at(
     Err(err(y, format!("free rolling: no rolling rate balances the creep torque ({} left after 40 steps; last Ω {w0} rad/s)", t0 / s0.wheels.len() as f64)))
 }
 
-/// The patches of both wheels at shift `y` for `model`, rolling at `omega` (rad/s).
-fn patches_with(
+/// The wheelset's rigid contact at shift `y` (it does not depend on the rolling rate: solved once
+/// per shift), refused where a wheel rides on its flange tip.
+fn rigid_contact(
     pair: &WheelRailPair,
     geometry: &ContactGeometry,
     y: f64,
-    model: PatchModel,
-    settings: &PatchSweepSettings,
-    omega: f64,
-) -> Result<ShiftPatches, PatchSweepError> {
+) -> Result<ContactSolution, PatchSweepError> {
     let off = RailOffsets::default();
     let sol = geometry.solve(y, &off).map_err(|e| err(y, e))?;
     // On or past the flange tip (within [`FLANGE_TIP_M`] of the wheel's largest radius, on its
@@ -218,6 +217,18 @@ fn patches_with(
             }
         }
     }
+    Ok(sol)
+}
+
+/// The patches of both wheels at shift `y` for `model`, rolling at `omega` (rad/s).
+fn patches_with(
+    pair: &WheelRailPair,
+    sol: &ContactSolution,
+    y: f64,
+    model: PatchModel,
+    settings: &PatchSweepSettings,
+    omega: f64,
+) -> Result<ShiftPatches, PatchSweepError> {
     let yaw = settings.yaw_per_m * y;
     let e_star = settings
         .forces
