@@ -14,11 +14,23 @@
 //! - **The write** ([`AtomicFile`]): into `.NAME.part-PID` in the output's directory, renamed onto
 //!   the output when complete (through a symlink: onto the file it points to). A write that is
 //!   abandoned removes its part file; a process killed mid-write leaves it (it holds what was
-//!   written).
+//!   written). Every write's error — the flush and the sync included — is checked before the
+//!   rename: a full disk keeps the old file and fails the command with the reason.
+//! - **Streams** ([`OutputKind::Stream`]): an output that exists and is a character device, a FIFO
+//!   or a socket (`/dev/null`, `/dev/stdout`, a named pipe) is written directly, never renamed
+//!   over, and takes no lock; a FIFO waits at most [`STREAM_WAIT`] for its reader. Block devices
+//!   are refused.
+//! - **Side files** (the lock, the part file, a directory's write probe) are created without
+//!   following a symlink (`O_NOFOLLOW`, the part and the probe exclusively): a link planted at
+//!   their predictable names is refused or replaced, never written through. An output may not
+//!   be named like one of them.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Read, Seek, Write};
+#[cfg(unix)]
+use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use thiserror::Error;
 
@@ -102,11 +114,219 @@ fn beside(target: &Path, suffix: &str) -> PathBuf {
     dir_of(target).join(format!(".{name}{suffix}"))
 }
 
+/// How an output is written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputKind {
+    /// A regular file (or none yet): written to its part file and renamed into place.
+    File,
+    /// An existing character device, FIFO or socket (`/dev/null`, `/dev/stdout` on a pipe, a named
+    /// pipe): written directly, in order, never renamed over.
+    Stream,
+}
+
+/// How an output at `p` is written; a block device (or another non-file) is refused with why.
+pub fn output_kind(p: &Path) -> Result<OutputKind, String> {
+    let Ok(m) = fs::metadata(p) else {
+        return Ok(OutputKind::File);
+    };
+    let t = m.file_type();
+    if t.is_file() {
+        return Ok(OutputKind::File);
+    }
+    if t.is_dir() {
+        return Err("is a directory; expected a file name".into());
+    }
+    #[cfg(unix)]
+    {
+        if t.is_char_device() || t.is_fifo() || t.is_socket() {
+            return Ok(OutputKind::Stream);
+        }
+        if t.is_block_device() {
+            return Err("is a block device; kecsim writes files, pipes and character devices only".into());
+        }
+    }
+    Err("is not a file, a pipe or a character device".into())
+}
+
+/// How long a write to a FIFO waits for a reader before failing (a FIFO nobody reads would
+/// otherwise hang the command).
+pub const STREAM_WAIT: Duration = Duration::from_secs(10);
+
+/// Opens the stream `p` for writing ([`OutputKind::Stream`]): a FIFO without a reader is waited
+/// for at most [`STREAM_WAIT`], then an error.
+pub fn open_stream(p: &Path) -> io::Result<File> {
+    #[cfg(unix)]
+    {
+        let fifo = fs::metadata(p).is_ok_and(|m| m.file_type().is_fifo());
+        if fifo {
+            let start = Instant::now();
+            loop {
+                match OpenOptions::new()
+                    .write(true)
+                    .custom_flags(libc::O_NONBLOCK)
+                    .open(p)
+                {
+                    Ok(f) => {
+                        set_blocking(&f)?;
+                        return Ok(f);
+                    }
+                    Err(e) if e.raw_os_error() == Some(libc::ENXIO) => {
+                        if start.elapsed() > STREAM_WAIT {
+                            return Err(io::Error::other(format!(
+                                "a named pipe (FIFO) that nobody read within {:.0} s",
+                                STREAM_WAIT.as_secs_f64()
+                            )));
+                        }
+                        std::thread::sleep(Duration::from_millis(50));
+                    }
+                    Err(e) => return Err(e),
+                }
+            }
+        }
+    }
+    OpenOptions::new().write(true).open(p)
+}
+
+/// Clears `O_NONBLOCK` on an open file.
+#[cfg(unix)]
+fn set_blocking(f: &File) -> io::Result<()> {
+    use std::os::fd::AsRawFd;
+    let fd = f.as_raw_fd();
+    // SAFETY: fcntl on a descriptor this process owns (held by `f` for the call).
+    let flags = unsafe { libc::fcntl(fd, libc::F_GETFL) };
+    if flags < 0 || unsafe { libc::fcntl(fd, libc::F_SETFL, flags & !libc::O_NONBLOCK) } < 0 {
+        return Err(io::Error::last_os_error());
+    }
+    Ok(())
+}
+
+/// Opens `p` for reading only if it is a regular file, without following a symlink at `p`
+/// itself when `nofollow`, and without blocking on a FIFO: what a cache or a case file is read
+/// with. The error says what `p` is instead.
+pub fn open_regular(p: &Path, nofollow: bool) -> io::Result<File> {
+    let mut o = OpenOptions::new();
+    o.read(true);
+    #[cfg(unix)]
+    o.custom_flags(libc::O_NONBLOCK | if nofollow { libc::O_NOFOLLOW } else { 0 });
+    let f = o.open(p).map_err(|e| {
+        #[cfg(unix)]
+        if e.raw_os_error() == Some(libc::ELOOP) {
+            return io::Error::other("is a symlink, which is not followed here");
+        }
+        e
+    })?;
+    if !f.metadata()?.is_file() {
+        return Err(io::Error::other("is not a regular file"));
+    }
+    Ok(f)
+}
+
+/// Reads at most `limit` bytes of the regular file `p` ([`open_regular`]); a larger file is an
+/// error naming both sizes (read no further: a symlink to `/dev/zero` or a huge file costs
+/// nothing).
+pub fn read_bounded(p: &Path, limit: u64, nofollow: bool) -> io::Result<Vec<u8>> {
+    let f = open_regular(p, nofollow)?;
+    let len = f.metadata()?.len();
+    if len > limit {
+        return Err(io::Error::other(format!(
+            "{len} bytes, more than the {limit} expected here"
+        )));
+    }
+    let mut bytes = Vec::with_capacity(len as usize);
+    f.take(limit + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(io::Error::other(format!("more than the {limit} bytes expected here")));
+    }
+    Ok(bytes)
+}
+
+/// Whether `name` is one of kecsim's side files (`.NAME.kecsim-lock`, `.NAME.part-PID`,
+/// `.kecsim-write-check-PID`): an output named so would be another output's lock or part file.
+fn side_file_name(name: &str) -> bool {
+    if !name.starts_with('.') {
+        return false;
+    }
+    if name.ends_with(".kecsim-lock") || name.starts_with(".kecsim-write-check-") {
+        return true;
+    }
+    name.rsplit_once(".part-")
+        .is_some_and(|(_, pid)| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Creates `p` exclusively without following a link: a file (or a link) already at the name is
+/// removed first — the name is kecsim's own (a part file, a probe), so whatever stands there is
+/// stale or planted, and removing a link never touches what it points to.
+pub fn create_side_file(p: &Path) -> io::Result<File> {
+    let open = || {
+        let mut o = OpenOptions::new();
+        o.write(true).create_new(true);
+        #[cfg(unix)]
+        o.custom_flags(libc::O_NOFOLLOW);
+        o.open(p)
+    };
+    match open() {
+        Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
+            if fs::symlink_metadata(p).is_ok_and(|m| m.is_dir()) {
+                return Err(io::Error::other(format!(
+                    "{}: a directory stands at this temporary name",
+                    p.display()
+                )));
+            }
+            fs::remove_file(p)?;
+            open()
+        }
+        r => r,
+    }
+}
+
+/// Checks, before any work, that files can be created in the directory `dir`: a probe
+/// `.kecsim-write-check-PID` is created exclusively (never through a link planted at its name)
+/// and removed.
+pub fn check_dir_writable(dir: &Path) -> io::Result<()> {
+    let probe = dir.join(format!(".kecsim-write-check-{}", std::process::id()));
+    drop(create_side_file(&probe)?);
+    fs::remove_file(&probe)
+}
+
+/// Whether `p` names the process's standard output (`/dev/stdout`, `/proc/self/fd/1`, the file
+/// or pipe stdout is): the binary then prints its lines to stderr from its first line on.
+pub fn is_stdout(p: &Path) -> bool {
+    let Some(out) = stdout_identity() else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        fs::metadata(p).is_ok_and(|m| Identity::Inode(m.dev(), m.ino()) == out)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (p, out);
+        false
+    }
+}
+
+/// The identity of the process's standard output, if it can be known.
+fn stdout_identity() -> Option<Identity> {
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsFd;
+        use std::os::unix::fs::MetadataExt;
+        let fd = io::stdout().as_fd().try_clone_to_owned().ok()?;
+        let m = File::from(fd).metadata().ok()?;
+        Some(Identity::Inode(m.dev(), m.ino()))
+    }
+    #[cfg(not(unix))]
+    None
+}
+
 /// The files a command reads and writes; an output that is an input or another output is refused
 /// ([`OutputGuard::output`]), and each output is locked while the guard lives.
 #[derive(Debug, Default)]
 pub struct OutputGuard {
     inputs: Vec<(PathBuf, Identity)>,
+    /// Directories the command reads from (a study's cases): no output may lie inside.
+    trees: Vec<(PathBuf, PathBuf)>,
     outputs: Vec<(String, PathBuf, Identity)>,
     locks: Vec<OutputLock>,
 }
@@ -131,6 +351,22 @@ impl OutputGuard {
         }
     }
 
+    /// A directory whose files the command reads (a study's `cases/`): no output may be inside
+    /// it, by any spelling (whether the file exists yet or not).
+    pub fn input_tree(&mut self, dir: impl AsRef<Path>) {
+        let d = dir.as_ref();
+        self.trees.push((d.to_path_buf(), resolved(d)));
+    }
+
+    /// Whether one of the outputs is the process's standard output (`--save /dev/stdout`): the
+    /// command's printed lines then belong on stderr.
+    pub fn writes_stdout(&self) -> bool {
+        let Some(out) = stdout_identity() else {
+            return false;
+        };
+        self.outputs.iter().any(|(_, _, id)| *id == out)
+    }
+
     /// A file the command will write (`what` names it: the option, or the option and the file in
     /// its directory). Refused if it is an input or another output, a directory, a dangling
     /// symlink or in a directory that does not exist or cannot be written; else locked (refused if
@@ -142,12 +378,29 @@ impl OutputGuard {
             path: shown.clone(),
             problem,
         };
-        if path.is_dir() {
-            return Err(unwritable("is a directory; expected a file name".into()));
-        }
+        let kind = output_kind(path).map_err(&unwritable)?;
         if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) && fs::metadata(path).is_err()
         {
             return Err(unwritable("is a symlink to nothing; give the file itself".into()));
+        }
+        let target = resolved(path);
+        if target
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(side_file_name)
+        {
+            return Err(unwritable(
+                "is named like a lock or a temporary file of another kecsim output; choose another name".into(),
+            ));
+        }
+        for (dir, rdir) in &self.trees {
+            if target.starts_with(rdir) {
+                return Err(GuardError::Input {
+                    what: what.to_string(),
+                    path: shown,
+                    input: format!("inside {}, whose files this command reads", dir.display()),
+                });
+            }
         }
         let id = identity(path);
         for (input, iid) in &self.inputs {
@@ -167,14 +420,31 @@ impl OutputGuard {
                 });
             }
         }
+        let device = fs::metadata(path).is_ok_and(|m| {
+            #[cfg(unix)]
+            {
+                m.file_type().is_char_device()
+            }
+            #[cfg(not(unix))]
+            {
+                let _ = m;
+                false
+            }
+        });
         for (other, _, oid) in &self.outputs {
-            if *oid == id {
+            // Two outputs may both go to a character device (`/dev/null`); not to one pipe.
+            if *oid == id && !device {
                 return Err(GuardError::Twice {
                     what: what.to_string(),
                     other: other.clone(),
                     path: shown,
                 });
             }
+        }
+        if kind == OutputKind::Stream {
+            // Written directly, in order; no lock (two runs may both write to /dev/null).
+            self.outputs.push((what.to_string(), path.to_path_buf(), id));
+            return Ok(());
         }
         let dir = dir_of(path);
         if !dir.is_dir() {
@@ -227,13 +497,27 @@ impl OutputLock {
         // A holder that ends removes the file after we opened it: the lock we then take is on a
         // file no longer at the path, and is taken again on the new one.
         for _ in 0..8 {
-            let mut file = OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(&path)
-                .map_err(LockFailure::Io)?;
+            let mut o = OpenOptions::new();
+            o.read(true).write(true).create(true).truncate(false);
+            // Never through a link planted at the lock's name, never blocking on a FIFO there.
+            #[cfg(unix)]
+            o.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+            let mut file = o.open(&path).map_err(|e| {
+                #[cfg(unix)]
+                if e.raw_os_error() == Some(libc::ELOOP) {
+                    return LockFailure::Io(io::Error::other(format!(
+                        "{} is a symlink; a lock file is never followed — remove it",
+                        path.display()
+                    )));
+                }
+                LockFailure::Io(e)
+            })?;
+            if !file.metadata().is_ok_and(|m| m.is_file()) {
+                return Err(LockFailure::Io(io::Error::other(format!(
+                    "{} is not a regular file; remove it",
+                    path.display()
+                ))));
+            }
             match file.try_lock() {
                 Ok(()) => {}
                 Err(fs::TryLockError::WouldBlock) => {
@@ -253,9 +537,15 @@ impl OutputLock {
             if !same_file(&file, &path) {
                 continue;
             }
-            file.set_len(0).map_err(LockFailure::Io)?;
-            file.rewind().map_err(LockFailure::Io)?;
-            write!(file, "{}", std::process::id()).map_err(LockFailure::Io)?;
+            let written = file
+                .set_len(0)
+                .and_then(|_| file.rewind())
+                .and_then(|_| write!(file, "{}", std::process::id()));
+            if let Err(e) = written {
+                // (A full disk: the lock we made is not left behind.)
+                fs::remove_file(&path).ok();
+                return Err(LockFailure::Io(e));
+            }
             return Ok(OutputLock { path, _file: file });
         }
         Err(LockFailure::Io(io::Error::other(format!(
@@ -295,19 +585,29 @@ impl Drop for OutputLock {
 #[derive(Debug)]
 pub struct AtomicFile {
     target: PathBuf,
-    part: PathBuf,
+    /// The part file; None for a stream (written directly).
+    part: Option<PathBuf>,
     file: Option<io::BufWriter<File>>,
 }
 
 impl AtomicFile {
-    /// Opens the part file of `target` (a symlink's target: the file it points to).
+    /// Opens the part file of `target` (a symlink's target: the file it points to), created
+    /// exclusively and never through a link at its name; a stream ([`OutputKind::Stream`]) is
+    /// opened itself.
     pub fn create(target: &Path) -> io::Result<AtomicFile> {
+        if output_kind(target).map_err(io::Error::other)? == OutputKind::Stream {
+            return Ok(AtomicFile {
+                target: target.to_path_buf(),
+                part: None,
+                file: Some(io::BufWriter::new(open_stream(target)?)),
+            });
+        }
         let target = write_target(target);
         let part = part_path(&target);
-        let file = File::create(&part)?;
+        let file = create_side_file(&part)?;
         Ok(AtomicFile {
             target,
-            part,
+            part: Some(part),
             file: Some(io::BufWriter::new(file)),
         })
     }
@@ -317,29 +617,51 @@ impl AtomicFile {
         &self.target
     }
 
-    /// Flushes the bytes and renames the part file onto the target.
+    /// Flushes the bytes, syncs them to the disk and renames the part file onto the target; any
+    /// error (a full disk) removes the part file and leaves the target as it was.
     pub fn commit(mut self) -> io::Result<()> {
-        let file = self.file.take().expect("committed once");
-        let file = file.into_inner().map_err(|e| e.into_error())?;
-        file.sync_data().ok();
-        drop(file);
-        fs::rename(&self.part, &self.target)
+        let file = self.file.take().ok_or_else(|| io::Error::other("committed twice"))?;
+        let written = file
+            .into_inner()
+            .map_err(|e| e.into_error())
+            .and_then(|f| match &self.part {
+                Some(_) => f.sync_all(),
+                None => Ok(()),
+            });
+        let Some(part) = self.part.take() else {
+            return written;
+        };
+        if let Err(e) = written {
+            fs::remove_file(&part).ok();
+            return Err(e);
+        }
+        fs::rename(&part, &self.target).inspect_err(|_| {
+            fs::remove_file(&part).ok();
+        })
     }
 }
 
 impl Write for AtomicFile {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        self.file.as_mut().expect("not committed").write(buf)
+        match self.file.as_mut() {
+            Some(f) => f.write(buf),
+            None => Err(io::Error::other("written after its commit")),
+        }
     }
     fn flush(&mut self) -> io::Result<()> {
-        self.file.as_mut().expect("not committed").flush()
+        match self.file.as_mut() {
+            Some(f) => f.flush(),
+            None => Ok(()),
+        }
     }
 }
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
         if self.file.take().is_some() {
-            fs::remove_file(&self.part).ok();
+            if let Some(part) = &self.part {
+                fs::remove_file(part).ok();
+            }
         }
     }
 }

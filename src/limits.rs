@@ -27,8 +27,38 @@ pub const MAX_RUN_SAMPLES: f64 = 4e6;
 /// Most rigid bodies, wheelsets or joints in a vehicle table (a ten-car train: ~30 bodies, 40
 /// wheelsets).
 pub const MAX_VEHICLE_BODIES: f64 = 1e3;
+/// Most bodies and wheelsets of a vehicle together: its state and dense Jacobian grow with them,
+/// the Jacobian's factorisation with their cube (a 399-wheelset train settled for 54 s and took
+/// no step in 60 s). A ten-car train has 70.
+pub const MAX_VEHICLE_PARTS: f64 = 200.0;
 /// Most force elements in a vehicle table (a ten-car train: a few hundred).
 pub const MAX_VEHICLE_ELEMENTS: f64 = 1e4;
+
+/// Most threads (`KECSIM_THREADS`) or cases at once (`study --jobs`) per core of the machine:
+/// beyond a few per core they only contend (`KECSIM_THREADS=100000` turned a 0.05 s run into
+/// 40 s), and a count near `usize::MAX` cannot be allocated at all.
+pub const MAX_THREADS_PER_CORE: usize = 4;
+
+/// The most threads or concurrent cases allowed here: [`MAX_THREADS_PER_CORE`] × the cores
+/// (unbounded with `--no-limits`).
+pub fn max_threads() -> usize {
+    if lifted() {
+        return usize::MAX;
+    }
+    MAX_THREADS_PER_CORE * std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// `Ok` if `n` threads (named `what`) are within [`max_threads`], else the problem.
+pub fn check_threads(what: &str, n: usize) -> Result<(), String> {
+    let max = max_threads();
+    if n <= max {
+        return Ok(());
+    }
+    Err(format!(
+        "{what} {n}: at most {max} ({MAX_THREADS_PER_CORE} per core of this machine's {}; more only contend; `kecsim --no-limits` lifts the limit)",
+        max / MAX_THREADS_PER_CORE
+    ))
+}
 
 /// Largest input file read (profiles, scenarios, tracks, irregularity and table CSVs), bytes.
 pub const MAX_INPUT_FILE_BYTES: u64 = 256 << 20;

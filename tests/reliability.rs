@@ -13,13 +13,13 @@ use std::time::{Duration, Instant};
 use common::tmpdir;
 
 /// The binary's result: exit success, stdout, stderr.
-struct Outcome {
-    ok: bool,
-    stdout: String,
-    stderr: String,
+pub(crate) struct Outcome {
+    pub(crate) ok: bool,
+    pub(crate) stdout: String,
+    pub(crate) stderr: String,
 }
 
-fn spawn(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Child {
+pub(crate) fn spawn(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Child {
     let mut c = Command::new(env!("CARGO_BIN_EXE_kecsim"));
     c.args(args)
         .current_dir(cwd)
@@ -34,9 +34,9 @@ fn spawn(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Child {
 /// Waits for `child` at most `deadline`; a process still running then is killed and the test
 /// fails as a hang.
 /// Seconds after which a command counts as hung (a deadline, not a speed claim).
-const HANG_S: u64 = 60;
+pub(crate) const HANG_S: u64 = 60;
 
-fn finish(mut child: Child, deadline: Duration, what: &str) -> Outcome {
+pub(crate) fn finish(mut child: Child, deadline: Duration, what: &str) -> Outcome {
     let t = Instant::now();
     loop {
         if let Some(status) = child.try_wait().expect("wait") {
@@ -60,7 +60,7 @@ fn finish(mut child: Child, deadline: Duration, what: &str) -> Outcome {
 
 /// `deadline_s` only catches a hang: at least [`HANG_S`], whatever the caller asks (a loaded
 /// machine may take many times a quiet one's seconds).
-fn run(args: &[&str], cwd: &Path, deadline_s: u64) -> Outcome {
+pub(crate) fn run(args: &[&str], cwd: &Path, deadline_s: u64) -> Outcome {
     finish(
         spawn(args, cwd, &[]),
         Duration::from_secs(deadline_s.max(HANG_S)),
@@ -70,7 +70,7 @@ fn run(args: &[&str], cwd: &Path, deadline_s: u64) -> Outcome {
 
 /// Runs `args`, expects a failure within `deadline_s` whose message contains every one of
 /// `needles`.
-fn rejects(args: &[&str], cwd: &Path, deadline_s: u64, needles: &[&str]) -> Outcome {
+pub(crate) fn rejects(args: &[&str], cwd: &Path, deadline_s: u64, needles: &[&str]) -> Outcome {
     let out = run(args, cwd, deadline_s);
     assert!(
         !out.ok,
@@ -97,7 +97,7 @@ fn rejects(args: &[&str], cwd: &Path, deadline_s: u64, needles: &[&str]) -> Outc
 
 /// A small scenario: the single wheelset on a straight kilometre with irregularities; `edit`
 /// replaces text in it.
-fn scenario(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
+pub(crate) fn scenario(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
     let mut text = String::from(
         r#"schema_version = 1
 name = "reliability"

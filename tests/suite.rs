@@ -23,6 +23,7 @@ mod paper;
 mod recording;
 mod reference_profiles;
 mod reliability;
+mod reliability_files;
 mod speed;
 mod study;
 mod track;

@@ -127,7 +127,8 @@ pub fn run(cli: Cli) -> Result<()> {
     // The commands whose runs are built inside the library (compare, paper, bench) take
     // `KECSIM_THREADS` from the pool they execute in (their runs' default); `kecsim run` hands it
     // to its run's options; a study runs one case per `--jobs` thread.
-    let in_threads = |command: Box<dyn FnOnce() -> Result<()> + Send>| match threads() {
+    let threads = threads()?;
+    let in_threads = |command: Box<dyn FnOnce() -> Result<()> + Send>| match threads {
         Threads::Count(n) => RunPool::new(Threads::Count(n)).install(command),
         _ => command(),
     };
@@ -153,12 +154,16 @@ pub fn run(cli: Cli) -> Result<()> {
 /// library's default, [`Threads::Default`] (two where the machine has two cores: the run's
 /// thread and one more, which the wheelsets of each right-hand side and the contact tables'
 /// searches are split between). Only the binary reads it.
-fn threads() -> Threads {
-    std::env::var("KECSIM_THREADS")
+/// Above [`kecsim::limits::max_threads`] (a stated multiple of the cores) it is refused.
+fn threads() -> Result<Threads> {
+    let n = std::env::var("KECSIM_THREADS")
         .ok()
-        .and_then(|v| v.parse::<usize>().ok())
-        .filter(|&n| n >= 1)
-        .map_or(Threads::Default, Threads::Count)
+        .and_then(|v| v.trim().parse::<usize>().ok())
+        .filter(|&n| n >= 1);
+    if let Some(n) = n {
+        kecsim::limits::check_threads("KECSIM_THREADS", n).map_err(anyhow::Error::msg)?;
+    }
+    Ok(n.map_or(Threads::Default, Threads::Count))
 }
 
 /// The contact models' names, for `--contact`.
@@ -308,9 +313,11 @@ impl SinkArgs {
             Sink::Save(PathBuf::from(inspect::DEFAULT_RRD))
         };
         if self.spawn {
-            match inspect::spawn_obstacle() {
-                None => Sink::Spawn,
-                Some(why) => fallback(why),
+            // The viewer is started here, before the outputs are guarded: a `rerun` that cannot
+            // run or never listens falls back to the file, which the guard then checks.
+            match inspect::spawn_obstacle().map_or_else(inspect::spawn_viewer, Err) {
+                Ok(url) => Sink::Connect(url),
+                Err(why) => fallback(why),
             }
         } else if let Some(url) = &self.connect {
             match inspect::probe_viewer(url, inspect::VIEWER_TIMEOUT) {
@@ -354,8 +361,22 @@ fn guard<P: AsRef<Path>>(
     outputs: &[(&str, Option<&Path>)],
     sink: Option<&Sink>,
 ) -> Result<OutputGuard> {
+    guard_trees(inputs, &[], outputs, sink)
+}
+
+/// [`guard`], with directories whose every file the command reads (a study's `cases/`): no
+/// output may lie inside them.
+fn guard_trees<P: AsRef<Path>>(
+    inputs: &[P],
+    trees: &[&Path],
+    outputs: &[(&str, Option<&Path>)],
+    sink: Option<&Sink>,
+) -> Result<OutputGuard> {
     let mut g = OutputGuard::new();
     g.inputs(inputs);
+    for t in trees {
+        g.input_tree(t);
+    }
     for (what, p) in outputs {
         if let Some(p) = p {
             g.output(what, p)?;
@@ -363,6 +384,9 @@ fn guard<P: AsRef<Path>>(
     }
     if let Some(Sink::Save(p)) = sink {
         g.output("--save", p)?;
+    }
+    if g.writes_stdout() {
+        crate::say::to_stderr();
     }
     Ok(g)
 }
@@ -378,11 +402,8 @@ fn check_output_dir(flag: &str, dir: &Path) -> Result<()> {
             )
         })?;
     }
-    let probe = dir.join(format!(".kecsim-write-check-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .with_context(|| format!("{flag} {}: cannot write into this directory", dir.display()))?;
-    std::fs::remove_file(&probe).ok();
-    Ok(())
+    kecsim::files::check_dir_writable(dir)
+        .with_context(|| format!("{flag} {}: cannot write into this directory", dir.display()))
 }
 
 /// The outputs of a command on a scene, guarded as [`guard`] does against the scenario `file` (None:

@@ -149,7 +149,7 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     let built = scene.build_run(&RunOptions {
         contact: a.contact.clone(),
         speed_m_s: a.speed,
-        threads: super::threads(),
+        threads: super::threads()?,
         cancel: cancel.clone(),
     })?;
     for n in &built.notes {

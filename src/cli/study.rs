@@ -147,12 +147,16 @@ fn shard(option: Option<&str>) -> Result<Option<(usize, usize)>> {
 fn jobs(option: Option<usize>) -> Result<usize> {
     if let Some(n) = option {
         anyhow::ensure!(n >= 1, "--jobs {n}: expected at least 1");
+        kecsim::limits::check_threads("--jobs", n).map_err(anyhow::Error::msg)?;
         return Ok(n);
     }
     let slurm = std::env::var("SLURM_CPUS_PER_TASK")
         .ok()
         .and_then(|v| v.parse().ok())
         .filter(|&n| n >= 1);
+    if let Some(n) = slurm {
+        kecsim::limits::check_threads("SLURM_CPUS_PER_TASK", n).map_err(anyhow::Error::msg)?;
+    }
     Ok(slurm.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())))
 }
 
@@ -166,18 +170,21 @@ fn study_sink(sink: &SinkArgs, dir: &Path) -> Sink {
 }
 
 fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
+    let jobs = jobs(a.jobs)?;
     let study = Study::read(path)?;
     let shard = shard(a.shard.as_deref())?;
-    let jobs = jobs(a.jobs)?;
     let out = a.out.clone().unwrap_or_else(|| default_out(path));
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create --out {}", out.display()))?;
     let sink = study_sink(&a.sink, &out);
+    let inputs = study.input_files();
+    inputs_outside_cases(&inputs, &out)?;
     // A shard writes only its cases; the whole study also the table and the recording.
     // (Shards run at once in one directory by design: each writes its own cases.)
     let _outputs = if shard.is_none() {
         let mut outputs = merge_outputs(&out).to_vec();
         outputs.push(out.join("study.json"));
-        Some(super::guard(&study.input_files(), &named(&outputs), Some(&sink))?)
+        let cases = out.join("cases");
+        Some(super::guard_trees(&inputs, &[&cases], &named(&outputs), Some(&sink))?)
     } else {
         None
     };
@@ -325,10 +332,25 @@ fn named(files: &[PathBuf]) -> Vec<(&'static str, Option<&Path>)> {
     files.iter().map(|p| ("--out", Some(p.as_path()))).collect()
 }
 
+/// A study whose own input (the study file, its scene, a file an axis names) lies in its output
+/// tree `OUT/cases/` would write over it (case 0's `scenario.toml` is the case's scene): refused.
+fn inputs_outside_cases(inputs: &[PathBuf], out: &Path) -> Result<()> {
+    let cases = kecsim::files::resolved(&out.join("cases"));
+    if let Some(p) = inputs.iter().find(|p| kecsim::files::resolved(p).starts_with(&cases)) {
+        anyhow::bail!(
+            "{}: this input of the study lies inside its output tree {} (whose files the study writes); move it out or choose another --out",
+            p.display(),
+            out.join("cases").display()
+        );
+    }
+    Ok(())
+}
+
 fn merge_dir(dir: &Path, sink: &SinkArgs) -> Result<()> {
     let sink = study_sink(sink, dir);
     let manifest = dir.join("study.json");
-    let _outputs = super::guard(&[&manifest], &named(&merge_outputs(dir)), Some(&sink))?;
+    let cases = dir.join("cases");
+    let _outputs = super::guard_trees(&[&manifest], &[&cases], &named(&merge_outputs(dir)), Some(&sink))?;
     finish(dir, &sink)
 }
 
@@ -436,7 +458,10 @@ fn slurm(
         study = q(&study),
         outq = q(&out),
     );
-    let _outputs = super::guard(&s.input_files(), &[("--script", script.as_deref())], None)?;
+    let inputs = s.input_files();
+    inputs_outside_cases(&inputs, &out)?;
+    let cases = out.join("cases");
+    let _outputs = super::guard_trees(&inputs, &[&cases], &[("--script", script.as_deref())], None)?;
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     match script {
         Some(p) => {

@@ -11,9 +11,12 @@
 //! **Files.** One file per table, `<dir>/<kind>-<key as 16 hex digits>.bin`: a magic word, the
 //! format version, then the table as little-endian f64 words — its gauge variation, r0, L_r, z_r,
 //! flange limits, its rows (every field of [`TableRow`]) and its jumps — so that a cached table
-//! is the built one bit for bit (tested). A file is written to a temporary name and renamed into
-//! place (two runs writing the same table leave one whole file); a file that cannot be read or
-//! does not parse is rebuilt and replaced, never trusted.
+//! is the built one bit for bit (tested), and last a checksum of every word before it (FNV-1a),
+//! so that an edited or damaged file is rebuilt, never trusted. A file is written to a temporary
+//! name (created exclusively, never through a link) and renamed into place (two runs writing the
+//! same table leave one whole file); a file that is not a regular file (a FIFO, a link), is larger
+//! than [`MAX_CACHE_FILE_BYTES`], does not parse or fails its checksum is rebuilt and replaced.
+//! Reading one costs at most its bound: nothing in the cache can hang a run or exhaust memory.
 //!
 //! The library never chooses the directory: the command line passes it (`kecsim` uses
 //! `$KECSIM_CACHE_DIR`, else `$XDG_CACHE_HOME/kecsim`, else `~/.cache/kecsim`; `--no-cache`
@@ -28,8 +31,10 @@ use super::lookup::{
     FLANGE_FLANK_TOLERANCE_RAD, FLANGE_SCAN_STEP_M,
 };
 
-/// Bumped whenever the file layout or what a table holds changes.
-const FORMAT_VERSION: u64 = 1;
+/// Bumped whenever the file layout or what a table holds changes (2: the trailing checksum).
+const FORMAT_VERSION: u64 = 2;
+/// Largest cache file read: a 1-entry table is ~0.5 MB, a 2-entry one a few tens of them.
+pub const MAX_CACHE_FILE_BYTES: u64 = 256 << 20;
 /// The first word of every table file.
 const MAGIC: u64 = 0x6b65_6373_696d_7462; // "kecsimtb"
 /// The first word of a flange-angle file.
@@ -323,18 +328,27 @@ fn read(path: &Path) -> Option<Vec<LookupTable1>> {
     decode(&read_words(path)?)
 }
 
-/// The little-endian words of `path`, None when it cannot be read or is not whole words.
+/// FNV-1a over the words `w`: the checksum a cache file ends with.
+fn checksum(w: &[u64]) -> u64 {
+    let mut k = Key::new();
+    w.iter().for_each(|&x| k.word(x));
+    k.0
+}
+
+/// The little-endian words of `path` without its checksum, None when it is not a regular file
+/// (not followed through a link), is larger than [`MAX_CACHE_FILE_BYTES`], is not whole words or
+/// fails its checksum.
 fn read_words(path: &Path) -> Option<Vec<u64>> {
-    let bytes = std::fs::read(path).ok()?;
+    let bytes = crate::files::read_bounded(path, MAX_CACHE_FILE_BYTES, true).ok()?;
     if bytes.len() % 8 != 0 {
         return None;
     }
-    Some(
-        bytes
-            .chunks_exact(8)
-            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
-            .collect(),
-    )
+    let mut w: Vec<u64> = bytes
+        .chunks_exact(8)
+        .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+        .collect();
+    let sum = w.pop()?;
+    (checksum(&w) == sum).then_some(w)
 }
 
 /// Stores the tables at `path` through a temporary file renamed into place; a cache that cannot
@@ -355,8 +369,9 @@ fn write_words(path: &Path, words: &[u64]) {
         path.file_name().and_then(|n| n.to_str()).unwrap_or("table"),
         std::process::id()
     ));
-    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-    let ok = std::fs::File::create(&tmp)
+    let mut bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    bytes.extend_from_slice(&checksum(words).to_le_bytes());
+    let ok = crate::files::create_side_file(&tmp)
         .and_then(|mut f| f.write_all(&bytes).and_then(|_| f.sync_all()))
         .is_ok();
     if ok && std::fs::rename(&tmp, path).is_ok() {

@@ -28,6 +28,7 @@ pub mod patch;
 pub mod precision;
 pub mod profiles;
 pub mod readback;
+mod rrd_file;
 pub mod run;
 pub mod study;
 pub mod track;
@@ -105,6 +106,19 @@ pub fn viewer_on_path() -> bool {
     })
 }
 
+/// Starts a Rerun viewer (`rerun` on PATH) and returns the URL to stream to once it listens
+/// (within the SDK's wait and then [`VIEWER_TIMEOUT`]); the error says why not — a `rerun` that
+/// cannot run, or one that never listens, is then a fallback decided before any output is
+/// guarded, never a wait without end.
+pub fn spawn_viewer() -> Result<String, String> {
+    let opts = rerun::SpawnOptions::default();
+    let info = rerun::spawn(&opts).map_err(|e| format!("cannot spawn a Rerun viewer ({e})"))?;
+    let url = format!("rerun+http://127.0.0.1:{}/proxy", info.port);
+    probe_viewer(&url, VIEWER_TIMEOUT)
+        .map_err(|e| format!("the spawned Rerun viewer does not listen ({e})"))?;
+    Ok(url)
+}
+
 /// Checks that something listens at the viewer URL's host and port (`rerun+http://HOST:PORT/…`;
 /// port 9876 when none is given) within `timeout`; the error says what was tried.
 pub fn probe_viewer(url: &str, timeout: std::time::Duration) -> Result<(), String> {
@@ -143,12 +157,33 @@ pub fn probe_viewer(url: &str, timeout: std::time::Duration) -> Result<(), Strin
 pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, String> {
     match sink {
         Sink::Save(p) => {
-            drop(rec);
-            // The recording went to its part file (see open_recording): now whole, it takes
-            // the file's name (through a symlink: the file it points to).
             let target = crate::files::write_target(p);
-            std::fs::rename(crate::files::part_path(&target), &target)
-                .map_err(|e| format!("cannot save {}: {e}", p.display()))?;
+            let stream = crate::files::output_kind(p) == Ok(crate::files::OutputKind::Stream);
+            let part = crate::files::part_path(&target);
+            let fail = |e: String| {
+                if !stream {
+                    std::fs::remove_file(&part).ok();
+                }
+                format!(
+                    "cannot save {}: {e}{}",
+                    p.display(),
+                    if stream { "" } else { "; the file there before is kept" }
+                )
+            };
+            // Every write error of the recording is seen here (rrd_file keeps the first and
+            // fails every flush after it); the footer, written when the last handle drops, is
+            // checked on the file itself.
+            rec.flush_blocking().map_err(|e| fail(e.to_string()))?;
+            drop(rec);
+            if stream {
+                return Ok(format!("saved {}", p.display()));
+            }
+            check_rrd_whole(&part).map_err(&fail)?;
+            std::fs::File::open(&part)
+                .and_then(|f| f.sync_all())
+                .map_err(|e| fail(e.to_string()))?;
+            // Now whole, it takes the file's name (through a symlink: the file it points to).
+            std::fs::rename(&part, &target).map_err(|e| fail(e.to_string()))?;
             Ok(format!("saved {}", p.display()))
         }
         Sink::Spawn | Sink::Connect(_) => {
@@ -162,6 +197,34 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
                     format!("the recording was NOT delivered: {viewer} did not take it ({e}); run again with --save FILE")
                 })
         }
+    }
+}
+
+/// Checks that the recording file `path` ends with the stream footer the SDK writes last (`RRF2`
+/// `FOOT`, one entry whose footer payload ends where the 32-byte stream footer begins): a file cut
+/// short by a full disk does not.
+fn check_rrd_whole(path: &std::path::Path) -> Result<(), String> {
+    use std::io::{Read, Seek, SeekFrom};
+    const STREAM_FOOTER: u64 = 32;
+    let mut f = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let len = f.metadata().map_err(|e| e.to_string())?.len();
+    let cut = || format!("the recording was cut short ({len} bytes written, no end of stream): the disk is full or failed");
+    if len < STREAM_FOOTER {
+        return Err(cut());
+    }
+    let mut tail = [0u8; STREAM_FOOTER as usize];
+    f.seek(SeekFrom::End(-(STREAM_FOOTER as i64)))
+        .and_then(|_| f.read_exact(&mut tail))
+        .map_err(|e| e.to_string())?;
+    let word = |a: usize| u64::from_le_bytes(tail[a..a + 8].try_into().unwrap_or([0; 8]));
+    let (start, span) = (word(0), word(8));
+    let whole = &tail[20..28] == b"RRF2FOOT"
+        && tail[28..32] == 1u32.to_le_bytes()
+        && start.checked_add(span) == Some(len - STREAM_FOOTER);
+    if whole {
+        Ok(())
+    } else {
+        Err(cut())
     }
 }
 
@@ -213,14 +276,23 @@ pub fn open_recording_with(
     let rec = match sink {
         // Written to the part file beside the target, renamed onto it by finish_recording: a
         // reader never sees half a recording, and a recording that fails keeps the old file.
+        // The recording is encoded by kecsim's own sink (rrd_file: every write error seen):
+        // into the part file beside the target, renamed onto it by finish_recording (a reader
+        // never sees half a recording; one that fails keeps the old file), or into a stream
+        // (`/dev/stdout`, a named pipe: its reader waited for, at most files::STREAM_WAIT).
         Sink::Save(path) => {
-            let target = crate::files::write_target(path);
-            builder()
-                .save(crate::files::part_path(&target))
-                .map_err(|source| InspectError::Open {
-                    what: format!("saving to {}", path.display()),
-                    source,
-                })?
+            let open_failed = |e: String| InspectError::Model(format!(
+                "cannot save the recording to {}: {e}",
+                path.display()
+            ));
+            let file = if crate::files::output_kind(path) == Ok(crate::files::OutputKind::Stream) {
+                crate::files::open_stream(path).map_err(|e| open_failed(e.to_string()))?
+            } else {
+                let target = crate::files::write_target(path);
+                crate::files::create_side_file(&crate::files::part_path(&target))
+                    .map_err(|e| open_failed(e.to_string()))?
+            };
+            rrd_file::stream_into(app_id, file).map_err(open_failed)?
         }
         Sink::Connect(url) => {
             builder()
@@ -230,16 +302,12 @@ pub fn open_recording_with(
                     source,
                 })?
         }
-        Sink::Spawn => match builder().spawn() {
-            Ok(rec) => rec,
-            Err(e) => {
-                eprintln!("kecsim: cannot spawn a Rerun viewer ({e}); saving to {DEFAULT_RRD} instead");
-                builder().save(DEFAULT_RRD).map_err(|source| InspectError::Open {
-                    what: format!("saving to {DEFAULT_RRD}"),
-                    source,
-                })?
-            }
-        },
+        // A viewer that cannot start is an error here: the caller chooses a fallback file before
+        // its outputs are guarded (the command line resolves `--spawn` with [`spawn_viewer`]).
+        Sink::Spawn => builder().spawn().map_err(|source| InspectError::Open {
+            what: "spawning a Rerun viewer".into(),
+            source,
+        })?,
     };
     rec.set_log_time_enabled(false);
     let sent = layout().send(app_id, &rec).map_err(|source| InspectError::Log {

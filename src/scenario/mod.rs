@@ -11,6 +11,7 @@
 //! run's objects from it ([`simulation`]: contact model, vehicle system, reference, settings). The
 //! command line only parses arguments and calls these.
 
+mod finite;
 pub mod simulation;
 
 use std::path::{Path, PathBuf};
@@ -173,6 +174,18 @@ impl Scenario {
                 None => e.to_string().trim_end().to_string(),
             },
         })?;
+        let bad = finite::non_finite_values(text);
+        if !bad.is_empty() {
+            return Err(ScenarioError::Invalid {
+                path: origin.to_string(),
+                problems: bad
+                    .iter()
+                    .map(|(line, key, token)| {
+                        format!("{origin}:{line}: {key} = {token}: not a number; expected a finite value")
+                    })
+                    .collect(),
+            });
+        }
         s.source = text.to_string();
         Ok(s)
     }
@@ -196,6 +209,17 @@ impl Scenario {
             problems.push(format!(
                 "schema_version = {}: this kecsim reads schema_version = {SCHEMA_VERSION}",
                 self.schema_version
+            ));
+        }
+        if let Some(c) = self.name.chars().find(|c| c.is_control()) {
+            problems.push(locate_key(
+                origin,
+                &self.source,
+                &format!(
+                    "name = {:?}: contains the control character U+{:04X}; a name is printed and recorded (letters, digits, spaces, punctuation)",
+                    self.name,
+                    c as u32
+                ),
             ));
         }
         if self.track.horizontal.is_empty() {
@@ -287,7 +311,21 @@ impl Scenario {
                 problems.extend(sim.problems().iter().map(|p| locate_key(origin, &self.source, p)));
                 warnings.extend(sim.doubtful().iter().map(|p| locate_key(origin, &self.source, p)));
                 // Counts read from the file, held to the limits before anything is built.
-                for (table, n) in veh.table_counts() {
+                let counts = veh.table_counts();
+                let parts: f64 = counts
+                    .iter()
+                    .filter(|(t, _)| *t == "bodies" || *t == "wheelsets")
+                    .map(|(_, n)| *n as f64)
+                    .sum();
+                if let Err(e) = crate::limits::check(
+                    &format!("vehicle: {parts} bodies and wheelsets"),
+                    parts,
+                    crate::limits::MAX_VEHICLE_PARTS,
+                    "a ten-car train has 30 bodies and 40 wheelsets; the run's Jacobian is dense, its factorisation grows with the cube of the count",
+                ) {
+                    problems.push(e);
+                }
+                for (table, n) in counts {
                     let limit = if table == "elements" {
                         crate::limits::MAX_VEHICLE_ELEMENTS
                     } else {
@@ -345,6 +383,7 @@ impl Scenario {
         let track = if self.track.horizontal.is_empty() {
             None
         } else {
+            warnings.extend(self.track.doubtful(origin, &self.source));
             match self.track.build(&self.name, origin, &self.source, base) {
                 Ok(t) => Some(Arc::new(t)),
                 Err(crate::track::TrackError::Invalid { problems: p, .. }) => {

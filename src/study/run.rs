@@ -27,6 +27,7 @@ use super::case::{CaseResult, Manifest};
 use super::spec::{value_text, Case, Fnv, Study, MAX_CASES};
 use super::StudyError;
 use crate::dynamics::output::CsvWriter;
+use crate::dynamics::run::RunFailure;
 use crate::dynamics::{CancelToken, RunEnd, RunObserver, Stop, Threads};
 use crate::scenario::{PreprocessingCache, RunOptions, Scenario};
 
@@ -87,10 +88,22 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), StudyError> {
     crate::files::write_atomic(path, text.as_bytes()).map_err(|e| io(path, e))
 }
 
+/// Largest `study.json` or `result.json` read (a case's row is a few kB; a manifest of
+/// [`MAX_CASES`] axes' names well under this).
+const MAX_STUDY_FILE_BYTES: u64 = 64 << 20;
+
+/// A study file kecsim wrote (`study.json`, a case's `result.json`) as text: a regular file,
+/// not a link, at most [`MAX_STUDY_FILE_BYTES`] — a FIFO, a link to `/dev/zero` or a huge file
+/// planted in the tree is an error naming it, never a hang or an abort.
+fn read_study_file(path: &Path) -> std::io::Result<String> {
+    let bytes = crate::files::read_bounded(path, MAX_STUDY_FILE_BYTES, true)?;
+    String::from_utf8(bytes).map_err(|_| std::io::Error::other("not UTF-8 text"))
+}
+
 /// Reads `study.json` of `out` (None where there is none).
 pub fn read_manifest(out: &Path) -> Result<Option<Manifest>, StudyError> {
     let path = out.join("study.json");
-    match std::fs::read_to_string(&path) {
+    match read_study_file(&path) {
         Ok(text) => {
             let m: Manifest =
                 serde_json::from_str(&text).map_err(|e| io(&path, format!("not a study manifest: {e}")))?;
@@ -134,7 +147,7 @@ const MAX_MANIFEST_NAMES: usize = 10_000;
 
 /// The finished result of case `k` in `out`, where there is one for this study and scenario.
 fn finished(out: &Path, study_id: &str, case: &Case) -> Option<CaseResult> {
-    let text = std::fs::read_to_string(case_dir(out, case.index).join("result.json")).ok()?;
+    let text = read_study_file(&case_dir(out, case.index).join("result.json")).ok()?;
     let r: CaseResult = serde_json::from_str(&text).ok()?;
     (r.study_id == study_id && r.scenario_hash == scenario_hash(&case.scenario)).then_some(r)
 }
@@ -334,6 +347,11 @@ pub fn run_case(
             if let RunEnd::Stopped(Stop::Interrupted { .. }) = output.end {
                 return Ok(None);
             }
+            // The case's files could not be written (a full disk): an error of the study, not
+            // the case's outcome — no result.json, so that a rerun runs the case again.
+            if let RunEnd::Failed(RunFailure::Observer(e)) = &output.end {
+                return Err(io(&dir, e));
+            }
             let summary = &output.summary;
             write_atomic(
                 &dir.join("summary.json"),
@@ -377,7 +395,7 @@ pub fn collect(out: &Path) -> Result<(Manifest, Vec<CaseResult>), StudyError> {
     let mut missing = Vec::new();
     for k in 0..manifest.cases {
         let path = case_dir(out, k).join("result.json");
-        let text = match std::fs::read_to_string(&path) {
+        let text = match read_study_file(&path) {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
                 missing.push(k);

@@ -202,6 +202,22 @@ impl Study {
         if let Ok(scene) = Scenario::read(&self.scenario_path).and_then(|s| s.compile(&origin, base)) {
             files.extend(scene.inputs);
         }
+        // Files named only by an axis (`profiles.wheel = ["w1.csv", "w2.csv"]`, an irregularity
+        // file per case): every text value that names a file, as the scenario resolves it
+        // (relative to its directory) and as given.
+        for axis in &self.axes {
+            if let AxisValues::List(values) = &axis.values {
+                for v in values {
+                    if let Value::String(text) = v {
+                        for p in [base.join(text), PathBuf::from(text)] {
+                            if p.is_file() && !files.contains(&p) {
+                                files.push(p);
+                            }
+                        }
+                    }
+                }
+            }
+        }
         files
     }
 
@@ -229,6 +245,16 @@ impl Study {
             line: e.span().map_or(0, |s| line_of(text, s.start)),
             message: e.message().trim_end().to_string(),
         })?;
+        if let Some(c) = raw.name.chars().find(|c| c.is_control()) {
+            let offset = text.find("name").unwrap_or(0);
+            return Err(at(
+                offset,
+                format!(
+                    "name = {:?}: contains the control character U+{:04X}; a name is printed and recorded (letters, digits, spaces, punctuation)",
+                    raw.name, c as u32
+                ),
+            ));
+        }
         if raw.schema_version != STUDY_SCHEMA_VERSION {
             return Err(at(
                 0,

@@ -43,7 +43,9 @@ use super::centreline::{Centreline, Start};
 use super::irregularity::{Generation, Irregularities};
 use super::psd::Psd;
 use super::rails::TrackGauge;
-use super::sections::{check_horizontal, check_vertical, HorizontalSection, VerticalSection};
+use super::sections::{
+    check_horizontal, check_vertical, HorizontalSection, VerticalSection, MAX_CANT_RAD, SERVICE_CANT_RAD,
+};
 use super::{measured, Track, TrackError};
 
 /// The paper's Tab. 6 track, embedded in the binary.
@@ -376,6 +378,29 @@ impl IrregularitySpec {
 impl TrackSpec {
     /// Validates the table and builds the track. `origin` names the file, `text` is its content
     /// (for line numbers), `base` the directory relative paths start from.
+    /// Possible but doubtful values (warnings, each with its file and line): a cant beyond the
+    /// service cants ([`SERVICE_CANT_RAD`]) but within the accepted [`MAX_CANT_RAD`].
+    pub fn doubtful(&self, origin: &str, text: &str) -> Vec<String> {
+        let mut w = Vec::new();
+        for (i, s) in self.horizontal.iter().enumerate() {
+            let spec = s.get_ref();
+            let worst = [spec.cant_rad, spec.start_cant_rad, spec.end_cant_rad]
+                .into_iter()
+                .flatten()
+                .filter(|c| c.is_finite())
+                .fold(0.0_f64, |m, c| m.max(c.abs()));
+            if worst > SERVICE_CANT_RAD && worst <= MAX_CANT_RAD {
+                w.push(format!(
+                    "{origin}:{}: horizontal section {}: cant {worst} rad ({:.0} mm on standard gauge) is beyond the service cants (180–200 mm, {SERVICE_CANT_RAD} rad); accepted up to {MAX_CANT_RAD} rad — is it meant, or a cant in another unit?",
+                    line_of(text, s.span().start),
+                    i + 1,
+                    1500.0 * worst.sin()
+                ));
+            }
+        }
+        w
+    }
+
     pub fn build(&self, name: &str, origin: &str, text: &str, base: &Path) -> Result<Track, TrackError> {
         let mut loc = Loc {
             origin,

@@ -162,6 +162,9 @@ fn differ(a: f64, b: f64) -> bool {
 /// The largest cant accepted, rad (225 mm on standard gauge; service cants stay within 180–200
 /// mm).
 pub const MAX_CANT_RAD: f64 = 0.15;
+/// The largest service cant, rad (200 mm on standard gauge, 1500 mm between the rails' centres):
+/// a cant beyond it, up to [`MAX_CANT_RAD`], is accepted with a warning.
+pub const SERVICE_CANT_RAD: f64 = 0.134;
 /// The largest cant gradient (twist) of a section accepted, rad/m (15 mm per metre on standard
 /// gauge; EN 13803 limits the cant gradient to a few mm/m).
 pub const MAX_TWIST_RAD_PER_M: f64 = 0.01;
