@@ -212,7 +212,7 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     let summary = &out.summary;
     print!("{summary}");
     if let Some(c) = &csv {
-        for path in c.paths() {
+        for path in c.written() {
             println!("wrote {}", path.display());
         }
     }

@@ -220,6 +220,12 @@ fn idx(side: Side) -> usize {
 const ENVELOPE_STEP_M: f64 = 2e-5;
 /// Roll search range, rad.
 const ROLL_LIMIT_RAD: f64 = 0.1;
+/// The largest lateral shift of a wheel's points by the roll of the search's bracket, φ r0, m:
+/// the linearised roll moves a wheel's points sideways by φ times their radius, and at 0.1 rad a
+/// wheel of r0 ≥ 0.85 m left its rail altogether at the bracket's ends ("never touch" for the
+/// documented r0 = 1 m). The roll bracket is min(0.1, 0.05 / r0): unchanged up to r0 = 0.5 m,
+/// and still twice any real roll (flange height over the gauge, ~0.02 rad) at 1 m.
+const ROLL_SHIFT_LIMIT_M: f64 = 0.05;
 
 impl ContactGeometry {
     /// Prepares the constraints of `pair`.
@@ -522,11 +528,12 @@ impl ContactGeometry {
         let g = |side: Side, phi: f64| self.min_gap(side, &envs[idx(side)], off, y, phi, refine);
         let d =
             |phi: f64| -> Result<f64, ContactError> { Ok(g(Side::Left, phi)?.0 - g(Side::Right, phi)?.0) };
-        let (mut lo, mut hi) = (-ROLL_LIMIT_RAD, ROLL_LIMIT_RAD);
+        let limit = ROLL_LIMIT_RAD.min(ROLL_SHIFT_LIMIT_M / self.pair.wheelset.nominal_radius_m.max(1e-3));
+        let (mut lo, mut hi) = (-limit, limit);
         if d(lo)? > 0.0 || d(hi)? < 0.0 {
             return Err(ContactError::NoRollBracket {
                 y_mm: y * 1e3,
-                limit_rad: ROLL_LIMIT_RAD,
+                limit_rad: limit,
             });
         }
         while hi - lo > phi_tolerance {

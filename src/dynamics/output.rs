@@ -323,6 +323,8 @@ pub struct CsvWriter {
     carbodies: Vec<(PathBuf, Option<csv::Writer<AtomicFile>>, Vec<usize>)>,
     /// The floor points (from the run's start).
     floor_points: Vec<super::system::FloorPoint>,
+    /// The files renamed into place at the run's end.
+    committed: Vec<PathBuf>,
 }
 
 /// The columns of a carbody's CSV (`--csv DIR` writes `DIR/CARBODY.csv` beside the wheelsets'
@@ -350,7 +352,14 @@ impl CsvWriter {
             writers,
             carbodies: Vec::new(),
             floor_points: Vec::new(),
+            committed: Vec::new(),
         })
+    }
+
+    /// The files written whole and in place at the run's end (a file whose write failed — a
+    /// full disk — is not among them: the file there before is kept).
+    pub fn written(&self) -> &[PathBuf] {
+        &self.committed
     }
 
     /// The files written (the carbodies' once the run has started).
@@ -423,8 +432,11 @@ impl RunObserver for CsvWriter {
         let carbodies = self.carbodies.iter_mut().map(|(p, w, _)| (&*p, w));
         for (path, w) in self.writers.iter_mut().map(|(p, w)| (&*p, w)).chain(carbodies) {
             if let Some(w) = w.take() {
-                if let Err(e) = crate::files::commit_csv(w) {
-                    first.get_or_insert(format!("cannot write {}: {e}", path.display()));
+                match crate::files::commit_csv(w) {
+                    Ok(()) => self.committed.push(path.clone()),
+                    Err(e) => {
+                        first.get_or_insert(format!("cannot write {}: {e}", path.display()));
+                    }
                 }
             }
         }

@@ -460,24 +460,69 @@ fn relocate(text: &str, at: usize, message: &str) -> Option<String> {
         .or_else(|| message.split('"').nth(1))
         .filter(|t| !t.is_empty())?;
     let rest = &text[at..];
+    // Only the table's own lines: the next header ends it (a key of a later table is another
+    // key, and was reported as this table's error).
+    let mut lines = Vec::new();
     let mut offset = at;
-    for line in rest.split_inclusive('\n') {
+    for (k, line) in rest.split_inclusive('\n').enumerate() {
+        if k > 0 && line.trim_start().starts_with('[') && !line.contains('=') {
+            break;
+        }
+        lines.push((offset, line));
+        offset += line.len();
+    }
+    let shown = |offset: usize, message: &str, line: &str| {
+        format!(
+            "line {}: {} (`{}`)",
+            crate::track::file::line_of(text, offset),
+            message.trim_end(),
+            line.trim()
+        )
+    };
+    for &(offset, line) in &lines {
         let body = line.split('#').next().unwrap_or("");
-        let as_value = body.contains(&format!("\"{token}\""));
+        let as_value = body.contains(&format!("\"{token}\""))
+            || body.split_once('=').is_some_and(|(_, v)| v.trim() == token);
         let as_key = body.trim_start().starts_with(token)
             && body.trim_start()[token.len()..].trim_start().starts_with('=');
         let in_inline = body.contains(&format!("{token} =")) || body.contains(&format!("{token}="));
         if as_value || as_key || in_inline {
-            return Some(format!(
-                "line {}: {} (`{}`)",
-                crate::track::file::line_of(text, offset),
-                message.trim_end(),
-                line.trim()
-            ));
+            return Some(shown(offset, message, line));
         }
-        offset += line.len();
+    }
+    // "missing field `model`" where the table has a key one or two letters from it: the typo.
+    if message.starts_with("missing field") {
+        for &(offset, line) in &lines {
+            let body = line.split('#').next().unwrap_or("");
+            if let Some((key, _)) = body.split_once('=') {
+                let key = key.trim();
+                if !key.is_empty() && key != token && edit_distance(key, token) <= 2 {
+                    return Some(shown(
+                        offset,
+                        &format!("unknown key `{key}`: did you mean `{token}`? ({message})"),
+                        line,
+                    ));
+                }
+            }
+        }
     }
     None
+}
+
+/// Levenshtein distance of two short keys.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let here = row[j + 1];
+            row[j + 1] = (row[j + 1] + 1).min(row[j] + 1).min(prev + usize::from(ca != cb));
+            prev = here;
+        }
+    }
+    row[b.len()]
 }
 
 /// "invalid length N, expected an array of length M" inside a tagged table (whose error spans the
