@@ -235,7 +235,9 @@ pub fn read_bounded(p: &Path, limit: u64, nofollow: bool) -> io::Result<Vec<u8>>
     let mut bytes = Vec::with_capacity(len as usize);
     f.take(limit + 1).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {
-        return Err(io::Error::other(format!("more than the {limit} bytes expected here")));
+        return Err(io::Error::other(format!(
+            "more than the {limit} bytes expected here"
+        )));
     }
     Ok(bytes)
 }
@@ -390,7 +392,8 @@ impl OutputGuard {
             .is_some_and(side_file_name)
         {
             return Err(unwritable(
-                "is named like a lock or a temporary file of another kecsim output; choose another name".into(),
+                "is named like a lock or a temporary file of another kecsim output; choose another name"
+                    .into(),
             ));
         }
         for (dir, rdir) in &self.trees {
@@ -620,7 +623,10 @@ impl AtomicFile {
     /// Flushes the bytes, syncs them to the disk and renames the part file onto the target; any
     /// error (a full disk) removes the part file and leaves the target as it was.
     pub fn commit(mut self) -> io::Result<()> {
-        let file = self.file.take().ok_or_else(|| io::Error::other("committed twice"))?;
+        let file = self
+            .file
+            .take()
+            .ok_or_else(|| io::Error::other("committed twice"))?;
         let written = file
             .into_inner()
             .map_err(|e| e.into_error())

@@ -257,6 +257,34 @@ proptest! {
         check_vehicle_tables(&m);
     }
 
+    /// Issue 50: a `nan` or `inf` put in place of any number of the MS scene is refused by the
+    /// parser itself, naming the line it is on (no range check can let it through).
+    #[test]
+    fn a_non_finite_number_anywhere_is_refused_at_its_line(k in any::<usize>(), which in 0usize..3) {
+        let src = text("assets/scenes/ms_vehicle_tab6.toml");
+        let nums = numbers(&src);
+        let (a, b) = nums[k % nums.len()];
+        // A number in a string or a comment is text, not a value.
+        let line_start = src[..a].rfind('\n').map_or(0, |i| i + 1);
+        let before = &src[line_start..a];
+        prop_assume!(before.matches('"').count().is_multiple_of(2) && !before.contains('#') && before.contains('='));
+        let token = ["nan", "inf", "-inf"][which];
+        let mutated = format!("{}{token}{}", &src[..a], &src[b..]);
+        let line = src[..a].matches('\n').count() + 1;
+        match Scenario::parse(&mutated, "ms.toml") {
+            Ok(_) => prop_assert!(false, "{token} at line {line} accepted"),
+            Err(e) => {
+                let msg = e.to_string();
+                // (Where an integer is expected, the parser's type error names the line first.)
+                prop_assert!(
+                    (msg.contains(&format!("ms.toml:{line}:")) && msg.contains("not a number"))
+                        || msg.contains(&format!("at line {line},")),
+                    "{msg}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn irregularity_csvs_never_panic(m in mutation(), s in "[-0-9.,e\n#a-z_]{0,200}") {
         let valid = "s_m,al_mm,vp_mm,gv_mm,cl_mm\n0,0.1,0.2,0.0,0.1\n1,0.2,0.1,0.1,0.0\n2,0.0,0.0,0.0,0.0\n3,-0.1,0.1,0.2,0.1\n4,0,0,0,0\n";
@@ -288,9 +316,14 @@ fn regressions() {
             1,
         );
         bounded("MS scenario with a joint at {bad}", || {
-            let _ = Scenario::parse(&ms, "x.toml")
-                .unwrap()
-                .compile("x.toml", &Path::new(ROOT).join("assets/scenes"));
+            // (Issue 50: nan and inf are refused by the parser itself, at their line.)
+            match Scenario::parse(&ms, "x.toml") {
+                Ok(sc) => {
+                    assert_eq!(bad, "1e308", "{bad} was parsed");
+                    let _ = sc.compile("x.toml", &Path::new(ROOT).join("assets/scenes"));
+                }
+                Err(e) => assert!(bad != "1e308" && e.to_string().contains("not a number"), "{e}"),
+            }
         });
     }
     // A profile of one repeated point, and one with a NaN.

@@ -66,7 +66,14 @@ fn outputs_that_are_pipes_or_devices_are_written_never_replaced() {
     let out_link = dir.join("stdout-link");
     std::os::unix::fs::symlink("/proc/self/fd/1", &out_link).unwrap();
     let o = run(
-        &["run", s(&sc), "--save", s(&dir.join("r.rrd")), "--json", s(&out_link)],
+        &[
+            "run",
+            s(&sc),
+            "--save",
+            s(&dir.join("r.rrd")),
+            "--json",
+            s(&out_link),
+        ],
         &dir,
         60,
     );
@@ -100,16 +107,34 @@ fn outputs_that_are_pipes_or_devices_are_written_never_replaced() {
 
     // A FIFO with a reader gets the JSON; the FIFO stays a FIFO.
     let fifo = dir.join("f.json");
-    let made = Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success());
+    let made = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
     assert!(made, "mkfifo");
     let reader = {
         let fifo = fifo.clone();
         std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap_or_default())
     };
-    let o = run(&["run", s(&sc), "--save", s(&dir.join("r2.rrd")), "--json", s(&fifo)], &dir, 60);
+    let o = run(
+        &[
+            "run",
+            s(&sc),
+            "--save",
+            s(&dir.join("r2.rrd")),
+            "--json",
+            s(&fifo),
+        ],
+        &dir,
+        60,
+    );
     assert!(o.ok, "{}", o.stderr);
     let got = reader.join().unwrap();
-    assert!(got.contains("\"outcome\""), "the FIFO's reader got {} bytes", got.len());
+    assert!(
+        got.contains("\"outcome\""),
+        "the FIFO's reader got {} bytes",
+        got.len()
+    );
     use std::os::unix::fs::FileTypeExt;
     assert!(
         std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo(),
@@ -120,7 +145,14 @@ fn outputs_that_are_pipes_or_devices_are_written_never_replaced() {
     let lonely = dir.join("lonely.json");
     assert!(Command::new("mkfifo").arg(&lonely).status().unwrap().success());
     rejects(
-        &["run", s(&sc), "--save", s(&dir.join("r3.rrd")), "--json", s(&lonely)],
+        &[
+            "run",
+            s(&sc),
+            "--save",
+            s(&dir.join("r3.rrd")),
+            "--json",
+            s(&lonely),
+        ],
         &dir,
         60,
         &["lonely.json", "nobody read"],
@@ -128,19 +160,35 @@ fn outputs_that_are_pipes_or_devices_are_written_never_replaced() {
 
     // A character device (the null device, made here): written, never replaced.
     let null = dir.join("null");
-    if Command::new("mknod").arg(&null).args(["c", "1", "3"]).status().is_ok_and(|s| s.success()) {
+    if Command::new("mknod")
+        .arg(&null)
+        .args(["c", "1", "3"])
+        .status()
+        .is_ok_and(|s| s.success())
+    {
         let o = run(&["run", s(&sc), "--json", s(&null), "--save", s(&null)], &dir, 60);
         assert!(o.ok, "{}", o.stderr);
         let t = std::fs::symlink_metadata(&null).unwrap().file_type();
         assert!(t.is_char_device(), "the device node was replaced by a file");
         // The study's script onto a device likewise.
         let o = run(
-            &["study", "slurm", s(&study_file(&dir)), "--shards", "1", "--script", s(&null)],
+            &[
+                "study",
+                "slurm",
+                s(&study_file(&dir)),
+                "--shards",
+                "1",
+                "--script",
+                s(&null),
+            ],
             &dir,
             60,
         );
         assert!(o.ok, "{}", o.stderr);
-        assert!(std::fs::symlink_metadata(&null).unwrap().file_type().is_char_device());
+        assert!(std::fs::symlink_metadata(&null)
+            .unwrap()
+            .file_type()
+            .is_char_device());
     } else {
         eprintln!("note: mknod not allowed here; the device-node check is skipped");
     }
@@ -251,7 +299,10 @@ mount -o remount,size=64m "$D"
         return;
     };
     assert!(ok, "{err}");
-    assert!(stdout.contains("first 1"), "the study on a full disk did not fail:\n{stdout}");
+    assert!(
+        stdout.contains("first 1"),
+        "the study on a full disk did not fail:\n{stdout}"
+    );
     assert!(stdout.contains("second 0"), "{stdout}\n{err}");
     assert!(
         !stdout.contains("finished before, skipped"),
@@ -288,12 +339,21 @@ fn a_closed_or_failing_stdout_ends_cleanly_with_every_file_written() {
             if let Some(st) = child.try_wait().unwrap() {
                 break st;
             }
-            assert!(t.elapsed().as_secs() < HANG_S, "`kecsim {what}` hung after its stdout closed");
+            assert!(
+                t.elapsed().as_secs() < HANG_S,
+                "`kecsim {what}` hung after its stdout closed"
+            );
             std::thread::sleep(Duration::from_millis(20));
         };
         child.stderr.take().unwrap().read_to_string(&mut err).ok();
-        assert!(!err.contains("panicked"), "`kecsim {what}` panicked on a closed stdout:\n{err}");
-        assert!(status.success(), "`kecsim {what}` failed on a closed stdout:\n{err}");
+        assert!(
+            !err.contains("panicked"),
+            "`kecsim {what}` panicked on a closed stdout:\n{err}"
+        );
+        assert!(
+            status.success(),
+            "`kecsim {what}` failed on a closed stdout:\n{err}"
+        );
         for f in files {
             assert!(dir.join(f).is_file(), "`kecsim {what}`: {f} was not written");
         }
@@ -326,7 +386,11 @@ fn side_files_are_never_followed() {
     // A link at the lock's name, pointing at the scene.
     std::os::unix::fs::symlink(&sc, dir.join(".a.json.kecsim-lock")).unwrap();
     let o = run(&["run", s(&sc), "--save", "r.rrd", "--json", "a.json"], &dir, 60);
-    assert_eq!(std::fs::read_to_string(&sc).unwrap(), text, "the scene was written through the lock's link");
+    assert_eq!(
+        std::fs::read_to_string(&sc).unwrap(),
+        text,
+        "the scene was written through the lock's link"
+    );
     assert!(!o.ok && o.stderr.contains("symlink"), "{}", o.stderr);
     std::fs::remove_file(dir.join(".a.json.kecsim-lock")).unwrap();
     // Links at the part files' and the write probe's names for the next pids (they are
@@ -348,10 +412,29 @@ fn side_files_are_never_followed() {
             }
         }
     }
-    let o = run(&["run", s(&sc), "--save", "r.rrd", "--json", "a.json", "--csv", "csv"], &dir, 60);
+    let o = run(
+        &[
+            "run",
+            s(&sc),
+            "--save",
+            "r.rrd",
+            "--json",
+            "a.json",
+            "--csv",
+            "csv",
+        ],
+        &dir,
+        60,
+    );
     assert!(o.ok, "{}", o.stderr);
-    assert_eq!(std::fs::read_to_string(&sc).unwrap(), text, "the scene was written through a part file's link");
-    assert!(std::fs::read_to_string(dir.join("a.json")).unwrap().contains("\"outcome\""));
+    assert_eq!(
+        std::fs::read_to_string(&sc).unwrap(),
+        text,
+        "the scene was written through a part file's link"
+    );
+    assert!(std::fs::read_to_string(dir.join("a.json"))
+        .unwrap()
+        .contains("\"outcome\""));
     // An output named like another output's lock or part file is refused.
     for name in [".a.json.kecsim-lock", ".a.json.part-123"] {
         rejects(
@@ -390,12 +473,26 @@ fn a_study_never_writes_over_a_file_an_axis_names_or_its_own_cases() {
         &["w2.csv", "which this command reads"],
     );
     rejects(
-        &["study", "slurm", s(&study), "--shards", "1", "--out", "o", "--script", "w2.csv"],
+        &[
+            "study",
+            "slurm",
+            s(&study),
+            "--shards",
+            "1",
+            "--out",
+            "o",
+            "--script",
+            "w2.csv",
+        ],
         &dir,
         60,
         &["w2.csv", "which this command reads"],
     );
-    assert_eq!(std::fs::read(dir.join("w2.csv")).unwrap(), w2, "the axis's profile was replaced");
+    assert_eq!(
+        std::fs::read(dir.join("w2.csv")).unwrap(),
+        w2,
+        "the axis's profile was replaced"
+    );
     // The study runs; a merge may not save into its cases.
     let o = run(&["study", s(&study), "--out", "o", "--save", "o.rrd"], &dir, 120);
     assert!(o.ok, "{}", o.stderr);
@@ -409,7 +506,11 @@ fn a_study_never_writes_over_a_file_an_axis_names_or_its_own_cases() {
     );
     assert_eq!(std::fs::read(&case1).unwrap(), before);
     let o = run(&["study", s(&study), "--out", "o", "--save", "o.rrd"], &dir, 120);
-    assert!(o.stdout.matches("finished before, skipped").count() == 2, "{}", o.stdout);
+    assert!(
+        o.stdout.matches("finished before, skipped").count() == 2,
+        "{}",
+        o.stdout
+    );
     // A base scene stored inside the output tree is refused before it is overwritten.
     let inside = dir.join("o/cases/00000/scenario.toml");
     let text = std::fs::read_to_string(&inside).unwrap();
@@ -429,8 +530,16 @@ fn a_study_never_writes_over_a_file_an_axis_names_or_its_own_cases() {
         &[],
     );
     let o = run(&["study", s(&s2), "--out", "o", "--save", "o3.rrd"], &dir, 60);
-    assert!(!o.ok && o.stderr.contains("inside its output tree"), "{}", o.stderr);
-    assert_eq!(std::fs::read_to_string(&inside).unwrap(), text, "the base scene in the cases was overwritten");
+    assert!(
+        !o.ok && o.stderr.contains("inside its output tree"),
+        "{}",
+        o.stderr
+    );
+    assert_eq!(
+        std::fs::read_to_string(&inside).unwrap(),
+        text,
+        "the base scene in the cases was overwritten"
+    );
 }
 
 // ---- class 6: `--spawn`'s fallback ----
@@ -451,14 +560,26 @@ fn the_spawn_fallback_is_guarded_and_never_waits_without_end() {
         // The fallback recording and the JSON are one file: refused before any work.
         let child = spawn(&["run", s(&sc), "--spawn", "--json", "kecsim.rrd"], &dir, &env);
         let o = finish(child, Duration::from_secs(HANG_S), "run --spawn (fake rerun)");
-        assert!(!o.ok, "a `rerun` that {case}: the JSON was written over the fallback recording:\n{}", o.stdout);
+        assert!(
+            !o.ok,
+            "a `rerun` that {case}: the JSON was written over the fallback recording:\n{}",
+            o.stdout
+        );
         assert!(o.stderr.contains("both name the file"), "{case}: {}", o.stderr);
         // Without the clash: the recording is saved, said so, rc 0.
         let child = spawn(&["run", s(&sc), "--spawn", "--json", "s.json"], &dir, &env);
         let o = finish(child, Duration::from_secs(HANG_S), "run --spawn (fake rerun)");
         assert!(o.ok, "{case}: {}", o.stderr);
-        assert!(o.stderr.contains("saving the recording to kecsim.rrd"), "{case}: {}", o.stderr);
-        assert!(o.stdout.contains("saved kecsim.rrd") && !o.stdout.contains("streamed"), "{case}: {}", o.stdout);
+        assert!(
+            o.stderr.contains("saving the recording to kecsim.rrd"),
+            "{case}: {}",
+            o.stderr
+        );
+        assert!(
+            o.stdout.contains("saved kecsim.rrd") && !o.stdout.contains("streamed"),
+            "{case}: {}",
+            o.stdout
+        );
         std::fs::remove_file(dir.join("kecsim.rrd")).unwrap();
     }
 }
@@ -486,7 +607,12 @@ fn the_table_cache_is_checked_bounded_and_rebuilt() {
     let flange: Vec<PathBuf> = std::fs::read_dir(&tables)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.file_name().unwrap().to_string_lossy().starts_with("flange-angle"))
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("flange-angle")
+        })
         .collect();
     assert_eq!(flange.len(), 1, "{flange:?}");
     // An edited angle (the third word) is caught by the checksum and rebuilt.
@@ -495,7 +621,10 @@ fn the_table_cache_is_checked_bounded_and_rebuilt() {
     bytes[16..24].copy_from_slice(&(angle * 0.7).to_le_bytes());
     std::fs::write(&flange[0], &bytes).unwrap();
     let edited = nadal(&dir);
-    assert!((edited - clean).abs() < 1e-9, "an edited cache file changed the Nadal limit: {clean} → {edited}");
+    assert!(
+        (edited - clean).abs() < 1e-9,
+        "an edited cache file changed the Nadal limit: {clean} → {edited}"
+    );
     // Whatever stands at a table's name — a FIFO, a link to /dev/zero, a 300 MB file — costs
     // nothing and is replaced.
     let table = std::fs::read_dir(&tables)
@@ -526,15 +655,29 @@ fn the_table_cache_is_checked_bounded_and_rebuilt() {
     }
     // A case's result.json that is a FIFO or a link to /dev/zero: `study merge` names it.
     let study = study_file(&dir);
-    let o = run(&["study", s(&study), "--out", "so", "--save", "so.rrd"], &dir, 120);
+    let o = run(
+        &["study", s(&study), "--out", "so", "--save", "so.rrd"],
+        &dir,
+        120,
+    );
     assert!(o.ok, "{}", o.stderr);
     let result = dir.join("so/cases/00000/result.json");
     std::fs::remove_file(&result).unwrap();
     std::os::unix::fs::symlink("/dev/zero", &result).unwrap();
-    rejects(&["study", "merge", "so", "--save", "m.rrd"], &dir, 60, &["result.json"]);
+    rejects(
+        &["study", "merge", "so", "--save", "m.rrd"],
+        &dir,
+        60,
+        &["result.json"],
+    );
     std::fs::remove_file(&result).unwrap();
     assert!(Command::new("mkfifo").arg(&result).status().unwrap().success());
-    rejects(&["study", "merge", "so", "--save", "m.rrd"], &dir, 60, &["result.json", "not a regular file"]);
+    rejects(
+        &["study", "merge", "so", "--save", "m.rrd"],
+        &dir,
+        60,
+        &["result.json", "not a regular file"],
+    );
 }
 
 // ---- class 8: counts the limits let through ----
@@ -543,9 +686,21 @@ fn the_table_cache_is_checked_bounded_and_rebuilt() {
 fn thread_job_part_and_rate_counts_are_capped() {
     let dir = tmpdir("rel3-counts");
     let sc = scenario(&dir, "sc.toml", &[("duration_s = 0.5", "duration_s = 0.05")]);
-    let child = spawn(&["run", s(&sc), "--save", "r.rrd"], &dir, &[("KECSIM_THREADS", "100000")]);
-    let o = finish(child, Duration::from_secs(HANG_S), "run with KECSIM_THREADS=100000");
-    assert!(!o.ok && o.stderr.contains("KECSIM_THREADS 100000") && o.stderr.contains("per core"), "{}", o.stderr);
+    let child = spawn(
+        &["run", s(&sc), "--save", "r.rrd"],
+        &dir,
+        &[("KECSIM_THREADS", "100000")],
+    );
+    let o = finish(
+        child,
+        Duration::from_secs(HANG_S),
+        "run with KECSIM_THREADS=100000",
+    );
+    assert!(
+        !o.ok && o.stderr.contains("KECSIM_THREADS 100000") && o.stderr.contains("per core"),
+        "{}",
+        o.stderr
+    );
     let study = study_file(&dir);
     rejects(
         &["study", s(&study), "--jobs", "18446744073709551615"],
@@ -554,7 +709,14 @@ fn thread_job_part_and_rate_counts_are_capped() {
         &["--jobs 18446744073709551615", "per core"],
     );
     rejects(
-        &["run", s(&scenario(&dir, "rate.toml", &[("record_rate_hz = 100.0", "record_rate_hz = 1e5")]))],
+        &[
+            "run",
+            s(&scenario(
+                &dir,
+                "rate.toml",
+                &[("record_rate_hz = 100.0", "record_rate_hz = 1e5")],
+            )),
+        ],
         &dir,
         20,
         &["record_rate_hz"],
@@ -572,12 +734,27 @@ fn thread_job_part_and_rate_counts_are_capped() {
     let long = scenario(
         &dir,
         "long.toml",
-        &[("  { type = \"straight\", from_m = 0.0, to_m = 1000.0 },\n", &sections)],
+        &[(
+            "  { type = \"straight\", from_m = 0.0, to_m = 1000.0 },\n",
+            &sections,
+        )],
     );
     let t = std::time::Instant::now();
-    let o = rejects(&["track", s(&long), "--save", "t.rrd"], &dir, HANG_S, &["gap", "more problems"]);
-    assert!(o.stderr.lines().count() < 200, "{} lines of problems", o.stderr.lines().count());
-    eprintln!("100 000 sections with a problem each: refused in {:.2} s", t.elapsed().as_secs_f64());
+    let o = rejects(
+        &["track", s(&long), "--save", "t.rrd"],
+        &dir,
+        HANG_S,
+        &["gap", "more problems"],
+    );
+    assert!(
+        o.stderr.lines().count() < 200,
+        "{} lines of problems",
+        o.stderr.lines().count()
+    );
+    eprintln!(
+        "100 000 sections with a problem each: refused in {:.2} s",
+        t.elapsed().as_secs_f64()
+    );
 }
 
 // ---- class 9: misleading or missing messages ----
@@ -590,11 +767,18 @@ fn messages_name_the_key_and_its_line() {
     )
     .unwrap();
     let line_of = |text: &str, needle: &str| {
-        text[..text.find(needle).expect("in the scene")].matches('\n').count() + 1
+        text[..text.find(needle).expect("in the scene")]
+            .matches('\n')
+            .count()
+            + 1
     };
     // nan and inf are refused where they are written (not "singular wheelset equations").
     for bad in ["nan", "inf", "-inf"] {
-        let text = ms.replacen("at_m = [11.924, 0.95, 0.295]", &format!("at_m = [{bad}, 0.95, 0.295]"), 1);
+        let text = ms.replacen(
+            "at_m = [11.924, 0.95, 0.295]",
+            &format!("at_m = [{bad}, 0.95, 0.295]"),
+            1,
+        );
         let p = dir.join(format!("ms_{}.toml", bad.replace('-', "m")));
         std::fs::write(&p, &text).unwrap();
         let line = line_of(&text, &format!("at_m = [{bad}"));
@@ -609,7 +793,13 @@ fn messages_name_the_key_and_its_line() {
     let r1 = scenario(
         &dir,
         "r1.toml",
-        &[("duration_s = 0.5", "duration_s = 0.05"), ("[simulation]", "[wheelset]\nnominal_radius_m = 1.0\n\n[simulation]")],
+        &[
+            ("duration_s = 0.5", "duration_s = 0.05"),
+            (
+                "[simulation]",
+                "[wheelset]\nnominal_radius_m = 1.0\n\n[simulation]",
+            ),
+        ],
     );
     let o = run(&["run", s(&r1), "--save", "r.rrd"], &dir, 60);
     assert!(o.ok, "{}", o.stderr);
@@ -618,40 +808,94 @@ fn messages_name_the_key_and_its_line() {
         scenario(
             &dir,
             name,
-            &[("[simulation]", &format!("[contact_forces]\nfriction = 0.3\n[contact_forces.creep]\n{body}\n\n[simulation]"))],
+            &[(
+                "[simulation]",
+                &format!("[contact_forces]\nfriction = 0.3\n[contact_forces.creep]\n{body}\n\n[simulation]"),
+            )],
         )
     };
     let typo = creep("typo.toml", "modle = \"fastsim\"");
     let line = line_of(&std::fs::read_to_string(&typo).unwrap(), "modle");
-    rejects(&["run", s(&typo)], &dir, 30, &[&format!("line {line}: unknown key `modle`: did you mean `model`?")]);
+    rejects(
+        &["run", s(&typo)],
+        &dir,
+        30,
+        &[&format!(
+            "line {line}: unknown key `modle`: did you mean `model`?"
+        )],
+    );
     let strips = creep("strips.toml", "model = \"fastsim\"\nstrips = 1.5");
     let line = line_of(&std::fs::read_to_string(&strips).unwrap(), "strips");
-    rejects(&["run", s(&strips)], &dir, 30, &[&format!("line {line}:"), "strips = 1.5"]);
+    rejects(
+        &["run", s(&strips)],
+        &dir,
+        30,
+        &[&format!("line {line}:"), "strips = 1.5"],
+    );
     // A speed that never rolls is refused as 0 is.
     let slow = scenario(&dir, "slow.toml", &[("speed_m_s = 20.0", "speed_m_s = 1e-9")]);
-    rejects(&["run", s(&slow)], &dir, 30, &["simulation.speed_m_s = 0.000000001", "does not roll"]);
+    rejects(
+        &["run", s(&slow)],
+        &dir,
+        30,
+        &["simulation.speed_m_s = 0.000000001", "does not roll"],
+    );
     // A cant beyond the service cants: a warning with its line.
     let cant = scenario(
         &dir,
         "cant.toml",
         &[
             ("duration_s = 0.5", "duration_s = 0.05"),
-            ("{ type = \"straight\", from_m = 0.0, to_m = 1000.0 }", "{ type = \"straight\", from_m = 0.0, to_m = 1000.0, cant_rad = 0.149 }"),
+            (
+                "{ type = \"straight\", from_m = 0.0, to_m = 1000.0 }",
+                "{ type = \"straight\", from_m = 0.0, to_m = 1000.0, cant_rad = 0.149 }",
+            ),
         ],
     );
     let o = run(&["run", s(&cant), "--save", "r.rrd"], &dir, 60);
-    assert!(o.stderr.contains("warning") && o.stderr.contains("cant 0.149 rad") && o.stderr.contains("beyond the service cants"), "{}", o.stderr);
+    assert!(
+        o.stderr.contains("warning")
+            && o.stderr.contains("cant 0.149 rad")
+            && o.stderr.contains("beyond the service cants"),
+        "{}",
+        o.stderr
+    );
     // An irregularity file with rows 1e6 m apart: refused at the row.
     let csv = dir.join("gap.csv");
-    std::fs::write(&csv, "s_m,al_mm,vp_mm,gv_mm,cl_mm\n0,0,0,0,0\n1,0.1,0,0,0\n2,0,0,0,0\n1000002,0,0,0,0\n").unwrap();
+    std::fs::write(
+        &csv,
+        "s_m,al_mm,vp_mm,gv_mm,cl_mm\n0,0,0,0,0\n1,0.1,0,0,0\n2,0,0,0,0\n1000002,0,0,0,0\n",
+    )
+    .unwrap();
     let gap = scenario(
         &dir,
         "gap.toml",
-        &[("psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0", "file = \"gap.csv\"")],
+        &[(
+            "psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0",
+            "file = \"gap.csv\"",
+        )],
     );
-    rejects(&["run", s(&gap)], &dir, 30, &["gap.csv:5:", "s_m = 1000002", "at most 100 m apart"]);
+    rejects(
+        &["run", s(&gap)],
+        &dir,
+        30,
+        &["gap.csv:5:", "s_m = 1000002", "at most 1000 m apart"],
+    );
     // Control characters in a name are refused, shown escaped (never echoed raw).
-    let ctrl = scenario(&dir, "ctrl.toml", &[("name = \"reliability\"", "name = \"bad\\u001b[31mred\"")]);
-    let o = rejects(&["run", s(&ctrl)], &dir, 30, &["ctrl.toml:2:", "control character U+001B"]);
-    assert!(!o.stderr.contains('\u{1b}'), "the escape reached the terminal: {:?}", o.stderr);
+    let ctrl = scenario(
+        &dir,
+        "ctrl.toml",
+        &[("name = \"reliability\"", "name = \"bad\\u001b[31mred\"")],
+    );
+    let o = rejects(
+        &["run", s(&ctrl)],
+        &dir,
+        30,
+        &["ctrl.toml:2:", "control character U+001B"],
+    );
+    assert!(
+        !o.stderr.contains('\u{1b}'),
+        "the escape reached the terminal: {:?}",
+        o.stderr
+    );
 }

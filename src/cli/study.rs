@@ -184,7 +184,12 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
         let mut outputs = merge_outputs(&out).to_vec();
         outputs.push(out.join("study.json"));
         let cases = out.join("cases");
-        Some(super::guard_trees(&inputs, &[&cases], &named(&outputs), Some(&sink))?)
+        Some(super::guard_trees(
+            &inputs,
+            &[&cases],
+            &named(&outputs),
+            Some(&sink),
+        )?)
     } else {
         None
     };
@@ -336,7 +341,10 @@ fn named(files: &[PathBuf]) -> Vec<(&'static str, Option<&Path>)> {
 /// tree `OUT/cases/` would write over it (case 0's `scenario.toml` is the case's scene): refused.
 fn inputs_outside_cases(inputs: &[PathBuf], out: &Path) -> Result<()> {
     let cases = kecsim::files::resolved(&out.join("cases"));
-    if let Some(p) = inputs.iter().find(|p| kecsim::files::resolved(p).starts_with(&cases)) {
+    if let Some(p) = inputs
+        .iter()
+        .find(|p| kecsim::files::resolved(p).starts_with(&cases))
+    {
         anyhow::bail!(
             "{}: this input of the study lies inside its output tree {} (whose files the study writes); move it out or choose another --out",
             p.display(),

@@ -167,7 +167,11 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
                 format!(
                     "cannot save {}: {e}{}",
                     p.display(),
-                    if stream { "" } else { "; the file there before is kept" }
+                    if stream {
+                        ""
+                    } else {
+                        "; the file there before is kept"
+                    }
                 )
             };
             // Every write error of the recording is seen here (rrd_file keeps the first and
@@ -208,7 +212,11 @@ fn check_rrd_whole(path: &std::path::Path) -> Result<(), String> {
     const STREAM_FOOTER: u64 = 32;
     let mut f = std::fs::File::open(path).map_err(|e| e.to_string())?;
     let len = f.metadata().map_err(|e| e.to_string())?.len();
-    let cut = || format!("the recording was cut short ({len} bytes written, no end of stream): the disk is full or failed");
+    let cut = || {
+        format!(
+            "the recording was cut short ({len} bytes written, no end of stream): the disk is full or failed"
+        )
+    };
     if len < STREAM_FOOTER {
         return Err(cut());
     }
@@ -281,10 +289,9 @@ pub fn open_recording_with(
         // never sees half a recording; one that fails keeps the old file), or into a stream
         // (`/dev/stdout`, a named pipe: its reader waited for, at most files::STREAM_WAIT).
         Sink::Save(path) => {
-            let open_failed = |e: String| InspectError::Model(format!(
-                "cannot save the recording to {}: {e}",
-                path.display()
-            ));
+            let open_failed = |e: String| {
+                InspectError::Model(format!("cannot save the recording to {}: {e}", path.display()))
+            };
             let file = if crate::files::output_kind(path) == Ok(crate::files::OutputKind::Stream) {
                 crate::files::open_stream(path).map_err(|e| open_failed(e.to_string()))?
             } else {

@@ -462,11 +462,27 @@ fn relocate(text: &str, at: usize, message: &str) -> Option<String> {
     let rest = &text[at..];
     // Only the table's own lines: the next header ends it (a key of a later table is another
     // key, and was reported as this table's error).
+    // (Its sub-tables, `[vehicle.x]` and `[[vehicle.elements]]` of `[vehicle]`, are its own.)
+    let table_of = |line: &str| -> Option<String> {
+        let t = line.split('#').next().unwrap_or("").trim();
+        (t.starts_with('[') && !t.contains('=')).then(|| {
+            t.trim_matches(|c| c == '[' || c == ']')
+                .split('.')
+                .map(str::trim)
+                .collect::<Vec<_>>()
+                .join(".")
+        })
+    };
+    let own = table_of(header.lines().next().unwrap_or("")).unwrap_or_default();
     let mut lines = Vec::new();
     let mut offset = at;
     for (k, line) in rest.split_inclusive('\n').enumerate() {
-        if k > 0 && line.trim_start().starts_with('[') && !line.contains('=') {
-            break;
+        if k > 0 {
+            if let Some(t) = table_of(line) {
+                if t != own && !t.starts_with(&format!("{own}.")) {
+                    break;
+                }
+            }
         }
         lines.push((offset, line));
         offset += line.len();

@@ -237,7 +237,12 @@ impl Loc<'_> {
         let text = self.text;
         let starts = self.lines.get_or_insert_with(|| {
             std::iter::once(0)
-                .chain(text.bytes().enumerate().filter(|(_, b)| *b == b'\n').map(|(i, _)| i + 1))
+                .chain(
+                    text.bytes()
+                        .enumerate()
+                        .filter(|(_, b)| *b == b'\n')
+                        .map(|(i, _)| i + 1),
+                )
                 .collect()
         });
         let line = starts.partition_point(|&s| s <= offset.min(text.len()));
@@ -249,7 +254,10 @@ impl Loc<'_> {
     fn take(&mut self) -> Vec<String> {
         let mut p = std::mem::take(&mut self.problems);
         if self.more > 0 {
-            p.push(format!("… and {} more problems (the first {MAX_LISTED_PROBLEMS} are listed)", self.more));
+            p.push(format!(
+                "… and {} more problems (the first {MAX_LISTED_PROBLEMS} are listed)",
+                self.more
+            ));
             self.more = 0;
         }
         p

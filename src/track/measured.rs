@@ -33,10 +33,11 @@ fn at(path: &str, line: usize, problem: impl Into<String>) -> TrackError {
 /// Largest irregularity value accepted in a file, mm (FRA class 1, the worst, stays within ±30 mm
 /// of alignment; a larger value is a unit or column mistake).
 pub const MAX_IRREGULARITY_MM: f64 = 50.0;
-/// The largest distance between two rows of an irregularity file, m: the wavelengths that matter
-/// to vehicle dynamics end at 70 m (EN 13848-1's D2 band), so rows farther apart leave the
-/// spline to invent the track between them (a gap of 1e6 m was accepted without a word).
-pub const MAX_IRREGULARITY_GAP_M: f64 = 100.0;
+/// The largest distance between two rows of an irregularity file, m: five times the longest
+/// wavelength track geometry is measured at (EN 13848-1's D3 band ends at 200 m); rows farther
+/// apart leave the spline to invent the track between them (a gap of 1e6 m was accepted without
+/// a word). Sparse hand-written files (rows every few hundred metres) stay within it.
+pub const MAX_IRREGULARITY_GAP_M: f64 = 1000.0;
 
 /// Reads an irregularity CSV (see the module doc).
 pub fn read_csv(path: &Path) -> Result<Irregularities, TrackError> {
@@ -140,7 +141,7 @@ pub fn parse_csv(text: &str, origin: &str) -> Result<Irregularities, TrackError>
                     origin,
                     line,
                     format!(
-                        "s_m = {sv}: {:.6e} m after the previous row (s_m = {prev}); rows may be at most {MAX_IRREGULARITY_GAP_M} m apart (the wavelengths that matter end at 70 m, EN 13848-1 D2): between them the irregularity would be invented — is s_m in mm, or rows missing?",
+                        "s_m = {sv}: {:.6e} m after the previous row (s_m = {prev}); rows may be at most {MAX_IRREGULARITY_GAP_M} m apart (five times the longest wavelength measured, EN 13848-1 D3: 200 m): between them the irregularity would be invented — is s_m in mm, or rows missing?",
                         sv - prev
                     ),
                 ));
