@@ -216,7 +216,10 @@ pub fn open_regular(p: &Path, nofollow: bool) -> io::Result<File> {
         e
     })?;
     if !f.metadata()?.is_file() {
-        return Err(io::Error::other("is not a regular file"));
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "not a regular file (a directory, a device or a pipe)",
+        ));
     }
     Ok(f)
 }

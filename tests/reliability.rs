@@ -147,6 +147,18 @@ half_spacing_m = 1.0
     path
 }
 
+/// The scenario's generated irregularities (`[track.irregularities]`'s PSD keys), as written in
+/// [`scenario`].
+pub(crate) const PSD_KEYS: &str =
+    "psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0";
+
+/// [`scenario`] with measured irregularities: `csv_text` written to `dir/csv` and named by the
+/// scene instead of the PSD.
+pub(crate) fn measured_scenario(dir: &Path, name: &str, csv: &str, csv_text: &str) -> PathBuf {
+    std::fs::write(dir.join(csv), csv_text).unwrap();
+    scenario(dir, name, &[(PSD_KEYS, &format!("file = \"{csv}\""))])
+}
+
 /// A free local TCP port (bound, then released): nothing listens there.
 fn free_port() -> u16 {
     std::net::TcpListener::bind("127.0.0.1:0")
@@ -296,19 +308,11 @@ fn inconsistent_input_is_refused_before_any_work() {
         out.stderr
     );
     // Irregularities of 500 mm in a measured file (a unit mistake) and a start at 1e300 m.
-    let irr = dir.join("irr.csv");
-    std::fs::write(
-        &irr,
-        "s_m,al_mm,vp_mm,gv_mm,cl_mm\n0,0,0,0,0\n1,500,0,0,0\n2,0,0,0,0\n3,0,0,0,0\n4,0,0,0,0\n",
-    )
-    .unwrap();
-    let measured = scenario(
+    let measured = measured_scenario(
         &dir,
         "measured.toml",
-        &[(
-            "psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0",
-            "file = \"irr.csv\"",
-        )],
+        "irr.csv",
+        "s_m,al_mm,vp_mm,gv_mm,cl_mm\n0,0,0,0,0\n1,500,0,0,0\n2,0,0,0,0\n3,0,0,0,0\n4,0,0,0,0\n",
     );
     rejects(
         &["run", measured.to_str().unwrap()],
@@ -942,10 +946,7 @@ fn no_output_route_overwrites_an_input() {
         "sc.toml",
         &[
             ("wheel = \"s1002\"", "wheel = \"w.csv\""),
-            (
-                "psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0",
-                "file = \"wheelset_1.csv\"",
-            ),
+            (PSD_KEYS, "file = \"wheelset_1.csv\""),
         ],
     );
     std::fs::hard_link(&sc, dir.join("hard.toml")).unwrap();
@@ -1305,19 +1306,12 @@ fn absurd_inputs_are_refused_or_warned_with_the_reason() {
         rejects(&["run", sc.to_str().unwrap()], &dir, 30, needles);
     }
     // Contradicting column sets in a measured irregularity file.
-    std::fs::write(
-        dir.join("irr.csv"),
-        "s_m,al_mm,vp_mm,gv_mm,cl_mm,y_left_mm,z_left_mm,y_right_mm,z_right_mm\n\
-         0,0,0,0,0,0,0,0,0\n300,1.0,0,0,0,0,0,0,0\n600,0,0,0,0,0,0,0,0\n1000,0,0,0,0,0,0,0,0\n",
-    )
-    .unwrap();
-    let sc = scenario(
+    let sc = measured_scenario(
         &dir,
         "irr.toml",
-        &[(
-            "psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0",
-            "file = \"irr.csv\"",
-        )],
+        "irr.csv",
+        "s_m,al_mm,vp_mm,gv_mm,cl_mm,y_left_mm,z_left_mm,y_right_mm,z_right_mm\n\
+         0,0,0,0,0,0,0,0,0\n300,1.0,0,0,0,0,0,0,0\n600,0,0,0,0,0,0,0,0\n1000,0,0,0,0,0,0,0,0\n",
     );
     rejects(
         &["run", sc.to_str().unwrap()],
@@ -1326,7 +1320,11 @@ fn absurd_inputs_are_refused_or_warned_with_the_reason() {
         &["irr.csv:3", "al_mm = 1.000000 mm contradicts"],
     );
     // A seeds axis over a scene whose track generates nothing: N identical "realisations".
-    scenario(&dir, "flat.toml", &[("[track.irregularities]\npsd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0\n", "")]);
+    scenario(
+        &dir,
+        "flat.toml",
+        &[(&format!("[track.irregularities]\n{PSD_KEYS}\n"), "")],
+    );
     std::fs::write(
         dir.join("seeds.toml"),
         "schema_version = 1\nname = \"seeds\"\nscenario = \"flat.toml\"\nextract = [\"max_abs_y_mm\"]\n\

@@ -9,7 +9,7 @@
 //! so on stderr and checks what it can.
 
 use crate::common;
-use crate::reliability::{finish, rejects, run, scenario, spawn, HANG_S};
+use crate::reliability::{finish, measured_scenario, rejects, run, scenario, spawn, HANG_S};
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -24,6 +24,12 @@ fn kecsim_bin() -> &'static str {
 
 fn s(p: &Path) -> &str {
     p.to_str().expect("UTF-8 test path")
+}
+
+/// Makes a named pipe (FIFO) at `p`.
+fn mkfifo(p: &Path) {
+    let made = Command::new("mkfifo").arg(p).status().is_ok_and(|s| s.success());
+    assert!(made, "mkfifo {}", p.display());
 }
 
 /// Whether `p` is (still) a symlink.
@@ -107,11 +113,7 @@ fn outputs_that_are_pipes_or_devices_are_written_never_replaced() {
 
     // A FIFO with a reader gets the JSON; the FIFO stays a FIFO.
     let fifo = dir.join("f.json");
-    let made = Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .is_ok_and(|s| s.success());
-    assert!(made, "mkfifo");
+    mkfifo(&fifo);
     let reader = {
         let fifo = fifo.clone();
         std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap_or_default())
@@ -143,7 +145,7 @@ fn outputs_that_are_pipes_or_devices_are_written_never_replaced() {
 
     // A FIFO nobody reads: an error naming it within the wait, not a hang.
     let lonely = dir.join("lonely.json");
-    assert!(Command::new("mkfifo").arg(&lonely).status().unwrap().success());
+    mkfifo(&lonely);
     rejects(
         &[
             "run",
@@ -639,7 +641,7 @@ fn the_table_cache_is_checked_bounded_and_rebuilt() {
     ] {
         std::fs::remove_file(&table).ok();
         match make {
-            "fifo" => assert!(Command::new("mkfifo").arg(&table).status().unwrap().success()),
+            "fifo" => mkfifo(&table),
             "zero" => std::os::unix::fs::symlink("/dev/zero", &table).unwrap(),
             _ => std::fs::File::create(&table).unwrap().set_len(300 << 20).unwrap(),
         }
@@ -671,7 +673,7 @@ fn the_table_cache_is_checked_bounded_and_rebuilt() {
         &["result.json"],
     );
     std::fs::remove_file(&result).unwrap();
-    assert!(Command::new("mkfifo").arg(&result).status().unwrap().success());
+    mkfifo(&result);
     rejects(
         &["study", "merge", "so", "--save", "m.rrd"],
         &dir,
@@ -861,19 +863,11 @@ fn messages_name_the_key_and_its_line() {
         o.stderr
     );
     // An irregularity file with rows 1e6 m apart: refused at the row.
-    let csv = dir.join("gap.csv");
-    std::fs::write(
-        &csv,
-        "s_m,al_mm,vp_mm,gv_mm,cl_mm\n0,0,0,0,0\n1,0.1,0,0,0\n2,0,0,0,0\n1000002,0,0,0,0\n",
-    )
-    .unwrap();
-    let gap = scenario(
+    let gap = measured_scenario(
         &dir,
         "gap.toml",
-        &[(
-            "psd = \"german-low\"\nseed = 1\nwavelength_min_m = 3.0\nwavelength_max_m = 80.0",
-            "file = \"gap.csv\"",
-        )],
+        "gap.csv",
+        "s_m,al_mm,vp_mm,gv_mm,cl_mm\n0,0,0,0,0\n1,0.1,0,0,0\n2,0,0,0,0\n1000002,0,0,0,0\n",
     );
     rejects(
         &["run", s(&gap)],
