@@ -66,23 +66,25 @@ pub const MAX_INPUT_FILE_BYTES: u64 = 256 << 20;
 /// Reads an input text file: a regular file (not a device such as `/dev/zero`, a FIFO or a
 /// directory, which would be read without end or block) of at most [`MAX_INPUT_FILE_BYTES`].
 pub fn read_text(path: &std::path::Path) -> std::io::Result<String> {
-    use std::io::{Error, ErrorKind, Read};
-    // Opened as a regular file (never blocking on a FIFO: the check and the read are one file).
-    let file = crate::files::open_regular(path, false)?;
-    let len = file.metadata()?.len();
-    if len > MAX_INPUT_FILE_BYTES && !lifted() {
+    use std::io::{Error, ErrorKind};
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "not a regular file (a directory, a device or a pipe)",
+        ));
+    }
+    if meta.len() > MAX_INPUT_FILE_BYTES && !lifted() {
         return Err(Error::new(
             ErrorKind::InvalidInput,
             format!(
-                "{len} bytes, above the limit of {} MB for an input file (`kecsim --no-limits` lifts it)",
+                "{} bytes, above the limit of {} MB for an input file (`kecsim --no-limits` lifts it)",
+                meta.len(),
                 MAX_INPUT_FILE_BYTES >> 20
             ),
         ));
     }
-    let mut text = String::with_capacity(len as usize);
-    file.take(if lifted() { u64::MAX } else { MAX_INPUT_FILE_BYTES })
-        .read_to_string(&mut text)?;
-    Ok(text)
+    std::fs::read_to_string(path)
 }
 
 static LIFTED: AtomicBool = AtomicBool::new(false);
