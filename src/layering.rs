@@ -22,7 +22,7 @@
 const LAYERS: &[&[&str]] = &[
     &["bench"],
     &["inspect"],
-    &["paper"],
+    &["paper", "api"],
     &["compare", "study"],
     &["scenario"],
     &["dynamics"],

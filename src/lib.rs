@@ -24,11 +24,14 @@
 /// The schema version of the scenario and track files this build reads (`schema_version`).
 pub const SCHEMA_VERSION: u32 = 1;
 
+pub mod api;
+#[cfg(feature = "rerun")]
 pub mod bench;
 pub mod compare;
 pub mod contact;
 pub mod dynamics;
 pub mod files;
+#[cfg(feature = "rerun")]
 pub mod inspect;
 pub mod interpolation;
 #[cfg(test)]

@@ -1421,7 +1421,7 @@ const CSV_OPTIONAL: [&str; 4] = [
     "flange_limit_left_mm",
 ];
 
-fn row_values(r: &TableRow, t: &LookupTable1) -> [f64; 40] {
+pub(crate) fn row_values(r: &TableRow, t: &LookupTable1) -> [f64; 40] {
     let mm = 1e3;
     [
         r.y * mm,
