@@ -26,12 +26,9 @@ const SIGNAL_POLL: Duration = Duration::from_millis(50);
 /// from it, `ValueError` for an option.
 fn raise(py: Python<'_>, e: api::Error) -> PyErr {
     let class = match &e {
-        api::Error::Scenario(_) | api::Error::Source { .. } | api::Error::Override { .. } => {
-            "ScenarioError"
-        }
+        api::Error::Scenario(_) | api::Error::Source { .. } | api::Error::Override { .. } => "ScenarioError",
         api::Error::Build { .. } | api::Error::Sweep { .. } => "BuildError",
         api::Error::Option(_) => return PyValueError::new_err(e.to_string()),
-        _ => "KecsimError",
     };
     match py
         .import("kecsim._errors")
@@ -60,7 +57,10 @@ fn toml_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Value> {
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
         let items: Vec<Bound<'_, PyAny>> = v.try_iter()?.collect::<PyResult<_>>()?;
         return Ok(Value::Array(
-            items.iter().map(|x| toml_value(key, x)).collect::<PyResult<_>>()?,
+            items
+                .iter()
+                .map(|x| toml_value(key, x))
+                .collect::<PyResult<_>>()?,
         ));
     }
     // numpy scalars and other numbers: through float().
@@ -92,9 +92,9 @@ fn scene_input(
     .map_err(|e| raise(py, e))?;
     if let Some(overrides) = overrides {
         for (k, v) in overrides.iter() {
-            let key: String = k
-                .extract()
-                .map_err(|_| PyTypeError::new_err("overrides: keys are key paths (str), e.g. \"simulation.speed_m_s\""))?;
+            let key: String = k.extract().map_err(|_| {
+                PyTypeError::new_err("overrides: keys are key paths (str), e.g. \"simulation.speed_m_s\"")
+            })?;
             let value = toml_value(&key, &v)?;
             input.set(&key, value).map_err(|e| raise(py, e))?;
         }
@@ -226,6 +226,7 @@ fn run(
             s.spawn(move || {
                 let result = input
                     .compile()
+                    .map_err(RunFailed::from)
                     .and_then(|scene| run_scene(&scene, config, save.as_deref()));
                 let _ = tx.send(result);
             });
@@ -276,6 +277,7 @@ fn run(
 /// Why a run gave no result.
 enum RunFailed {
     Api(api::Error),
+    #[cfg_attr(not(feature = "viewer"), allow(dead_code))]
     Recording(String),
     Panicked,
 }

@@ -280,7 +280,7 @@ fn csv_layout(table: &'static [Quantity]) -> Vec<CsvColumn> {
 }
 
 /// The CSV header of `table`'s quantities (the tests' check of a table with more quantities).
-#[cfg(test)]
+#[cfg(all(test, feature = "rerun"))]
 pub(crate) fn csv_header(table: &'static [Quantity]) -> Vec<String> {
     csv_layout(table).into_iter().map(|c| c.name).collect()
 }
