@@ -10,18 +10,25 @@
 //! the same conversion of a sample into CSV units, [`crate::dynamics::output::csv_row`]); the
 //! Python tests check the arrays against the CLI's CSV to the last digit written.
 //!
-//! ```no_run
+//! ```
 //! use kecsim::api::{run, RunConfig, SceneInput};
 //!
 //! # fn main() -> Result<(), kecsim::api::Error> {
-//! let mut input = SceneInput::file("assets/scenes/ms_vehicle_tab6.toml")?;
+//! // A file: `SceneInput::file("assets/scenes/ms_vehicle_tab6.toml")?`; TOML text:
+//! // `SceneInput::toml(text, base_dir)?`; here the scene `kecsim run` runs by default.
+//! let mut input = SceneInput::embedded_default();
 //! input.set("simulation.speed_m_s", 15.0)?;
-//! input.set("simulation.duration_s", 2.0)?;
+//! input.set("simulation.duration_s", 0.5)?;
 //! let result = run(&input.compile()?, RunConfig::default())?;
 //! let w = &result.wheelsets[0];
-//! let y = w.column("y_mm").expect("a CSV column");
-//! println!("{}: max |y| {:.3} mm over {} samples", w.name, y.iter().fold(0.0f64, |m, v| m.max(v.abs())), y.len());
-//! println!("{}", result.summary_json()["outcome"]);
+//! let t = w.column("t_s").expect("a CSV column");
+//! let v = w.column("speed_m_s").expect("a CSV column");
+//! assert_eq!(t.len(), result.summary.samples);
+//! assert!((t[t.len() - 1] - 0.5).abs() < 1e-12 && (v[0] - 15.0).abs() < 1e-9);
+//! assert_eq!(result.summary_json()["outcome"], "completed");
+//! // A key the scenario does not take is refused, naming it.
+//! let e = input.set("simulation.sped_m_s", 1.0).unwrap_err();
+//! assert!(e.to_string().contains("simulation.sped_m_s"));
 //! # Ok(())
 //! # }
 //! ```
@@ -62,14 +69,14 @@ pub enum Error {
     Build {
         origin: String,
         #[source]
-        source: BuildError,
+        source: Box<BuildError>,
     },
     /// The contact sweep cannot be tabulated for the scene's profiles.
     #[error("{origin}: contact sweep: {source}")]
     Sweep {
         origin: String,
         #[source]
-        source: TableError,
+        source: Box<TableError>,
     },
     /// A run option out of range (the threads).
     #[error("{0}")]
@@ -244,6 +251,9 @@ pub struct Progress {
     pub samples: usize,
 }
 
+/// A progress callback ([`RunConfig::progress`]).
+pub type ProgressCallback<'a> = Box<dyn FnMut(&Progress) + Send + 'a>;
+
 /// The options of a run besides its scene (the command line's `--contact`, `KECSIM_THREADS`,
 /// Ctrl-C and the progress bar).
 #[derive(Default)]
@@ -258,7 +268,7 @@ pub struct RunConfig<'a> {
     /// ([`RunResult::interrupted`]).
     pub cancel: CancelToken,
     /// Called at every output sample, from the run's thread.
-    pub progress: Option<Box<dyn FnMut(&Progress) + Send + 'a>>,
+    pub progress: Option<ProgressCallback<'a>>,
     /// More observers of the samples as they are computed (a recording, files of one's own).
     pub observers: Vec<&'a mut (dyn RunObserver + Send)>,
 }
@@ -399,7 +409,7 @@ pub fn run(scene: &Scene, mut config: RunConfig<'_>) -> Result<RunResult, Error>
         })
         .map_err(|source| Error::Build {
             origin: scene.origin.clone(),
-            source,
+            source: Box::new(source),
         })?;
     let mut callback = config.progress.take();
     let mut progress = callback.as_mut().map(|callback| ProgressObserver {
@@ -444,7 +454,7 @@ pub fn wheelset_names(scene: &Scene) -> Result<Vec<String>, Error> {
         Some((_, vehicle)) => Ok(vehicle.wheelset_names()),
         None => Err(Error::Build {
             origin: scene.origin.clone(),
-            source: BuildError::NoSimulation,
+            source: Box::new(BuildError::NoSimulation),
         }),
     }
 }
@@ -468,7 +478,7 @@ pub fn contact_sweep(scene: &Scene, settings: &TableSettings) -> Result<ContactS
     let geom = ContactGeometry::with_defaults(scene.pair.clone());
     let report = ContactReport::new(&geom, settings).map_err(|source| Error::Sweep {
         origin: scene.origin.clone(),
-        source,
+        source: Box::new(source),
     })?;
     let t = &report.table;
     let table = Columns::from_rows(

@@ -14,7 +14,7 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-use kecsim::api::{self, Columns, Progress, RunConfig, SceneInput, Value};
+use kecsim::api::{self, Columns, Progress, ProgressCallback, RunConfig, SceneInput, Value};
 use kecsim::contact::lookup::TableSettings;
 use kecsim::dynamics::CancelToken;
 
@@ -184,13 +184,13 @@ fn run(
     let cancel = CancelToken::new();
     // The first error of the progress callback (it stops the run; raised after it).
     let callback_error: Arc<Mutex<Option<PyErr>>> = Arc::new(Mutex::new(None));
-    let progress_fn: Option<Box<dyn FnMut(&Progress) + Send>> = progress.map(|callback| {
+    let progress_fn: Option<ProgressCallback<'static>> = progress.map(|callback| {
         let cancel = cancel.clone();
         let error = callback_error.clone();
         Box::new(move |p: &Progress| {
             Python::attach(|py| match callback.call1(py, (p.t_s, p.duration_s)) {
                 Ok(answer) => {
-                    if answer.bind(py).is(&PyBool::new(py, false)) {
+                    if answer.bind(py).is(PyBool::new(py, false)) {
                         cancel.request();
                     }
                 }
@@ -199,7 +199,7 @@ fn run(
                     cancel.request();
                 }
             })
-        }) as Box<dyn FnMut(&Progress) + Send>
+        }) as ProgressCallback<'static>
     });
     #[cfg(not(feature = "viewer"))]
     if let Some(path) = &save {
@@ -359,13 +359,10 @@ fn contact_sweep<'py>(
     let d = PyDict::new(py);
     d.set_item("table", columns_dict(py, sweep.table)?)?;
     let conicity = PyDict::new(py);
-    let (a, rest): (Vec<f64>, Vec<(Option<f64>, Option<f64>)>) =
-        sweep.conicity.into_iter().map(|(a, b, r)| (a, (b, r))).unzip();
-    let (annex_b, regression): (Vec<f64>, Vec<f64>) = rest
-        .into_iter()
-        .map(|(b, r)| (b.unwrap_or(f64::NAN), r.unwrap_or(f64::NAN)))
-        .unzip();
-    conicity.set_item("amplitude_mm", PyArray1::from_vec(py, a))?;
+    let amplitude: Vec<f64> = sweep.conicity.iter().map(|c| c.0).collect();
+    let annex_b: Vec<f64> = sweep.conicity.iter().map(|c| c.1.unwrap_or(f64::NAN)).collect();
+    let regression: Vec<f64> = sweep.conicity.iter().map(|c| c.2.unwrap_or(f64::NAN)).collect();
+    conicity.set_item("amplitude_mm", PyArray1::from_vec(py, amplitude))?;
     conicity.set_item("annex_b", PyArray1::from_vec(py, annex_b))?;
     conicity.set_item("regression", PyArray1::from_vec(py, regression))?;
     d.set_item("conicity", conicity)?;
