@@ -5,7 +5,7 @@
 //! way, each only those below it (from the top; a test, `layering`, checks it and that no source
 //! files use one another in a circle): the binary (`cli`) → [`bench`](mod@bench) → [`inspect`] →
 //! [`paper`] → [`compare`], [`study`] → [`scenario`] → [`dynamics`] → [`contact`] → [`profile`] →
-//! [`track`] → [`vehicle`], [`spline`], [`interpolation`], [`limits`].
+//! [`track`] → [`vehicle`], `spline`, `interpolation`, [`limits`].
 //!
 //! * [`contact`]: contact geometry (approximate constraints, Eq. 35–42) and what builds on it.
 //! * [`profile`]: wheel and rail profiles as C² curves, standard profiles, files, placement (§3).
@@ -17,7 +17,7 @@
 //! * [`paper`]: the paper's §8 (Fig. 14–19, Tab. 7) for a scene, from the contact preprocessing,
 //!   the track and a KEC-against-tables comparison.
 //! * [`bench`](mod@bench): measured speed with its error, printed by `kecsim bench`.
-//! * [`spline`], [`interpolation`]: the C² profile spline and the Hermite interpolation helpers
+//! * `spline`, `interpolation`: the C² profile spline and the Hermite interpolation helpers
 //!   (values and slopes at nodes) beside it.
 //! * [`inspect`]: Rerun recordings (the physics never depends on it).
 
@@ -33,14 +33,14 @@ pub mod dynamics;
 pub mod files;
 #[cfg(feature = "rerun")]
 pub mod inspect;
-pub mod interpolation;
+pub(crate) mod interpolation;
 #[cfg(test)]
 mod layering;
 pub mod limits;
 pub mod paper;
 pub mod profile;
 pub mod scenario;
-pub mod spline;
+pub(crate) mod spline;
 pub mod study;
 pub mod track;
 pub mod vehicle;

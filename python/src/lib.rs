@@ -301,7 +301,7 @@ fn run_scene(
 #[cfg(feature = "viewer")]
 fn run_scene(
     scene: &kecsim::scenario::Scene,
-    mut config: RunConfig<'_>,
+    config: RunConfig<'_>,
     save: Option<&std::path::Path>,
 ) -> Result<api::RunResult, RunFailed> {
     use kecsim::inspect::{run::LiveRecorder, run::RunTab, world3d::World3dSettings, Sink};
@@ -315,10 +315,23 @@ fn run_scene(
     };
     let mut recorder = LiveRecorder::open_on(&sink, scene, &names, &world, RunTab::Overview)
         .map_err(|e| RunFailed::Recording(format!("save={}: {e}", path.display())))?;
-    let result = {
-        config.observers.push(&mut recorder);
-        api::run(scene, config)
-    };
+    let RunConfig {
+        contact,
+        threads,
+        cancel,
+        progress,
+        ..
+    } = config;
+    let result = api::run(
+        scene,
+        RunConfig {
+            contact,
+            threads,
+            cancel,
+            progress,
+            observers: vec![&mut recorder],
+        },
+    );
     let delivered = recorder.finish_stream(&sink);
     let result = result?;
     delivered.map_err(|e| RunFailed::Recording(format!("save={}: {e}", path.display())))?;

@@ -2,7 +2,7 @@
 //!
 //! * [`geometry`]: the approximate contact constraints (Eq. 35–42) solved online by Newton,
 //!   seeded by a global minimum-gap search; contact jumps and two-point contact.
-//! * [`elastic`]: the interpenetration of the real profiles at a free wheelset pose (the elastic
+//! * `elastic`: the interpenetration of the real profiles at a free wheelset pose (the elastic
 //!   contact model's search).
 //!
 //! Conventions shared by the contact modules: the wheelset-track frame of the paper (Y to the left,
@@ -12,18 +12,18 @@
 //! own field-side coordinate).
 
 pub mod cache;
-pub mod conicity;
+pub(crate) mod conicity;
 pub mod design;
-pub mod elastic;
+pub(crate) mod elastic;
 pub mod forces;
 pub mod geometry;
 pub mod kec;
 pub mod lookup;
-pub mod model;
+pub(crate) mod model;
 pub mod models;
 pub mod nonhertz;
 pub mod per_wheel;
-pub mod point;
+pub(crate) mod point;
 pub mod report;
 
 pub use model::{Configuration, ContactModel, ContactModelError, WarmStart, WheelsetKinematics};

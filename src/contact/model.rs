@@ -123,7 +123,7 @@ pub trait ContactModel: Send + Sync + Debug {
     ) -> Result<Configuration, ContactModelError>;
 
     /// The kinematics at lateral displacement y with velocity ẏ, the rails moving as `rails`.
-    /// Default: [`directional_differences`] of [`Self::configuration`].
+    /// Default: `directional_differences` of [`Self::configuration`].
     fn kinematics(
         &self,
         y: f64,
@@ -141,7 +141,7 @@ pub trait ContactModel: Send + Sync + Debug {
     }
 
     /// The elastic model: the wheelset is free in z and φ and its contacts come from
-    /// [`ElasticContact::search`] at its pose (then [`Self::configuration`] is the rigid touching
+    /// `ElasticContact::search` at its pose (then [`Self::configuration`] is the rigid touching
     /// configuration, for the static settling and the initial state). `None` for a constraint model.
     fn elastic(&self) -> Option<&ElasticContact> {
         None

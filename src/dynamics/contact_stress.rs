@@ -45,8 +45,6 @@ pub const R260: RailSteel = RailSteel {
     shear_yield_mpa: 300.0,
 };
 
-/// The traction coefficient below which the subsurface limit binds (where 1/μ = 4).
-pub const SUBSURFACE_MU: f64 = 0.25;
 /// The subsurface shakedown limit p0/k (line contact, kinematic hardening).
 pub const SUBSURFACE_LIMIT: f64 = 4.0;
 

@@ -5,47 +5,47 @@
 //! * [`single_wheelset`], [`multibody`]: the two vehicle systems;
 //! * [`wheelset`]: Newton–Euler of one wheelset with its contact constraints (Eq. 53), its
 //!   10×10 system solved by its structure in `reactions.rs`;
-//! * [`elastic`](mod@elastic): a free wheelset on elastic contacts (the elastic contact model);
-//! * [`kinematics`]: a wheelset's contact kinematics, constrained or free, and each kind's
+//! * `elastic`: a free wheelset on elastic contacts (the elastic contact model);
+//! * `kinematics`: a wheelset's contact kinematics, constrained or free, and each kind's
 //!   equations behind one interface (the vehicle systems use it, not the two above);
 //! * [`reference`](mod@reference): the reference motion along the track and the frames it gives;
 //! * [`traction`]: what drives the vehicle along the track (the speed loop on the motored wheels,
-//!   coasting, a given force, a tie to the track frame); [`resistance`]: the run's traction
+//!   coasting, a given force, a tie to the track frame); `resistance`: the run's traction
 //!   summary and each curve's curving resistance;
 //! * [`integrator`]: DOPRI5, ROS3, ROS34PW2, BDF with dense output and diagnosed failures;
 //! * [`sample`]: a wheelset's output sample and the one table of what a run records of it (the
 //!   CSV's columns, the recording's series and layout are made from it);
 //! * [`run`](mod@run): the run loop, its threads, stop conditions; [`output`]: summary,
-//!   observers, CSV; [`safety`]: running safety (EN 14363) from the samples; [`cancel`]: the stop
+//!   observers, CSV; `safety`: running safety (EN 14363) from the samples; `cancel`: the stop
 //!   request a run honours (Ctrl-C in the binary);
-//! * what an engineer reads off a run besides safety: [`wear`] (the USFD wear function over the
-//!   wear number, where on the profiles), [`contact_stress`] (p0 on Johnson's shakedown map),
+//! * what an engineer reads off a run besides safety: `wear` (the USFD wear function over the
+//!   wear number, where on the profiles), `contact_stress` (p0 on Johnson's shakedown map),
 //!   [`ride`] (EN 12299's comfort and Sperling's Wz at the carbodies' floor points, from the
-//!   weightings and spectra of [`comfort`]).
+//!   weightings and spectra of `comfort`).
 //!
 //! The contact models are [`crate::contact::ContactModel`]s; the dynamics never knows which one.
 
-pub mod cancel;
-pub mod comfort;
-pub mod contact_stress;
-pub mod elastic;
+pub(crate) mod cancel;
+pub(crate) mod comfort;
+pub(crate) mod contact_stress;
+pub(crate) mod elastic;
 pub mod integrator;
-pub mod kinematics;
+pub(crate) mod kinematics;
 pub mod linear;
 pub mod multibody;
 pub mod output;
-pub mod patches;
+pub(crate) mod patches;
 mod reactions;
 pub mod reference;
-pub mod resistance;
+pub(crate) mod resistance;
 pub mod ride;
 pub mod run;
-pub mod safety;
+pub(crate) mod safety;
 pub mod sample;
 pub mod single_wheelset;
 pub mod system;
 pub mod traction;
-pub mod wear;
+pub(crate) mod wear;
 pub mod wheelset;
 
 pub use cancel::CancelToken;

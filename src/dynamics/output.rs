@@ -76,11 +76,11 @@ pub struct RunSummary {
     /// last 2 m (EN 14363's window for Y/Q), its Y/Q history's end.
     pub derailment_max_y_over_q_2m: Option<f64>,
     /// Running safety per wheelset (Y/Q against Nadal, ΣY against Prud'homme, ΔQ/Q₀), EN 14363
-    /// style ([`super::safety`]); None where the run was not given the basis of the limits.
+    /// style (`super::safety`); None where the run was not given the basis of the limits.
     pub safety: Option<Safety>,
-    /// Wheel wear per wheel (the USFD function over the wear number; [`super::wear`]).
+    /// Wheel wear per wheel (the USFD function over the wear number; `super::wear`).
     pub wear: Option<super::wear::Wear>,
-    /// Contact stress against the rail's shakedown limit per wheel ([`super::contact_stress`]).
+    /// Contact stress against the rail's shakedown limit per wheel (`super::contact_stress`).
     pub contact_stress: Option<super::contact_stress::ContactStress>,
     /// Ride comfort at the carbodies' floor points (EN 12299, Sperling; [`super::ride`]).
     pub comfort: Option<super::ride::Comfort>,

@@ -3,7 +3,7 @@
 //! ([`super::system::VehicleSample::floor`]: what an accelerometer on the floor reads in the
 //! carbody's axes, the quasi-static lateral acceleration of a curve included, less 1 g on z).
 //!
-//! Per floor point ([`super::comfort`] for the weightings and spectra):
+//! Per floor point (`super::comfort` for the weightings and spectra):
 //! - **EN 12299's mean comfort N_MV** (standard method) = 6 √((a_XP95^Wd)² + (a_YP95^Wd)² +
 //!   (a_ZP95^Wb)²), the 95th percentiles of the 5 s r.m.s. of the weighted accelerations. The
 //!   standard evaluates 5 min (60 blocks); a run gives the blocks it has (a 51 s kilometre, 10),

@@ -38,7 +38,7 @@ pub struct RunSettings {
     /// The threads of the run ([`RunPool::new`]; default: the caller's).
     pub pool: RunPool,
     /// The profiles the samples' patches are recomputed from where Hertz does not hold
-    /// ([`super::patches`]); None: Hertz's everywhere (a run built without its scene).
+    /// (`super::patches`); None: Hertz's everywhere (a run built without its scene).
     pub patches: Option<std::sync::Arc<super::patches::PatchPostProcess>>,
 }
 

@@ -86,7 +86,7 @@ pub struct Sample {
     /// Each wheel's contact area from the same model, m² (0: not assessed).
     pub contact_area: [f64; 2],
     /// Hertz's gap deviation D at each wheel's contact
-    /// ([`crate::contact::nonhertz::validity`]; NaN: not assessed, off the rail).
+    /// (`crate::contact::nonhertz::validity`; NaN: not assessed, off the rail).
     pub hertz_deviation: [f64; 2],
     /// Patches the strip model found at each wheel (0 where Hertz holds or not assessed).
     pub patches: [u8; 2],

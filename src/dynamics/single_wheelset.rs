@@ -2,7 +2,7 @@
 //! reference speed (the Klingel and critical-speed scenes). The frame applies the axle load and
 //! holds the wheelset through longitudinal and lateral spring–dampers at the two axle boxes
 //! (lateral semi-spacing b): yaw stiffness 2 k_x b². The frame is the wheelset-track frame itself:
-//! on a track with curves and irregularities the wheelset follows the centreline through the frame's whole motion (Eq. 3–4 completed, [`crate::track::centreline`])
+//! on a track with curves and irregularities the wheelset follows the centreline through the frame's whole motion (Eq. 3–4 completed, `crate::track::centreline`)
 //! (frame motion, gravity with cant) and its contact sees the rail irregularities at its arc
 //! length; without a track it runs on tangent, level, ideal track.
 //!

@@ -134,7 +134,7 @@ pub struct VehicleData {
     pub contact_evaluations: usize,
     /// Where the right-hand sides' time goes, when asked for (`kecsim bench rhs`); None in runs.
     pub part_times: Option<PartTimes>,
-    /// Per wheelset: its kinematics from the last full evaluation ([`KinematicsMemo`]).
+    /// Per wheelset: its kinematics from the last full evaluation (`KinematicsMemo`).
     pub kinematics_memo: Vec<Option<KinematicsMemo>>,
     /// The landings of lifted wheels so far (integrator events; trial steps never land).
     pub landings: Vec<LandingEvent>,

@@ -151,7 +151,7 @@ impl TractionState {
     }
 }
 
-/// What the run's traction summary ([`super::resistance::assess`]) needs of the vehicle: its law's name, bandwidth and driven wheelsets, its
+/// What the run's traction summary (`super::resistance::assess`) needs of the vehicle: its law's name, bandwidth and driven wheelsets, its
 /// weight (N) and M_e (kg, [`SpeedLoop::effective_mass_kg`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DriveInfo {

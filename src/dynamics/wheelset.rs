@@ -251,7 +251,7 @@ pub struct WheelsetDynamics {
     pub lambda_change: f64,
     /// The accelerations of the slot's lift entries: θ̈ of each wheel's lift (0 for a wheel on its
     /// rail), rad/s² — the free pose of the elastic model: z̈, φ̈ (its slot's lift entries hold z, φ;
-    /// [`super::elastic`](mod@super::elastic)).
+    /// `super::elastic`).
     pub lift_accel: [f64; 2],
     /// Each wheel's gap to its rail along the rail normal (0 on the rail), m.
     pub lift_gap: [f64; 2],

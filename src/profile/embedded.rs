@@ -50,11 +50,6 @@ impl EmbeddedProfile {
     pub fn profile(&self) -> Result<Profile, ProfileError> {
         io::parse_profile(self.csv, "csv", self.name, self.file, self.kind)
     }
-
-    /// The CSV text as shipped.
-    pub fn csv(&self) -> &'static str {
-        self.csv
-    }
 }
 
 #[cfg(test)]

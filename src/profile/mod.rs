@@ -10,19 +10,19 @@
 //!   paper's wheel radius function of Eq. (21) is h^w(s^w) = r0 − z(s^w) (flanges point down,
 //!   as on a real wheel).
 //!
-//! The curve is a C² not-a-knot cubic spline (see [`crate::spline`]) through the source points
-//! ([`curve`]): the standard profiles are sampled from their analytic definitions ([`standard`]);
-//! files are read by [`io`], shipped ones are [`embedded`]; [`Profile::resolve`] finds a profile
-//! by name or path, with its problems in [`error`]. Placement on the track cross-section (gauge,
+//! The curve is a C² not-a-knot cubic spline (see `crate::spline`) through the source points
+//! (`curve`): the standard profiles are sampled from their analytic definitions (`standard`);
+//! files are read by [`io`], shipped ones are `embedded`; [`Profile::resolve`] finds a profile
+//! by name or path, with its problems in `error`. Placement on the track cross-section (gauge,
 //! inclination, back-to-back, mirroring) is [`placement`].
 
-pub mod curve;
-pub mod embedded;
-pub mod error;
+pub(crate) mod curve;
+pub(crate) mod embedded;
+pub(crate) mod error;
 pub mod io;
-pub mod measures;
+pub(crate) mod measures;
 pub mod placement;
-pub mod standard;
+pub(crate) mod standard;
 
 use std::path::Path;
 
@@ -46,7 +46,7 @@ fn standard_names() -> String {
 
 impl Profile {
     /// Resolves `spec`, a standard name (`s1002`, `60e1`, `54e1`), a shipped profile's name
-    /// (`ms-standin`, see [`embedded`]) or a file path, to a profile of the expected kind.
+    /// (`ms-standin`, see `embedded`) or a file path, to a profile of the expected kind.
     pub fn resolve(spec: &str, expected: ProfileKind) -> Result<Profile, ProfileError> {
         if let Some(std) = StandardProfile::from_name(spec) {
             if std.kind() != expected {

@@ -68,7 +68,7 @@ pub struct SimulationSpec {
     pub start_m: Option<f64>,
     /// The track frame's rotation and motion: `"whole"` (default: the exact rotation and the
     /// motion derived from it) or `"paper"` (Eq. 2 linearised, Eq. 3–4 as printed); see
-    /// [`crate::track::centreline`].
+    /// `crate::track::centreline`.
     #[serde(default)]
     pub track_frame: FrameModel,
     /// `[simulation.traction]`: what holds the vehicle's speed.

@@ -11,10 +11,10 @@
 //! | `critical_speed_m_s` | a speed ramp's hunting onset or extinction (empty where none) |
 //! | `derailed` | 1 where the run ended in a derailment, else 0 |
 //! | `simulated_s` | how far the run got |
-//! | `max_wear_mg_per_km`, `max_tgamma_2m_n` | the most worn wheel's wear per km (USFD function, [`crate::dynamics::wear`]) and the largest 2 m mean of a wheel's wear number Tγ |
-//! | `max_p0_mpa`, `max_ratchetting_share` | the largest maximum Hertz pressure of a wheel, and the largest share of a wheel's distance in surface ratchetting on the shakedown map ([`crate::dynamics::contact_stress`]) |
+//! | `max_wear_mg_per_km`, `max_tgamma_2m_n` | the most worn wheel's wear per km (USFD function, `crate::dynamics::wear`) and the largest 2 m mean of a wheel's wear number Tγ |
+//! | `max_p0_mpa`, `max_ratchetting_share` | the largest maximum Hertz pressure of a wheel, and the largest share of a wheel's distance in surface ratchetting on the shakedown map (`crate::dynamics::contact_stress`) |
 //! | `max_n_mv`, `max_wz_y`, `max_wz_z`, `max_cc_y_m_s2`, `max_cc_z_m_s2` | ride comfort at the carbodies' floor points ([`crate::dynamics::ride`]): the largest EN 12299 N_MV (empty for a run shorter than 5 s or without carbodies), Sperling's Wz lateral and vertical, the largest continuous comfort Cc_y, Cc_z |
-//! | `curving_resistance_n`, `max_speed_deviation_percent` | the largest curving resistance of the track's circular curves (the traction less what accelerated the vehicle, where the whole vehicle was in the curve; empty without one) and the vehicle's largest deviation from the reference speed ([`crate::dynamics::resistance`]) |
+//! | `curving_resistance_n`, `max_speed_deviation_percent` | the largest curving resistance of the track's circular curves (the traction less what accelerated the vehicle, where the whole vehicle was in the curve; empty without one) and the vehicle's largest deviation from the reference speed (`crate::dynamics::resistance`) |
 //! | `linear_max_real_1_s`, `linear_hunting_hz`, `linear_damping_ratio` | the least-damped oscillatory mode (above 0.2 Hz) of the vehicle linearised at its undisturbed initial state — centred on ideal track at the case's speed ([`crate::dynamics::linear`]): Re λ (> 0: unstable), its frequency and damping ratio |
 //! | `F(W.COLUMN)` | F of a wheelset CSV column (`y_mm`, `yaw_mrad`, `q_left_n`, … see `kecsim run --csv`); F = `max`, `min`, `maxabs`, `mean`, `rms` or `amplitude`; W a wheelset or `*` (the largest over the wheelsets, the smallest for `min`) |
 //!

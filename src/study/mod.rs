@@ -4,15 +4,15 @@
 //!
 //! [`spec`] reads the study file and expands its cases, [`run`] runs them (each case seeded from
 //! the study seed and its index: the same results whatever the number of jobs or shards) and
-//! joins their results, [`extract`] computes what each case keeps; [`case`] holds the records they
-//! share (the manifest and a case's row), which [`critical`] and [`statistics`] tabulate.
+//! joins their results, [`extract`] computes what each case keeps; `case` holds the records they
+//! share (the manifest and a case's row), which `critical` and `statistics` tabulate.
 
-pub mod case;
-pub mod critical;
+pub(crate) mod case;
+pub(crate) mod critical;
 pub mod extract;
 pub mod run;
 pub mod spec;
-pub mod statistics;
+pub(crate) mod statistics;
 
 use thiserror::Error;
 

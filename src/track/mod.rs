@@ -2,23 +2,23 @@
 //!
 //! * [`sections`]: horizontal (straight, curve, clothoid transition; cant and twist) and vertical
 //!   (straight, transition) sections, Tab. 1–2, and the checks a list of them must pass.
-//! * [`clothoid`]: position along a curve of linear curvature (Fresnel integral by its series).
-//! * [`centreline`]: R^t(s), A^t(s) (Eq. 1–2), curvatures and their derivatives, the sliding
+//! * `clothoid`: position along a curve of linear curvature (Fresnel integral by its series).
+//! * `centreline`: R^t(s), A^t(s) (Eq. 1–2), curvatures and their derivatives, the sliding
 //!   frame's motion: the exact rotation's whole motion, or Eq. 2–4 as printed ([`FrameModel`]).
-//! * [`psd`]: FRA and German irregularity spectra; [`irregularity`]: generation (sum of cosines),
+//! * `psd`: FRA and German irregularity spectra; `irregularity`: generation (sum of cosines),
 //!   C² interpolation with derivatives, rail displacements and rail-frame placement (METHOD.md §2);
 //!   [`measured`]: irregularity CSV files; [`spectrum`]: PSD estimates to check them.
 //! * [`file`](mod@file): the `[track]` table of track and scenario files; the paper's Tab. 6 track embedded.
-//! * [`error`]: [`TrackError`], what every part reports in.
+//! * `error`: [`TrackError`], what every part reports in.
 
-pub mod centreline;
-pub mod clothoid;
-pub mod error;
+pub(crate) mod centreline;
+pub(crate) mod clothoid;
+pub(crate) mod error;
 pub mod file;
-pub mod irregularity;
+pub(crate) mod irregularity;
 pub mod measured;
-pub mod psd;
-pub mod rails;
+pub(crate) mod psd;
+pub(crate) mod rails;
 pub mod report;
 pub mod sections;
 pub mod spectrum;

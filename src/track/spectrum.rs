@@ -1,7 +1,7 @@
 //! Spectral estimates of sampled signals, to check generated irregularities against their PSD:
 //! Welch's method (Hann window, 50 % overlap) and the variance in a wavelength band.
 //!
-//! Conventions as in [`super::psd`]: Ω in rad/m, one-sided densities in m²/(rad/m). For N samples
+//! Conventions as in `super::psd`: Ω in rad/m, one-sided densities in m²/(rad/m). For N samples
 //! at spacing h with window w, the one-sided estimate at Ω_j = 2π j/(N h) is
 //! Ŝ(Ω_j) = h |Σ w_n x_n e^{−iΩ_j n h}|² / (π Σ w_n²) — Parseval then gives Σ Ŝ ΔΩ = variance.
 

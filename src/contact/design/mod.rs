@@ -35,17 +35,17 @@
 //! 2011, 195–202), which shapes the tread from the conicity and the contact position. γ(y), the
 //! rail contact point s^r(y) (the rail head is convex) and Δr(y) are one function of the other
 //! (Δr′(y) = tan γ · ds^w/dy per wheel), so the three approaches aim at the same object by
-//! different handles. The design is only as realistic as its target: [`realism`] measures what
+//! different handles. The design is only as realistic as its target: `realism` measures what
 //! it gives (curvature margin, contact speed, dwell on the rail's arc joints, conicity, wall).
 //!
 //! **Beyond the designed range.** Towards the field side the wheel continues straight with its last
 //! slope; beyond the flank's contact end the flank continues straight at its angle, a tip circle
 //! gives the flange height, and a back circle meets the flange back (the flange back never
 //! touches the rail; it exists so that the flange measures — EN 13715's S_h, S_d, qR — are
-//! defined, see [`crate::profile::measures`]).
+//! defined, see `crate::profile::measures`).
 
-pub mod realism;
-pub mod target;
+pub(crate) mod realism;
+pub(crate) mod target;
 
 pub use realism::Realism;
 pub use target::parse_target;
@@ -851,7 +851,7 @@ pub struct DesignReport {
     pub design_s: f64,
     /// The rail's name.
     pub rail: String,
-    /// The realism checks of the designed and the reference pair ([`realism`]); the reference's
+    /// The realism checks of the designed and the reference pair (`realism`); the reference's
     /// is None where its table cannot be swept.
     pub realism: Realism,
     pub reference_realism: Option<Realism>,

@@ -195,14 +195,14 @@ pub struct Realism {
     pub margin: Extreme,
     /// Smallest margin on each rail arc touched: (s range of the arc, m; the smallest margin).
     pub margin_per_arc: Vec<((f64, f64), Extreme)>,
-    /// Largest |ds_w/dy| and |ds_r/dy| outside the joint regions (±[`JOINT_WINDOW_M`]).
+    /// Largest |ds_w/dy| and |ds_r/dy| outside the joint regions (±`JOINT_WINDOW_M`).
     pub wheel_speed: Extreme,
     pub rail_speed: Extreme,
     /// Largest |ds_w/dy| and |ds_r/dy| inside them (reported, not checked; None: none reached).
     pub joint_speed: Option<(Extreme, Extreme)>,
     /// The dwell at each rail joint the band reaches.
     pub dwell: Vec<JointDwell>,
-    /// Equivalent conicity (EN 15302 Annex B) at [`CONICITY_AMPLITUDES_M`]; None where the band
+    /// Equivalent conicity (EN 15302 Annex B) at `CONICITY_AMPLITUDES_M`; None where the band
     /// does not reach.
     pub conicity: Vec<(f64, Option<f64>)>,
     /// y where the left wheel's contact angle passes 35° towards its flange, and where the right

@@ -16,17 +16,17 @@
 //! Wheel lift: a normal force ≤ 0 gives zero forces and [`CreepForce::lifted`] set, never NaN.
 //! Non-finite input is an error.
 //!
-//! The patch and the force the models share are in [`patch`]; each model in its own file
-//! ([`linear`], [`polach`], [`fastsim`]) uses them, and [`CreepModel`] here chooses the model.
+//! The patch and the force the models share are in `patch`; each model in its own file
+//! (`linear`, `polach`, [`fastsim`]) uses them, and [`CreepModel`] here chooses the model.
 
 pub mod creepage;
-pub mod elliptic;
+pub(crate) mod elliptic;
 pub mod fastsim;
 pub mod hertz;
-pub mod kalker;
-pub mod linear;
-pub mod patch;
-pub mod polach;
+pub(crate) mod kalker;
+pub(crate) mod linear;
+pub(crate) mod patch;
+pub(crate) mod polach;
 pub mod sweep;
 
 use serde::Deserialize;

@@ -109,7 +109,7 @@ impl ContactPatch {
         (self.a * self.b).sqrt()
     }
 
-    /// Kalker's linear forces (Fx, Fy) and moment Mz (without the C₃₃ term, see [`super::kalker`]).
+    /// Kalker's linear forces (Fx, Fy) and moment Mz (without the C₃₃ term, see `super::kalker`).
     pub fn linear(&self, creep: &Creepage) -> (f64, f64, f64) {
         let g = self.shear_modulus;
         let ab = self.a * self.b;

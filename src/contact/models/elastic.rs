@@ -1,7 +1,7 @@
 //! `model = "elastic"`: the wheelset free in all its coordinates, a normal force at every region
 //! where the real profiles interpenetrate (Hertz: N = K δ^{3/2}, K from the local curvatures and the
 //! material; Hunt–Crossley damping, N = K δ^{3/2} (1 + χ δ̇)), found by the search of
-//! [`crate::contact::elastic`]. Two-point contact and wheel lift come from the profiles themselves:
+//! `crate::contact::elastic`. Two-point contact and wheel lift come from the profiles themselves:
 //! the independent reference for the constraint models' hard cases (issue 14). Not in the paper.
 //!
 //! Its [`ContactModel::configuration`] is the rigid touching configuration of the online

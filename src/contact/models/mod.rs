@@ -16,9 +16,9 @@
 
 pub mod elastic;
 pub mod kec;
-pub mod lookup;
-pub mod lookup2;
-pub mod online;
+pub(crate) mod lookup;
+pub(crate) mod lookup2;
+pub(crate) mod online;
 
 use std::fmt::Debug;
 use std::sync::Arc;

@@ -123,7 +123,7 @@ pub struct GapInput {
     pub rail_angle: f64,
     /// Angle of the approach direction u from the rail frame's vertical, towards +s, rad.
     pub approach_angle: f64,
-    /// Half-width of the window sampled each side of the contact, m ([`GAP_WINDOW_M`]).
+    /// Half-width of the window sampled each side of the contact, m (`GAP_WINDOW_M`).
     pub half_window: f64,
 }
 

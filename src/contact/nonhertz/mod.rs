@@ -1,6 +1,6 @@
 //! Contact patches beyond Hertz: the gap between the real profiles around a contact
-//! ([`gap`]), the non-Hertzian strip model that makes one or more patches of it ([`strips`]), and
-//! the measure of how far Hertz holds at a contact ([`validity`]).
+//! (`gap`), the non-Hertzian strip model that makes one or more patches of it (`strips`), and
+//! the measure of how far Hertz holds at a contact (`validity`).
 //!
 //! Hertz (`crate::contact::forces::hertz`) takes the profiles' curvatures at the contact point and
 //! assumes them constant over the patch. Where the curvature changes within the patch (an arc
@@ -9,11 +9,11 @@
 //! Kalker coefficients made of it — are not the patch's. The strip model works from the gap
 //! itself and reduces to Hertz on a quadratic gap.
 
-pub mod dynamics;
-pub mod gap;
-pub mod strips;
+pub(crate) mod dynamics;
+pub(crate) mod gap;
+pub(crate) mod strips;
 pub mod sweep;
-pub mod validity;
+pub(crate) mod validity;
 
 pub use dynamics::{DynamicPatches, PatchesMode};
 pub use gap::{GapError, GapInput, GapSection};
