@@ -849,6 +849,56 @@ fn compare_reports_the_differences_of_the_runs() {
     }
 }
 
+/// `kecsim bench precision --draws`: one sweep per draw (the initial lateral velocity), each
+/// against its own reference; a row's error is the largest over the draws and the median beside
+/// it — recomputed here from the one-draw sweeps of the same velocities.
+#[test]
+fn precision_draws_take_the_largest_and_the_median_of_the_single_draws() {
+    use kecsim::bench::precision::{precision, protocol_draws, PrecisionSettings};
+    let sc = scene("wheelset_klingel.toml");
+    let base = PrecisionSettings {
+        contacts: vec!["kec".to_string()],
+        methods: vec![Method::Dopri5],
+        rtols: vec![1e-3, 1e-5],
+        reference: ("kec".to_string(), Method::Dopri5, 1e-9),
+        duration_s: Some(0.5),
+        draws: Vec::new(),
+    };
+    let with = |draws: Vec<f64>| {
+        precision(
+            &sc,
+            &PrecisionSettings {
+                draws,
+                ..base.clone()
+            },
+        )
+        .unwrap()
+    };
+    let (a, b, both) = (with(vec![0.0]), with(vec![2e-6]), with(vec![0.0, 2e-6]));
+    assert_eq!(both.draws, vec![Some(0.0), Some(2e-6)]);
+    for k in 0..both.rows.len() {
+        let (ra, rb, r) = (&a.rows[k], &b.rows[k], &both.rows[k]);
+        assert_eq!(r.max_dy, ra.max_dy.max(rb.max_dy), "{r:?}");
+        assert_eq!(r.max_dpsi, ra.max_dpsi.max(rb.max_dpsi), "{r:?}");
+        assert_eq!(r.median_max_dy, 0.5 * (ra.max_dy + rb.max_dy), "{r:?}");
+        assert_eq!(r.median_max_dpsi, 0.5 * (ra.max_dpsi + rb.max_dpsi), "{r:?}");
+        assert!(r.median_max_dy <= r.max_dy && r.outcome == "completed", "{r:?}");
+    }
+    // A draw is another trajectory: 2 µm/s moves the error (each against its own reference).
+    assert_ne!(a.rows[0].max_dy, b.rows[0].max_dy);
+    let md = both.markdown();
+    assert!(md.contains("2 draws") && md.contains("0, 2 µm/s"), "{md}");
+    assert_eq!(
+        protocol_draws(8),
+        (0..8).map(|k| k as f64 * 1e-6).collect::<Vec<_>>()
+    );
+    // The command: --draws N, 1 ..= 64.
+    let dir = tmpdir("precision_draws");
+    let out = kecsim(&["bench", "precision", "--draws", "0"], &dir);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--draws 0"));
+}
+
 /// `kecsim bench precision`: a tolerance sweep against one reference run. The error of each row is
 /// its difference from an independent tight run; a row with the reference's own settings is
 /// identical to it (error exactly 0: runs are deterministic); the error of a model falls with the
@@ -864,6 +914,7 @@ fn precision_sweep_measures_error_against_the_reference() {
         rtols: vec![1e-3, 1e-5, 1e-9],
         reference: ("kec".to_string(), Method::Dopri5, 1e-9),
         duration_s: Some(1.0),
+        draws: Vec::new(),
     };
     let p = precision(&sc, &settings).unwrap();
     assert_eq!(p.rows.len(), 6);

@@ -30,6 +30,27 @@ pub struct PrecisionSettings {
     pub reference: (String, Method, f64),
     /// Simulated time, s (None: the scene's).
     pub duration_s: Option<f64>,
+    /// The draws: the initial lateral velocity of every wheelset (`[simulation.initial]
+    /// lateral_velocity_m_s`), m/s, one sweep and its own reference per draw (empty: one draw,
+    /// the scene's own initial state). A run's error is one draw of a trajectory that a
+    /// micrometre per second moves by tens of µm: a claim rests on several ([`protocol_draws`]).
+    pub draws: Vec<f64>,
+}
+
+/// The precision protocol's draws: `n` initial lateral velocities 0, 1, …, n − 1 µm/s.
+pub fn protocol_draws(n: usize) -> Vec<f64> {
+    (0..n).map(|k| k as f64 * 1e-6).collect()
+}
+
+/// The median of `v` (the mean of the middle two for an even count; NaN for none).
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => v[n / 2],
+        _ => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
 }
 
 impl Default for PrecisionSettings {
@@ -40,6 +61,7 @@ impl Default for PrecisionSettings {
             rtols: vec![1e-3, 1e-4, 1e-5],
             reference: ("online".to_string(), Method::Dopri5, 1e-8),
             duration_s: None,
+            draws: Vec::new(),
         }
     }
 }
@@ -54,8 +76,68 @@ pub(super) fn outcome(o: &RunOutput) -> String {
     }
 }
 
-/// Runs the sweep on `scene`.
+/// Runs the sweep on `scene`, once per draw ([`PrecisionSettings::draws`]), each draw against
+/// its own reference; a row's error is the largest over the draws (and the median beside it).
 pub fn precision(scene: &Scene, settings: &PrecisionSettings) -> Result<Precision, String> {
+    let draws: Vec<Option<f64>> = match settings.draws.is_empty() {
+        true => vec![None],
+        false => settings.draws.iter().map(|&v| Some(v)).collect(),
+    };
+    for v in draws.iter().flatten() {
+        if !(v.is_finite() && v.abs() <= 1.0) {
+            return Err(format!(
+                "draw {v} m/s: expected an initial lateral velocity within ±1 m/s"
+            ));
+        }
+    }
+    let mut each = Vec::with_capacity(draws.len());
+    for &v in &draws {
+        let mut drawn = scene.clone();
+        if let (Some(v), Some((sim, _))) = (v, drawn.simulation.as_mut()) {
+            sim.initial.lateral_velocity_m_s = v;
+        }
+        each.push(precision_of_one_draw(&drawn, settings)?);
+    }
+    let first = &each[0];
+    let rows = (0..first.rows.len())
+        .map(|k| {
+            let of = |f: fn(&PrecisionRow) -> f64| each.iter().map(|p| f(&p.rows[k])).collect::<Vec<f64>>();
+            let max = |f: fn(&PrecisionRow) -> f64| of(f).into_iter().fold(0.0f64, f64::max);
+            let r = &first.rows[k];
+            PrecisionRow {
+                wall_s: median(of(|r| r.wall_s)),
+                preprocessing_s: median(of(|r| r.preprocessing_s)),
+                realtime_factor: median(of(|r| r.realtime_factor)),
+                steps: median(of(|r| r.steps as f64)).round() as usize,
+                rhs_evaluations: median(of(|r| r.rhs_evaluations as f64)).round() as usize,
+                outcome: match each.iter().position(|p| p.rows[k].outcome != "completed") {
+                    Some(d) if each.len() > 1 => format!("draw {}: {}", d + 1, each[d].rows[k].outcome),
+                    Some(d) => each[d].rows[k].outcome.clone(),
+                    None => "completed".to_string(),
+                },
+                max_dy: max(|r| r.max_dy),
+                max_dpsi: max(|r| r.max_dpsi),
+                single_point_s: of(|r| r.single_point_s).into_iter().fold(f64::INFINITY, f64::min),
+                single_point_max_dy: max(|r| r.single_point_max_dy),
+                single_point_max_dpsi: max(|r| r.single_point_max_dpsi),
+                median_max_dy: median(of(|r| r.max_dy)),
+                median_max_dpsi: median(of(|r| r.max_dpsi)),
+                ..r.clone()
+            }
+        })
+        .collect();
+    Ok(Precision {
+        scene: first.scene.clone(),
+        simulated_s: first.simulated_s,
+        reference: first.reference.clone(),
+        reference_wall_s: median(each.iter().map(|p| p.reference_wall_s).collect()),
+        rows,
+        draws,
+    })
+}
+
+/// One draw's sweep: the reference run, then every row against it.
+fn precision_of_one_draw(scene: &Scene, settings: &PrecisionSettings) -> Result<Precision, String> {
     let mut scene = scene.clone();
     let (sim, _) = scene
         .simulation
@@ -130,6 +212,8 @@ pub fn precision(scene: &Scene, settings: &PrecisionSettings) -> Result<Precisio
                     single_point_s,
                     single_point_max_dy,
                     single_point_max_dpsi,
+                    median_max_dy: max_dy,
+                    median_max_dpsi: max_dpsi,
                 });
             }
         }
@@ -140,5 +224,9 @@ pub fn precision(scene: &Scene, settings: &PrecisionSettings) -> Result<Precisio
         reference: format!("{rc}, {rm:?} rtol {rr:.0e}, atol {:.0e}", atol_per_rtol * rr),
         reference_wall_s: reference.summary.wall_s,
         rows,
+        draws: vec![scene
+            .simulation
+            .as_ref()
+            .map(|(sim, _)| sim.initial.lateral_velocity_m_s)],
     })
 }

@@ -50,6 +50,11 @@ pub(super) struct BenchArgs {
     /// `precision`: the reference run's rtol, integrated by DOPRI5 [default: 1e-8].
     #[arg(long)]
     reference_rtol: Option<f64>,
+    /// `precision`: the protocol's draws — N sweeps, the initial lateral velocity of every
+    /// wheelset 0, 1, …, N − 1 µm/s, each against its own reference run; the errors are the
+    /// largest over the draws, with their median [default: 1, the scene's own initial state].
+    #[arg(long, value_name = "N")]
+    draws: Option<usize>,
     #[command(flatten)]
     sink: SinkArgs,
 }
@@ -122,7 +127,8 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         || !a.method.is_empty()
         || !a.rtol.is_empty()
         || a.reference_contact.is_some()
-        || a.reference_rtol.is_some();
+        || a.reference_rtol.is_some()
+        || a.draws.is_some();
     if matches!(a.target, BenchTarget::Study) {
         let path = a
             .scenario
@@ -167,7 +173,7 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
     }
     anyhow::ensure!(
         matches!(a.target, BenchTarget::Precision) || !(sweep_options || a.duration.is_some()),
-        "a scenario, --duration, --contact, --method, --rtol and --reference-* apply to `kecsim bench precision` only"
+        "a scenario, --duration, --contact, --method, --rtol, --reference-* and --draws apply to `kecsim bench precision` only"
     );
     if matches!(a.target, BenchTarget::Precision) {
         return precision(a);
@@ -270,6 +276,13 @@ fn precision(a: BenchArgs) -> Result<()> {
     }
     if let Some(r) = a.reference_rtol {
         settings.reference.2 = r;
+    }
+    if let Some(n) = a.draws {
+        anyhow::ensure!(
+            (1..=64).contains(&n),
+            "--draws {n}: expected 1 ..= 64 draws (each a whole sweep and its reference run)"
+        );
+        settings.draws = kecsim::bench::precision::protocol_draws(n);
     }
     let p = kecsim::bench::precision::precision(&scene, &settings).map_err(anyhow::Error::msg)?;
     let delivered = {
