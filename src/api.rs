@@ -42,7 +42,7 @@ use crate::dynamics::output::{csv_row, ObserverError, OutputSample, RunStart, CS
 use crate::dynamics::{CancelToken, RunEnd, RunObserver, RunSummary, Stop, Threads};
 use crate::profile::Profile;
 use crate::scenario::{BuildError, RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
-use crate::study::spec::set_key;
+use crate::study::spec::{check_key, set_key};
 
 /// A value given to a key ([`SceneInput::set`]): a TOML value (`15.0`, `3`, `"kec"`, `true`).
 pub use toml::Value;
@@ -98,15 +98,9 @@ impl SceneInput {
     /// file and line.
     pub fn file(path: impl AsRef<Path>) -> Result<SceneInput, Error> {
         let path = path.as_ref();
-        let origin = path.display().to_string();
-        let text = crate::limits::read_text(path).map_err(|source| crate::scenario::ScenarioError::Io {
-            path: origin.clone(),
-            source,
-        })?;
-        Scenario::parse(&text, &origin)?;
         Ok(SceneInput {
-            text,
-            origin,
+            text: Scenario::read(path)?.source,
+            origin: path.display().to_string(),
             base: path.parent().unwrap_or(Path::new(".")).to_path_buf(),
             overrides: Vec::new(),
         })
@@ -164,11 +158,7 @@ impl SceneInput {
         if self.overrides.is_empty() {
             return Ok(self.text.clone());
         }
-        let mut table = self.table()?;
-        for (key, value) in &self.overrides {
-            set_key(&mut table, key, value.clone()).map_err(|problem| self.refused(key, value, problem))?;
-        }
-        toml::to_string(&table).map_err(|e| Error::Source {
+        toml::to_string(&self.with_overrides()?).map_err(|e| Error::Source {
             given: self.origin.clone(),
             problem: e.to_string(),
         })
@@ -179,27 +169,15 @@ impl SceneInput {
     /// once: an error names it and what the scenario expects there.
     pub fn set(&mut self, key: &str, value: impl Into<Value>) -> Result<&mut SceneInput, Error> {
         let value = value.into();
-        let mut probe = self.table()?;
-        for (k, v) in &self.overrides {
-            set_key(&mut probe, k, v.clone()).map_err(|problem| self.refused(k, v, problem))?;
-        }
-        set_key(&mut probe, key, value.clone()).map_err(|problem| self.refused(key, &value, problem))?;
-        let text = toml::to_string(&probe).map_err(|e| self.refused(key, &value, e.to_string()))?;
-        let probe_origin = format!("{} with `{key}`", self.origin);
-        if let Err(e) = Scenario::parse(&text, &probe_origin) {
-            let message = e.to_string();
-            let message = message
-                .strip_prefix(&probe_origin)
-                .map(|m| m.trim_start_matches(':').trim().to_string())
-                .unwrap_or(message);
+        check_key(&self.with_overrides()?, key, value.clone(), &self.origin).map_err(|problem| {
             // The TOML parser's excerpt is of the text made with the override, not of the file:
             // its last line (what is wrong) is kept.
-            let message = match message.starts_with("TOML parse error") {
-                true => message.lines().last().unwrap_or_default().trim().to_string(),
-                false => message,
+            let problem = match problem.split_once("TOML parse error") {
+                Some((head, _)) => format!("{head}{}", problem.lines().last().unwrap_or_default().trim()),
+                None => problem,
             };
-            return Err(self.refused(key, &value, format!("the scenario does not take it: {message}")));
-        }
+            self.refused(key, &value, problem)
+        })?;
         self.overrides.push((key.to_string(), value));
         Ok(self)
     }
@@ -222,12 +200,17 @@ impl SceneInput {
         Ok(Scenario::parse(&text, &origin)?.compile(&origin, &self.base)?)
     }
 
-    fn table(&self) -> Result<toml::Table, Error> {
+    /// The scenario as a TOML table with the overrides so far applied.
+    fn with_overrides(&self) -> Result<toml::Table, Error> {
         let text = self.text.strip_prefix('\u{feff}').unwrap_or(&self.text);
-        toml::from_str(text).map_err(|e| Error::Source {
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| Error::Source {
             given: self.origin.clone(),
             problem: e.to_string(),
-        })
+        })?;
+        for (key, value) in &self.overrides {
+            set_key(&mut table, key, value.clone()).map_err(|problem| self.refused(key, value, problem))?;
+        }
+        Ok(table)
     }
 
     fn refused(&self, key: &str, value: &Value, problem: String) -> Error {

@@ -53,7 +53,7 @@ pub struct Scenario {
     pub vehicle: Option<VehicleSpec>,
     /// The text it was parsed from (validation reports lines of the track sections).
     #[serde(skip)]
-    source: String,
+    pub(crate) source: String,
 }
 
 /// Wheel–rail contact forces: friction, material, creep-force model (`[contact_forces.creep]`,

@@ -626,8 +626,15 @@ fn check_axis(base: &Table, key: &str, values: &AxisValues, origin: &str) -> Res
         AxisValues::List(v) => v.first().cloned().ok_or("no values (an empty list or range)")?,
         AxisValues::Uniform(lo, _) => Value::Float(*lo),
     };
+    check_key(base, key, first, origin)
+}
+
+/// Checks that the scenario `base` with `key` set to `value` still parses as a scenario (its
+/// fields are checked strictly, unknown keys rejected): a study's axis, an override of the
+/// facade ([`crate::api::SceneInput::set`]).
+pub(crate) fn check_key(base: &Table, key: &str, value: Value, origin: &str) -> Result<(), String> {
     let mut probe = base.clone();
-    set_key(&mut probe, key, first)?;
+    set_key(&mut probe, key, value)?;
     let probe_text = toml::to_string(&probe).map_err(|e| e.to_string())?;
     Scenario::parse(&probe_text, origin).map(|_| ()).map_err(|e| {
         format!(
