@@ -729,7 +729,7 @@ fn per_wheel_entry_holds_on_a_narrowed_gauge_between_both_flanges() {
     use kecsim::contact::per_wheel::contact_per_wheel;
     let pair = WheelRailPair::new(
         kecsim::profile::Profile::resolve("ms-tram", kecsim::profile::ProfileKind::Wheel).unwrap(),
-        StandardProfile::Rail54E1.profile(),
+        StandardProfile::Rail54E1.blended(1.0).unwrap(),
         "1:20".parse().unwrap(),
         TrackGauge::default(),
         WheelsetGeometry {

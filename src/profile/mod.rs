@@ -16,6 +16,7 @@
 //! by name or path, with its problems in `error`. Placement on the track cross-section (gauge,
 //! inclination, back-to-back, mirroring) is [`placement`].
 
+pub(crate) mod blend;
 pub(crate) mod curve;
 pub(crate) mod embedded;
 pub(crate) mod error;
@@ -47,7 +48,40 @@ fn standard_names() -> String {
 impl Profile {
     /// Resolves `spec`, a standard name (`s1002`, `60e1`, `54e1`), a shipped profile's name
     /// (`ms-standin`, see `embedded`) or a file path, to a profile of the expected kind.
+    ///
+    /// A standard rail's name may carry a blend of its arc joints' curvature, `54e1:blend=1`
+    /// (± 1 mm of arc length, see `blend`): a model change, off unless asked for.
     pub fn resolve(spec: &str, expected: ProfileKind) -> Result<Profile, ProfileError> {
+        if let Some((name, blend)) = spec.split_once(":blend=") {
+            let std = StandardProfile::from_name(name).filter(|p| p.kind() == ProfileKind::Rail);
+            let bad = |problem: String| ProfileError::InFile {
+                path: spec.to_string(),
+                problem,
+            };
+            let std = std.ok_or_else(|| {
+                bad(format!(
+                    "a blend of the arc joints applies to a standard rail head (60e1, 54e1), not to '{name}'"
+                ))
+            })?;
+            if std.kind() != expected {
+                return Err(ProfileError::WrongKind {
+                    path: spec.to_string(),
+                    expected,
+                    found: std.kind(),
+                });
+            }
+            let w: f64 = blend.trim().parse().map_err(|_| {
+                bad(format!(
+                    "blend '{blend}': expected the half-width in mm, e.g. {name}:blend=1"
+                ))
+            })?;
+            return std.blended(w).ok_or_else(|| {
+                bad(format!(
+                    "blend {w} mm: expected a half-width in mm above 0 and at most {}",
+                    blend::MAX_BLEND_MM
+                ))
+            });
+        }
         if let Some(std) = StandardProfile::from_name(spec) {
             if std.kind() != expected {
                 return Err(ProfileError::WrongKind {

@@ -197,6 +197,53 @@ impl StandardProfile {
         }
     }
 
+    /// The rail head's published arcs ([`super::blend::RailHead`]); `None` for the wheel.
+    pub fn rail_head(self) -> Option<super::blend::RailHead> {
+        let arc_ends_mm = match self {
+            Self::S1002 => return None,
+            Self::Rail60E1 => [20.456 / 2.0, 52.053 / 2.0],
+            Self::Rail54E1 => [20.024 / 2.0, 49.727 / 2.0],
+        };
+        Some(super::blend::RailHead {
+            radii_mm: [300.0, 80.0, 13.0],
+            arc_ends_mm,
+            flank_slope: 20.0,
+            flank_depth_mm: RAIL_FLANK_DEPTH_MM,
+        })
+    }
+
+    /// The rail head with the curvature at its arc–arc joints (R300/R80, R80/R13) blended over
+    /// ± `blend_mm` of arc length ([`super::blend`]; a model change: the arcs keep their radii
+    /// and move by micrometres). Named `<name>:blend=<blend_mm>`, the name
+    /// [`Profile::resolve`](crate::profile::Profile::resolve) reads. `None` for the wheel or a
+    /// half-width outside (0, [`super::blend::MAX_BLEND_MM`]].
+    pub fn blended(self, blend_mm: f64) -> Option<Profile> {
+        let head = self.rail_head()?;
+        if !(blend_mm > 0.0 && blend_mm <= super::blend::MAX_BLEND_MM) {
+            return None;
+        }
+        let pts = head.points(blend_mm, SAMPLE_STEP_MM);
+        let s: Vec<f64> = pts.iter().map(|p| p.0 * 1e-3).collect();
+        let z: Vec<f64> = pts.iter().map(|p| -p.1 * 1e-3).collect();
+        let sections = self.sections();
+        let moved = super::blend::max_shape_change_mm(&head, &|x| sections.eval(x).0, blend_mm);
+        let source = format!(
+            "{}; the curvature at the R300/R80 and R80/R13 joints blended over ±{blend_mm} mm of arc length, the head moved by at most {:.1} µm normal to it (kecsim, issue 52: a model change)",
+            self.source(),
+            moved * 1e3
+        );
+        Some(
+            Profile::from_points(
+                &format!("{}:blend={blend_mm}", self.name()),
+                self.kind(),
+                &source,
+                s,
+                z,
+            )
+            .expect("blended rail head sampling yields a valid spline"),
+        )
+    }
+
     /// The runtime profile (SI, z up).
     pub fn profile(self) -> Profile {
         let pts = self.sections().sample(SAMPLE_STEP_MM);
@@ -488,5 +535,105 @@ mod tests {
             Some(StandardProfile::Rail60E1)
         );
         assert_eq!(StandardProfile::from_name("s1003"), None);
+    }
+}
+
+/// The blended rail head (`super::blend`) against the published one.
+#[cfg(test)]
+mod blend_tests {
+    use super::super::blend::{max_shape_change_mm, RailHead};
+    use super::StandardProfile;
+
+    fn head54() -> (RailHead, impl Fn(f64) -> f64) {
+        let sc = StandardProfile::Rail54E1.sections();
+        (StandardProfile::Rail54E1.rail_head().unwrap(), move |x: f64| {
+            sc.eval(x).0
+        })
+    }
+
+    /// Radius of the circle through three points, mm.
+    fn circumradius(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> f64 {
+        let d = |p: (f64, f64), q: (f64, f64)| ((p.0 - q.0).powi(2) + (p.1 - q.1).powi(2)).sqrt();
+        let area2 = ((b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)).abs();
+        d(a, b) * d(b, c) * d(c, a) / (2.0 * area2)
+    }
+
+    /// Unblended, the integrated head is the published sectionwise one (an independent form:
+    /// the circles' closed forms of `standard`), to the quadrature's accuracy.
+    #[test]
+    fn unblended_head_is_the_published_one() {
+        let (head, published) = head54();
+        // Normal to the head (the flank is steep): Simpson across the published jumps, a few pm.
+        let exact = max_shape_change_mm(&head, &published, 0.0);
+        assert!(exact < 1e-8, "{exact} mm");
+        for w in [0.25, 1.0] {
+            let change = max_shape_change_mm(&head, &published, w);
+            println!("54E1 blended over ±{w} mm: shape change {:.2} µm", change * 1e3);
+        }
+    }
+
+    /// Blended over ±1 mm: the curvature is continuous and monotone from the crown to the flank
+    /// joint; away from the blends each arc has its published radius (circles through three of
+    /// the points); the shape moves by at most 7 µm; the R13 meets the flank at the published
+    /// slope 20.
+    #[test]
+    fn blended_head_keeps_the_radii_and_moves_by_micrometres() {
+        let (head, published) = head54();
+        let w = 1.0;
+        let ([s1, s2, s3], _) = head.joints();
+        let mut last = head.curvature(0.0, w);
+        let n = 200_000;
+        for k in 1..n {
+            let s = s3 * k as f64 / n as f64;
+            let kk = head.curvature(s, w);
+            assert!(kk >= last - 1e-15, "curvature falls at s = {s}");
+            assert!(kk - last < 1e-4, "curvature jumps by {} at s = {s}", kk - last);
+            last = kk;
+        }
+        let pts = head.half_points(w, 0.01);
+        // Arc length of point k ≈ 0.01 k (the points every 10 µm of arc).
+        for (s_mid, r) in [
+            (0.5 * s1, 300.0),
+            (0.5 * (s1 + s2), 80.0),
+            (0.5 * (s2 + s3) + 1.0, 13.0),
+        ] {
+            let k = (s_mid / 0.01).round() as usize;
+            let rr = circumradius(pts[k - 50], pts[k], pts[k + 50]);
+            assert!((rr - r).abs() < 1e-3 * r, "radius {rr} where R{r}");
+        }
+        // Inside a blend the radius lies between its two arcs'.
+        let k = (s2 / 0.01).round() as usize;
+        let rr = circumradius(pts[k - 5], pts[k], pts[k + 5]);
+        assert!(rr > 13.0 && rr < 80.0, "{rr}");
+        let change = max_shape_change_mm(&head, &published, w);
+        assert!(change < 7e-3 && change > 1e-4, "shape change {change} mm");
+        // The flank: the last points lie on a line of slope 20, as published.
+        let m = pts.len();
+        let slope = (pts[m - 1].1 - pts[m - 2].1) / (pts[m - 1].0 - pts[m - 2].0);
+        assert!((slope - 20.0).abs() < 1e-9, "{slope}");
+    }
+
+    /// The name `54e1:blend=1` resolves to the blended head; nonsense is refused, naming it.
+    #[test]
+    fn blended_rail_resolves_by_name() {
+        use crate::profile::{Profile, ProfileKind};
+        let p = Profile::resolve("54e1:blend=1", ProfileKind::Rail).unwrap();
+        assert_eq!(p.name, "54e1:blend=1");
+        assert!(p.source.contains("moved by at most 5.2 µm"), "{}", p.source);
+        let exact = Profile::resolve("54e1", ProfileKind::Rail).unwrap();
+        // At the crown both agree; the blend region's curvature differs.
+        assert!((p.eval(0.0).z - exact.eval(0.0).z).abs() < 1e-9);
+        for (spec, want) in [
+            ("s1002:blend=1", "standard rail head"),
+            ("54e1:blend=x", "half-width in mm"),
+            ("54e1:blend=9", "at most 3"),
+            ("54e1:blend=0", "above 0"),
+        ] {
+            let e = Profile::resolve(spec, ProfileKind::Rail).unwrap_err().to_string();
+            assert!(
+                e.contains(want) && e.contains(spec.split(':').next().unwrap()),
+                "{spec}: {e}"
+            );
+        }
     }
 }

@@ -655,7 +655,8 @@ fn locate_key(origin: &str, source: &str, problem: &str) -> String {
 
 /// A standard profile name stays as it is; anything else is a path relative to `base`.
 fn resolve_path(spec: &str, base: &Path) -> String {
-    if crate::profile::StandardProfile::from_name(spec).is_some()
+    let name = spec.split_once(":blend=").map_or(spec, |(n, _)| n);
+    if crate::profile::StandardProfile::from_name(name).is_some()
         || crate::profile::embedded::EmbeddedProfile::from_name(spec).is_some()
         || Path::new(spec).is_absolute()
     {
@@ -677,7 +678,7 @@ mod tests {
         let s = Scenario::parse(DEFAULT_SCENARIO, "<default>").unwrap();
         let scene = s.compile("<default>", Path::new(".")).unwrap();
         assert_eq!(scene.pair.wheel.name, "ms-tram");
-        assert_eq!(scene.pair.rail.name, "54e1");
+        assert_eq!(scene.pair.rail.name, "54e1:blend=1");
         assert!(scene.simulation.is_some() && scene.track.is_some());
         assert_eq!(scene.contact_forces.model.name(), "polach");
         assert_eq!(scene.contact_forces.friction, 0.3);

@@ -15,7 +15,6 @@ use super::*;
 use crate::contact::conicity::RollingRadiusDifference;
 use crate::contact::lookup::{LookupTable1, TableSettings};
 use crate::profile::embedded::EmbeddedProfile;
-use crate::profile::StandardProfile;
 use rayon::prelude::*;
 
 /// Sampling of the wheel profiles, m.
@@ -155,7 +154,7 @@ fn brute(pair: &WheelRailPair, wheel: &[(f64, f64, f64)], rail: &RailEnvelope, y
     }
 }
 
-/// The shipped `ms-tram` on 54E1 at 1:20, its placement as its target file gives it.
+/// The shipped `ms-tram` on its rail (54E1 blended, at 1:20), its placement as its target file gives it.
 fn ms_tram_pair() -> WheelRailPair {
     let (_, p) = parse_target(
         include_str!("../../../assets/designs/ms-tram.toml"),
@@ -170,7 +169,7 @@ fn ms_tram_pair() -> WheelRailPair {
     let wheel = EmbeddedProfile::from_name("ms-tram").unwrap().profile().unwrap();
     WheelRailPair::new(
         wheel,
-        StandardProfile::Rail54E1.profile(),
+        Profile::resolve(p.rail.as_deref().unwrap(), crate::profile::ProfileKind::Rail).unwrap(),
         p.inclination.unwrap().parse().unwrap(),
         TrackGauge::default(),
         wheelset,
