@@ -1278,6 +1278,16 @@ fn absurd_inputs_are_refused_or_warned_with_the_reason() {
             &["max_order = 3", "only method = \"bdf\""],
         ),
         (
+            "newton.toml",
+            &[("record_rate_hz = 100.0", "record_rate_hz = 100.0\n\n[simulation.integrator]\nmethod = \"radau5\"\nnewton_tolerance = 0.2")],
+            &["newton_tolerance = 0.2", "only method = \"bdf\" takes it"],
+        ),
+        (
+            "newton_range.toml",
+            &[("record_rate_hz = 100.0", "record_rate_hz = 100.0\n\n[simulation.integrator]\nmethod = \"bdf\"\nnewton_tolerance = 3.0")],
+            &["integrator.newton_tolerance", "3"],
+        ),
+        (
             "stiff.toml",
             &[("[vehicle]", "[contact_forces]\nyoung_modulus_pa = 2.1e14\n\n[vehicle]")],
             &["young_modulus_pa = 210000000000000", "no engineering material"],

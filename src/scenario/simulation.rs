@@ -206,6 +206,10 @@ pub struct IntegratorSpec {
     /// limit, it is refused.
     #[serde(default)]
     pub max_order: Option<usize>,
+    /// bdf: the Newton iteration's stopping tolerance, as a fraction of the local error
+    /// tolerance (0.01–1; default 0.1, CVODE's). Given with another method, it is refused.
+    #[serde(default)]
+    pub newton_tolerance: Option<f64>,
 }
 
 impl IntegratorSpec {
@@ -214,6 +218,9 @@ impl IntegratorSpec {
         let mut s = Settings::new(self.method, self.rtol, self.atol);
         s.jacobian_max_age = self.jacobian_max_age;
         s.bdf_max_order = self.max_order.unwrap_or(DEFAULT_BDF_MAX_ORDER);
+        s.newton_tolerance = self
+            .newton_tolerance
+            .unwrap_or(crate::dynamics::integrator::NEWTON_TOLERANCE);
         s
     }
 }
@@ -245,6 +252,7 @@ impl Default for IntegratorSpec {
             atol: default_atol(),
             jacobian_max_age: default_jacobian_max_age(),
             max_order: None,
+            newton_tolerance: None,
         }
     }
 }
@@ -383,6 +391,15 @@ impl SimulationSpec {
             if self.integrator.method != Method::Bdf {
                 late.push(format!(
                     "simulation.integrator.max_order = {o}: only method = \"bdf\" has an order to limit; method = \"{}\" would ignore it",
+                    self.integrator.method.name()
+                ));
+            }
+        }
+        if let Some(k) = self.integrator.newton_tolerance {
+            check("integrator.newton_tolerance", k, 0.01, 1.0);
+            if self.integrator.method != Method::Bdf {
+                late.push(format!(
+                    "simulation.integrator.newton_tolerance = {k}: only method = \"bdf\" takes it; method = \"{}\" would ignore it",
                     self.integrator.method.name()
                 ));
             }

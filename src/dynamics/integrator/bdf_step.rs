@@ -107,8 +107,8 @@ impl Stepper {
                 if rate >= 0.9 && previous.is_finite() {
                     break;
                 }
-                if d <= 0.1 * NEWTON_TOLERANCE || (rate < 0.9 && d * rate / (1.0 - rate) <= NEWTON_TOLERANCE)
-                {
+                let tol = s.newton_tolerance;
+                if d <= 0.1 * tol || (rate < 0.9 && d * rate / (1.0 - rate) <= tol) {
                     converged = true;
                     break;
                 }

@@ -1101,3 +1101,31 @@ fn radau_steps_do_not_depend_on_the_damping_of_a_mode() {
     assert!(steps[0][1] > 3 * steps[1][1], "BDF {steps:?}");
     assert!(steps[0][0] * 3 < steps[0][1], "lightly damped: Radau {steps:?}");
 }
+
+/// BDF's Newton stopping tolerance ([`Settings::newton_tolerance`]) is the one it uses: looser,
+/// fewer iterations per step (right-hand sides per step fall), the iteration's error a larger share
+/// of the step's — the solution still within the tolerance's reach of the closed form.
+#[test]
+fn bdf_newton_tolerance_trades_iterations_for_error() {
+    let sys = || Forced { w: 40.0, zeta: 0.05 };
+    let mut per_step = Vec::new();
+    for k in [0.03, 0.1, 0.5] {
+        let mut s = Settings::new(Method::Bdf, 1e-6, 1e-9);
+        s.newton_tolerance = k;
+        let f = sys();
+        let (x0, v0) = f.steady(0.0);
+        let (out, st) = run(&mut sys(), &[x0, v0], 5.0, 0.01, &s);
+        let err = out
+            .iter()
+            .map(|(t, x)| (x[0] - f.steady(*t).0).abs())
+            .fold(0.0, f64::max);
+        let r = st.rhs_evaluations as f64 / (st.accepted + st.rejected) as f64;
+        println!(
+            "BDF Newton tolerance {k}: error {err:.2e} m, {} steps, {} rhs, {r:.3} per step",
+            st.accepted, st.rhs_evaluations
+        );
+        assert!(err < 1e-7, "Newton tolerance {k}: error {err}");
+        per_step.push(r);
+    }
+    assert!(per_step[0] > per_step[1] && per_step[1] > per_step[2], "{per_step:?}");
+}
