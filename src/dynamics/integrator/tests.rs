@@ -1127,5 +1127,8 @@ fn bdf_newton_tolerance_trades_iterations_for_error() {
         assert!(err < 1e-7, "Newton tolerance {k}: error {err}");
         per_step.push(r);
     }
-    assert!(per_step[0] > per_step[1] && per_step[1] > per_step[2], "{per_step:?}");
+    assert!(
+        per_step[0] > per_step[1] && per_step[1] > per_step[2],
+        "{per_step:?}"
+    );
 }
