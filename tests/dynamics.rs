@@ -1053,10 +1053,16 @@ fn bench_scaling_measures_both_series() {
         sim_ratio > 2.0 && sim_ratio < 2.05,
         "simulated time ratio {sim_ratio}"
     );
+    // The second kilometre is not the first again: no static settling, no run-in of the
+    // irregularities, the rear bogie's slightly unstable 9 Hz mode entering the curve at another
+    // amplitude. Measured (issue 52, the default at atol 3e-7): 2 km against 1 km 0.952 (steps),
+    // 0.932 (right-hand sides) per simulated second — the second kilometre alone 13 % cheaper
+    // per second than the first; within 5 % at atol 1e-6. A cost growing with the track's length
+    // (a search over the whole track per evaluation) would show as a ratio above 1.
     for (k, what) in [(5, "steps"), (6, "right-hand sides")] {
         let per_second = (num(&two, k) / num(&two, 2)) / (num(&one, k) / num(&one, 2));
         assert!(
-            (per_second - 1.0).abs() < 0.05,
+            per_second > 0.88 && per_second < 1.05,
             "{what} per simulated second, 2 km against 1 km: {per_second}"
         );
     }

@@ -863,6 +863,20 @@ fn a_streamed_run_arrives_whole() {
         let url = format!("rerun+http://127.0.0.1:{port}/proxy");
         let csv = format!("csv{run}");
         let out = kecsim(&["run", "ms.toml", "--csv", &csv, "--connect", &url], &dir);
+        // The server is still writing what it received when the CLI exits (measured: its file
+        // grew by 12 % in the next 0.5 s), and Ctrl-C drops what it has not written: wait until
+        // the file has stopped growing for a second (at most 30 s) before stopping it.
+        let size = || std::fs::metadata(&saved).map(|m| m.len()).unwrap_or(0);
+        let (mut last, mut still) = (size(), 0);
+        for _ in 0..300 {
+            std::thread::sleep(std::time::Duration::from_millis(100));
+            let now = size();
+            still = if now == last && now > 0 { still + 1 } else { 0 };
+            last = now;
+            if still >= 10 {
+                break;
+            }
+        }
         stop(port);
         let _ = server.wait();
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

@@ -255,3 +255,52 @@ fn a_wheel_more_curved_than_the_rail_is_refused() {
         "{e}"
     );
 }
+
+/// The relative curvature at the left contact (wheel + rail lateral curvatures, the conformity
+/// that sets Hertz's B and so b) along a pair's table: the largest change of its logarithm
+/// between neighbouring rows 0.01 mm of y apart, and where.
+fn largest_conformity_step(pair: &WheelRailPair) -> (f64, f64) {
+    let settings = TableSettings {
+        step_m: 1e-5,
+        ..TableSettings::default()
+    };
+    let table = LookupTable1::build(&ContactGeometry::with_defaults(pair.clone()), &settings).unwrap();
+    // Up to the flange's root (35°): beyond it the flank's curvature is the wheel's own.
+    let rows: Vec<_> = table
+        .rows
+        .iter()
+        .filter(|r| r.contact_angle[0].abs() < 35f64.to_radians())
+        .collect();
+    let b = |r: &crate::contact::lookup::TableRow| (r.curvature[0] + r.curvature[1]).abs().max(1e-9).ln();
+    rows.windows(2)
+        .map(|w| ((b(w[1]) - b(w[0])).abs(), w[1].y))
+        .fold((0.0, 0.0), |a, x| if x.0 > a.0 { x } else { a })
+}
+
+/// Issue 52: the curvature jumps of the published 54E1's tangent arcs, and of a wheel designed
+/// conjugate to them, made the contact's conformity (Hertz's b) jump where the contact crossed a
+/// joint — the 4 GPa p0 and a fifth of the default's right-hand sides. On the blended rail with
+/// `ms-tram` designed on it, the conformity changes by at most 19 % (ln: 0.17) between table rows
+/// 0.01 mm apart (the R80 → R13 blend crosses in ~0.25 mm of y); `ms-standin` on the published
+/// rail, by a factor 4 (ln: 1.42) at a joint — the test that would have caught it.
+#[test]
+fn the_blended_pair_has_no_conformity_jump() {
+    let (_, rail, incl, gauge, ws) = shipped_target(include_str!("../../../assets/designs/ms-tram.toml"));
+    assert_eq!(rail.name, "54e1:blend=1");
+    let tram = EmbeddedProfile::from_name("ms-tram").unwrap().profile().unwrap();
+    let (smooth, at) = largest_conformity_step(&WheelRailPair::new(tram, rail, incl, gauge, ws).unwrap());
+    let (_, published, incl, gauge, ws) = ms_standin();
+    let standin = EmbeddedProfile::from_name("ms-standin")
+        .unwrap()
+        .profile()
+        .unwrap();
+    let (jump, at_jump) =
+        largest_conformity_step(&WheelRailPair::new(standin, published, incl, gauge, ws).unwrap());
+    println!(
+        "largest change of ln(k_w + k_r) between rows 0.01 mm apart: ms-tram on 54e1:blend=1 {smooth:.3} (y {:.2} mm); ms-standin on 54e1 {jump:.3} (y {:.2} mm)",
+        at * 1e3,
+        at_jump * 1e3
+    );
+    assert!(smooth < 0.25, "{smooth} at y = {} mm", at * 1e3);
+    assert!(jump > 4.0 * smooth, "{jump} against {smooth}");
+}
