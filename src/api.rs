@@ -534,7 +534,7 @@ impl ProfilePoints {
 /// use kecsim::api::{profiles, SceneInput};
 ///
 /// let [wheel, rail] = profiles(&SceneInput::embedded_default().compile()?);
-/// assert_eq!((wheel.kind.as_str(), rail.name.as_str()), ("wheel", "54e1"));
+/// assert_eq!((wheel.kind.as_str(), rail.name.as_str()), ("wheel", "54e1:blend=1"));
 /// assert_eq!(rail.y_mm.len(), rail.z_mm.len());
 /// # Ok::<(), kecsim::api::Error>(())
 /// ```
