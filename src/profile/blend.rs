@@ -66,7 +66,9 @@ impl RailHead {
     }
 
     /// Curvature κ(s), 1/mm (convex head: positive), with the joints at s1 and s2 blended over
-    /// ± `w` mm; `w = 0` gives the published jumps.
+    /// ± `w` mm; `w = 0` gives the published jumps. (The construction uses its integral,
+    /// `angle`; this is the tests' view of it.)
+    #[cfg(test)]
     pub fn curvature(&self, s: f64, w: f64) -> f64 {
         let ([s1, s2, s3], _) = self.joints();
         let k = self.radii_mm.map(|r| 1.0 / r);
@@ -165,6 +167,7 @@ impl RailHead {
 
 /// The quintic smoothstep 10u³ − 15u⁴ + 6u⁵ (0 → 1 on [0, 1], first and second derivatives 0 at
 /// both ends).
+#[cfg(test)]
 fn smoothstep(u: f64) -> f64 {
     u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
 }

@@ -197,8 +197,8 @@ impl StandardProfile {
         }
     }
 
-    /// The rail head's published arcs ([`super::blend::RailHead`]); `None` for the wheel.
-    pub fn rail_head(self) -> Option<super::blend::RailHead> {
+    /// The rail head's published arcs (`blend::RailHead`); `None` for the wheel.
+    pub(crate) fn rail_head(self) -> Option<super::blend::RailHead> {
         let arc_ends_mm = match self {
             Self::S1002 => return None,
             Self::Rail60E1 => [20.456 / 2.0, 52.053 / 2.0],
@@ -213,10 +213,10 @@ impl StandardProfile {
     }
 
     /// The rail head with the curvature at its arc–arc joints (R300/R80, R80/R13) blended over
-    /// ± `blend_mm` of arc length ([`super::blend`]; a model change: the arcs keep their radii
+    /// ± `blend_mm` of arc length (`profile::blend`; a model change: the arcs keep their radii
     /// and move by micrometres). Named `<name>:blend=<blend_mm>`, the name
     /// [`Profile::resolve`](crate::profile::Profile::resolve) reads. `None` for the wheel or a
-    /// half-width outside (0, [`super::blend::MAX_BLEND_MM`]].
+    /// half-width outside (0, 3] mm (`blend::MAX_BLEND_MM`).
     pub fn blended(self, blend_mm: f64) -> Option<Profile> {
         let head = self.rail_head()?;
         if !(blend_mm > 0.0 && blend_mm <= super::blend::MAX_BLEND_MM) {
