@@ -3,6 +3,7 @@
 
 pub mod dynamics;
 pub mod hard;
+pub mod patch_run;
 pub mod precision;
 pub mod rhs;
 pub mod scaling;

@@ -82,6 +82,10 @@ enum BenchTarget {
     /// One contact's patch: Hertz, its gap deviation and the strip model (gap section, strips),
     /// µs per contact, and the strip model's pmax against Hertz's.
     Patch,
+    /// The samples' patches beyond Hertz on a run (the output worker's post-processing of the
+    /// default scene's first --duration s, default 51): µs per contact recomputed, the share of
+    /// the contacts recomputed, and what they come to (pmax, area).
+    PatchRun,
     /// Real-time factor of every scene with every contact model, each model's difference from KEC
     /// on the same scene, the cost of streaming to a recording, and the contact-model dispatch.
     Dynamics,
@@ -164,6 +168,20 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         print!("{}", kecsim::bench::rhs::rhs(&settings)?.markdown());
         return Ok(());
     }
+    if matches!(a.target, BenchTarget::PatchRun) {
+        anyhow::ensure!(!sweep_options, "`kecsim bench patch-run` takes --duration only");
+        let mut settings = kecsim::bench::patch_run::PatchRunSettings::default();
+        if let Some(d) = a.duration {
+            settings.duration_s = d;
+        }
+        print!(
+            "{}",
+            kecsim::bench::patch_run::patch_run(&settings)
+                .map_err(anyhow::Error::msg)?
+                .text()
+        );
+        return Ok(());
+    }
     if matches!(a.target, BenchTarget::Scaling) {
         anyhow::ensure!(
             !sweep_options,
@@ -217,7 +235,8 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         | BenchTarget::Scaling
         | BenchTarget::Hard
         | BenchTarget::Study
-        | BenchTarget::Rhs => {
+        | BenchTarget::Rhs
+        | BenchTarget::PatchRun => {
             unreachable!("handled above")
         }
     }

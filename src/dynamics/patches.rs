@@ -24,6 +24,16 @@ use super::sample::Sample;
 /// The window tried first, each side of the contact, m.
 pub const NARROW_WINDOW_M: f64 = 0.008;
 
+/// What one wheelset's post-processing carries from sample to sample: each wheel's last approach
+/// (the strip model's starting guess) and whether its last patch needed the wide window (where the
+/// next sample's gap is sampled over both windows at once — a saving, not a difference: the
+/// narrow window is tried first either way, on the same gap to the last bit).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PatchWarm {
+    pub approach: [Option<f64>; 2],
+    pub wide: [bool; 2],
+}
+
 /// What the samples' patches are recomputed with: the scene's wheel–rail pair and material.
 #[derive(Debug, Clone)]
 pub struct PatchPostProcess {
@@ -64,6 +74,20 @@ impl PatchPostProcess {
     /// `warm`: each wheel's approach at its previous sample (the strip model's starting guess),
     /// updated.
     pub fn apply(&self, s: &mut Sample, warm: &mut [Option<f64>; 2]) -> usize {
+        let mut w = PatchWarm {
+            approach: *warm,
+            wide: [false; 2],
+        };
+        let failed = self.apply_warm(s, &mut w);
+        *warm = w.approach;
+        failed
+    }
+
+    /// [`PatchPostProcess::apply`] with the window each wheel needed last kept too (what a run's
+    /// output worker does): the same patches, a third less of the gap sampled on a run where half
+    /// the patches need the wide window (`kecsim bench patch-run`).
+    pub fn apply_warm(&self, s: &mut Sample, pw: &mut PatchWarm) -> usize {
+        let warm = &mut pw.approach;
         let mut failed = 0;
         let hertz = s.max_pressure();
         for (i, side) in Side::BOTH.into_iter().enumerate() {
@@ -93,34 +117,57 @@ impl PatchPostProcess {
             }
             let e_star = self.material.contact_modulus(&self.material);
             // A narrow window first (most patches are a few mm wide), the full one if the overlap
-            // reaches its end.
-            let mut solved = None;
-            for half_window in [NARROW_WINDOW_M, GAP_WINDOW_M] {
-                let input = GapInput {
-                    side,
-                    s_wheel: sw,
-                    s_rail: sr,
-                    nominal_radius: self.pair.wheelset.nominal_radius_m,
-                    rail_angle: side.sign() * self.pair.inclination.angle_rad,
-                    approach_angle: GapInput::along_normal(&self.pair.rail, side, sr),
-                    half_window,
-                };
-                let r = GapSection::new(&self.pair.wheel, &self.pair.rail, &input)
-                    .map_err(|_| ())
-                    .and_then(|sec| {
-                        strips::solve_from(&sec, s.normal[i], e_star, &self.strips, warm[i]).map_err(|e| {
-                            if matches!(e, StripError::Window(_)) {
-                            } else {
-                                warm[i] = None;
-                            }
-                        })
-                    });
-                if let Ok((p, delta)) = r {
-                    if !p.is_empty() {
-                        warm[i] = Some(delta);
-                        solved = Some(p);
+            // reaches its end — both from one sampling of the profiles (`GapSection::nested`: the
+            // same sections as two separate ones, to the last bit).
+            let input = GapInput {
+                side,
+                s_wheel: sw,
+                s_rail: sr,
+                nominal_radius: self.pair.wheelset.nominal_radius_m,
+                rail_angle: side.sign() * self.pair.inclination.angle_rad,
+                approach_angle: GapInput::along_normal(&self.pair.rail, side, sr),
+                half_window: GAP_WINDOW_M,
+            };
+            let narrow_input = GapInput {
+                half_window: NARROW_WINDOW_M,
+                ..input
+            };
+            let (wheel, rail) = (&self.pair.wheel, &self.pair.rail);
+            let mut solve = |sec: &GapSection| {
+                strips::solve_from(sec, s.normal[i], e_star, &self.strips, warm[i]).map_err(|e| {
+                    if !matches!(e, StripError::Window(_)) {
+                        warm[i] = None;
                     }
-                    break;
+                })
+            };
+            let mut wide_used = false;
+            let r = match pw.wide[i].then(|| GapSection::nested(wheel, rail, &input, NARROW_WINDOW_M)) {
+                // The last sample needed the wide window: both from one sampling.
+                Some(Ok((narrow, wide))) => {
+                    narrow.map_err(|_| ()).and_then(|sec| solve(&sec)).or_else(|_| {
+                        wide_used = true;
+                        solve(&wide)
+                    })
+                }
+                Some(Err(_)) => GapSection::new(wheel, rail, &narrow_input)
+                    .map_err(|_| ())
+                    .and_then(|sec| solve(&sec)),
+                None => GapSection::new(wheel, rail, &narrow_input)
+                    .map_err(|_| ())
+                    .and_then(|sec| solve(&sec))
+                    .or_else(|_| {
+                        wide_used = true;
+                        GapSection::new(wheel, rail, &input)
+                            .map_err(|_| ())
+                            .and_then(|sec| solve(&sec))
+                    }),
+            };
+            pw.wide[i] = wide_used;
+            let mut solved = None;
+            if let Ok((p, delta)) = r {
+                if !p.is_empty() {
+                    warm[i] = Some(delta);
+                    solved = Some(p);
                 }
             }
             match solved {

@@ -403,7 +403,7 @@ struct Recorder<'v, 'o, 'p> {
     /// Contacts where the strip model found no solution (Hertz's kept).
     patches_unresolved: usize,
     /// Each wheelset's wheels' last approach (the strip model's warm start).
-    patch_warm: Vec<[Option<f64>; 2]>,
+    patch_warm: Vec<super::patches::PatchWarm>,
     wheelsets: Vec<(String, Vec<Sample>)>,
     bodies: Vec<(String, Vec<(f64, BodySample)>)>,
     /// Per floor point: its accelerations at each sample.
@@ -421,9 +421,9 @@ impl Recorder<'_, '_, '_> {
             .map(|w| Sample::new(t, w, self.r0).with_traction(&s.traction))
             .collect();
         if let Some(p) = &self.patches {
-            self.patch_warm.resize(row.len(), [None; 2]);
+            self.patch_warm.resize(row.len(), Default::default());
             for (w, warm) in row.iter_mut().zip(self.patch_warm.iter_mut()) {
-                self.patches_unresolved += p.apply(w, warm);
+                self.patches_unresolved += p.apply_warm(w, warm);
             }
         }
         for (k, w) in row.iter_mut().enumerate() {

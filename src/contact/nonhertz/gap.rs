@@ -72,6 +72,8 @@ struct Graph {
     s: Vec<f64>,
     /// A profile value carried along (the rail's slope dz/ds, the wheel's z).
     x: Vec<f64>,
+    /// Index of the contact's own sample (s = s_w or s_r) in the graph.
+    centre: usize,
 }
 
 impl Graph {
@@ -87,12 +89,26 @@ impl Graph {
         while hi + 1 < n && w[hi + 1] > w[hi] {
             hi += 1;
         }
+        let keep = |mut v: Vec<f64>| {
+            v.truncate(hi + 1);
+            v.drain(..lo);
+            v
+        };
         Graph {
-            w: w[lo..=hi].to_vec(),
-            v: v[lo..=hi].to_vec(),
-            s: s[lo..=hi].to_vec(),
-            x: x[lo..=hi].to_vec(),
+            w: keep(w),
+            v: keep(v),
+            s: keep(s),
+            x: keep(x),
+            centre: c - lo,
         }
+    }
+
+    /// The w-range of the graph a sampling of `n_half` steps each side of the contact gives: the
+    /// same samples (the same s-grid), the part of them this graph holds.
+    fn extent(&self, n_half: usize) -> (f64, f64) {
+        let lo = self.centre.saturating_sub(n_half);
+        let hi = (self.centre + n_half).min(self.w.len() - 1);
+        (self.w[lo], self.w[hi])
     }
 
     /// Linear interpolation of (v, s) at `x`, walking the cursor `k` forwards (x increasing).
@@ -134,9 +150,28 @@ impl GapInput {
     }
 }
 
-impl GapSection {
-    /// The gap around the contact (see the module's documentation).
-    pub fn new(wheel: &Profile, rail: &Profile, input: &GapInput) -> Result<GapSection, GapError> {
+/// Samples each side of the contact for a window's half-width (clamped to 1–100 mm).
+fn half_samples(half_window: f64) -> (f64, usize) {
+    let half_window = half_window.clamp(GAP_STEP_M * 10.0, 0.1);
+    (half_window, (half_window / GAP_STEP_M).round() as usize)
+}
+
+/// Both profiles sampled as graphs across the approach direction, with what the gap on a grid
+/// needs.
+struct Graphs {
+    rail: Graph,
+    wheel: Graph,
+    side: Side,
+    nominal_radius: f64,
+    rail_angle: f64,
+    approach_angle: f64,
+    /// Both samplings hold the contact's own sample (it lies in its profile's domain): a narrower
+    /// window's samples are then a part of these.
+    centred: bool,
+}
+
+impl Graphs {
+    fn new(wheel: &Profile, rail: &Profile, input: &GapInput) -> Result<Graphs, GapError> {
         let GapInput {
             side,
             s_wheel,
@@ -167,21 +202,21 @@ impl GapSection {
         let (st, ct) = theta.sin_cos();
         let c = (s_rail, pr.z);
         let (w0, _) = to_uv(c);
-        let half_window = half_window.clamp(GAP_STEP_M * 10.0, 0.1);
-        let n_half = (half_window / GAP_STEP_M).round() as usize;
-        let sample = |centre: f64, domain: (f64, f64), f: &dyn Fn(f64) -> ((f64, f64), f64)| {
+        let (_, n_half) = half_samples(half_window);
+        let mut centred = true;
+        let mut sample = |centre: f64, domain: (f64, f64), f: &dyn Fn(f64) -> ((f64, f64), f64)| {
             let mut s = Vec::with_capacity(2 * n_half + 1);
             let mut w = Vec::with_capacity(2 * n_half + 1);
             let mut v = Vec::with_capacity(2 * n_half + 1);
             let mut x = Vec::with_capacity(2 * n_half + 1);
-            let mut c_idx = 0;
+            let mut c_idx = None;
             for i in 0..=2 * n_half {
                 let si = centre + (i as f64 - n_half as f64) * GAP_STEP_M;
                 if si < domain.0 || si > domain.1 {
                     continue;
                 }
                 if i == n_half {
-                    c_idx = s.len();
+                    c_idx = Some(s.len());
                 }
                 let (p, xi) = f(si);
                 let (wi, vi) = to_uv(p);
@@ -190,7 +225,8 @@ impl GapSection {
                 v.push(vi);
                 x.push(xi);
             }
-            (s, w, v, x, c_idx)
+            centred &= c_idx.is_some();
+            Graph::monotone_around(s, w, v, x, c_idx.unwrap_or(0))
         };
         let rail_xy = |s: f64| {
             let p = rail.eval_side(side, s);
@@ -202,17 +238,35 @@ impl GapSection {
             let ds = s - s_wheel;
             ((c.0 + ct * ds - st * dz, c.1 + st * ds + ct * dz), z)
         };
-        let (s, w, v, x, ci) = sample(s_rail, rail.domain_side(side), &rail_xy);
-        let rg = Graph::monotone_around(s, w, v, x, ci);
-        let (s, w, v, x, ci) = sample(s_wheel, wheel.domain_side(side), &wheel_xy);
-        let wg = Graph::monotone_around(s, w, v, x, ci);
-        let lo = rg.w[0].max(wg.w[0]).max(-half_window);
-        let hi = rg.w[rg.w.len() - 1].min(wg.w[wg.w.len() - 1]).min(half_window);
+        let rail_graph = sample(s_rail, rail.domain_side(side), &rail_xy);
+        let wheel_graph = sample(s_wheel, wheel.domain_side(side), &wheel_xy);
+        Ok(Graphs {
+            rail: rail_graph,
+            wheel: wheel_graph,
+            side,
+            nominal_radius,
+            rail_angle,
+            approach_angle,
+            centred,
+        })
+    }
+
+    /// The grid's index range (w = i GAP_STEP_M) of the gap sampled over `half_window`.
+    fn range(&self, half_window: f64) -> Result<(i64, i64), GapError> {
+        let (half_window, n_half) = half_samples(half_window);
+        let (r0, r1) = self.rail.extent(n_half);
+        let (w0, w1) = self.wheel.extent(n_half);
+        let lo = r0.max(w0).max(-half_window);
+        let hi = r1.min(w1).min(half_window);
         if !(lo < -GAP_STEP_M && hi > GAP_STEP_M) {
             return Err(GapError::Folded(1e3 * lo.abs().min(hi.abs())));
         }
-        let i_lo = (lo / GAP_STEP_M).ceil() as i64;
-        let i_hi = (hi / GAP_STEP_M).floor() as i64;
+        Ok(((lo / GAP_STEP_M).ceil() as i64, (hi / GAP_STEP_M).floor() as i64))
+    }
+
+    /// The gap on the grid `range`.
+    fn section(&self, (i_lo, i_hi): (i64, i64)) -> GapSection {
+        let (rg, wg) = (&self.rail, &self.wheel);
         let n = (i_hi - i_lo + 1) as usize;
         let mut out = GapSection {
             w: Vec::with_capacity(n),
@@ -225,22 +279,74 @@ impl GapSection {
             contact: (-i_lo) as usize,
         };
         let (mut kr, mut kw) = (0, 0);
-        let sigma = side.sign();
+        let sigma = self.side.sign();
         for i in i_lo..=i_hi {
             let x = i as f64 * GAP_STEP_M;
             let (vr, sr, dzr) = rg.at(x, &mut kr);
             let (vw, sw, zw) = wg.at(x, &mut kw);
             // Rail slope against w: the profile's slope angle less the approach angle.
-            let slope = dzr.atan() + approach_angle;
+            let angle = dzr.atan();
             out.w.push(x);
             out.gap.push(vw - vr);
             out.s_rail.push(sr);
             out.s_wheel.push(sw);
-            out.cos_slope.push(slope.cos().max(1e-3));
-            out.contact_angle.push(sigma * dzr.atan() + rail_angle * sigma);
-            out.radius.push(nominal_radius - zw);
+            out.cos_slope.push((angle + self.approach_angle).cos().max(1e-3));
+            out.contact_angle.push(sigma * angle + self.rail_angle * sigma);
+            out.radius.push(self.nominal_radius - zw);
         }
-        Ok(out)
+        out
+    }
+}
+
+impl GapSection {
+    /// The gap around the contact (see the module's documentation).
+    pub fn new(wheel: &Profile, rail: &Profile, input: &GapInput) -> Result<GapSection, GapError> {
+        let g = Graphs::new(wheel, rail, input)?;
+        Ok(g.section(g.range(input.half_window)?))
+    }
+
+    /// The gap around the contact over `input`'s window and over a narrower one (`narrow_half`,
+    /// m), made from one sampling of the profiles: each the same, to the last bit, as
+    /// [`GapSection::new`] with that window (the narrower one a part of the wider: the same
+    /// s-grid of samples, the same w-grid). (narrow, wide); the narrow one is its error where it
+    /// cannot be made. What a solution that tries the narrow window first, and the wide one where
+    /// the patch reaches the narrow one's end, needs.
+    pub fn nested(
+        wheel: &Profile,
+        rail: &Profile,
+        input: &GapInput,
+        narrow_half: f64,
+    ) -> Result<(Result<GapSection, GapError>, GapSection), GapError> {
+        let g = Graphs::new(wheel, rail, input)?;
+        let (lo, hi) = g.range(input.half_window)?;
+        let wide = g.section((lo, hi));
+        let narrow = if !g.centred || narrow_half.is_nan() || narrow_half > input.half_window {
+            GapSection::new(
+                wheel,
+                rail,
+                &GapInput {
+                    half_window: narrow_half,
+                    ..*input
+                },
+            )
+        } else {
+            g.range(narrow_half).map(|(nlo, nhi)| {
+                // Inside the wide range: the narrow window's samples are a part of the wide's.
+                let (a, b) = ((nlo.max(lo) - lo) as usize, (nhi.min(hi) - lo) as usize);
+                let cut = |v: &[f64]| v[a..=b].to_vec();
+                GapSection {
+                    w: cut(&wide.w),
+                    gap: cut(&wide.gap),
+                    s_rail: cut(&wide.s_rail),
+                    s_wheel: cut(&wide.s_wheel),
+                    cos_slope: cut(&wide.cos_slope),
+                    contact_angle: cut(&wide.contact_angle),
+                    radius: cut(&wide.radius),
+                    contact: (-nlo) as usize,
+                }
+            })
+        };
+        Ok((narrow, wide))
     }
 
     /// Local minima of the gap below `limit` (m), deepest first; the rigid contact's is first
@@ -304,6 +410,103 @@ mod tests {
             }
         }
         assert_eq!(g.minima(1e-4)[0], g.contact);
+    }
+
+    /// The nested sections are the separate ones, to the last bit, over contacts across the tread
+    /// and flange of two pairs (the designed wheel on the blended rail; S1002 on 60E1), along the
+    /// normal and along the vertical, both sides — and where the narrow window cannot be made the
+    /// error is the separate one's.
+    #[test]
+    fn nested_sections_are_the_separate_ones() {
+        use crate::contact::geometry::ContactGeometry;
+        use crate::profile::embedded::EmbeddedProfile;
+        use crate::profile::placement::WheelRailPair;
+        use crate::profile::placement::WheelsetGeometry;
+        use crate::profile::ProfileKind;
+        use crate::track::RailOffsets;
+        use crate::track::TrackGauge;
+        let tram = WheelRailPair::new(
+            EmbeddedProfile::from_name("ms-tram").unwrap().profile().unwrap(),
+            Profile::resolve("54e1:blend=1", ProfileKind::Rail).unwrap(),
+            "1:20".parse().unwrap(),
+            TrackGauge::default(),
+            WheelsetGeometry {
+                back_to_back_m: 1.366,
+                nominal_radius_m: 0.295,
+                ..WheelsetGeometry::default()
+            },
+        );
+        let pairs = [
+            tram,
+            WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40"),
+        ];
+        let mut compared = 0;
+        for pair in pairs {
+            let pair = pair.unwrap();
+            let geom = ContactGeometry::with_defaults(pair.clone());
+            for k in -16..=16 {
+                let sol = geom.solve(k as f64 * 5e-4, &RailOffsets::default()).unwrap();
+                for side in Side::BOTH {
+                    let p = sol.point(side);
+                    for along_normal in [true, false] {
+                        let input = GapInput {
+                            side,
+                            s_wheel: p.s_wheel,
+                            s_rail: p.s_rail,
+                            nominal_radius: pair.wheelset.nominal_radius_m,
+                            rail_angle: side.sign() * pair.inclination.angle_rad,
+                            approach_angle: if along_normal {
+                                GapInput::along_normal(&pair.rail, side, p.s_rail)
+                            } else {
+                                0.0
+                            },
+                            half_window: GAP_WINDOW_M,
+                        };
+                        let (narrow, wide) =
+                            GapSection::nested(&pair.wheel, &pair.rail, &input, 0.008).unwrap();
+                        let alone_wide = GapSection::new(&pair.wheel, &pair.rail, &input).unwrap();
+                        let alone_narrow = GapSection::new(
+                            &pair.wheel,
+                            &pair.rail,
+                            &GapInput {
+                                half_window: 0.008,
+                                ..input
+                            },
+                        );
+                        let bits = |g: &GapSection| {
+                            [
+                                &g.w,
+                                &g.gap,
+                                &g.s_rail,
+                                &g.s_wheel,
+                                &g.cos_slope,
+                                &g.contact_angle,
+                                &g.radius,
+                            ]
+                            .iter()
+                            .flat_map(|v| v.iter().map(|x| x.to_bits()))
+                            .chain([g.contact as u64])
+                            .collect::<Vec<u64>>()
+                        };
+                        assert_eq!(
+                            bits(&wide),
+                            bits(&alone_wide),
+                            "wide, y = {} mm, {side:?}",
+                            k as f64 * 0.5
+                        );
+                        match (narrow, alone_narrow) {
+                            (Ok(a), Ok(b)) => {
+                                assert!(a.w.len() < wide.w.len());
+                                assert_eq!(bits(&a), bits(&b), "narrow, y = {} mm, {side:?}", k as f64 * 0.5);
+                                compared += 1;
+                            }
+                            (a, b) => assert_eq!(a.err(), b.err()),
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compared > 200, "{compared} narrow sections compared");
     }
 
     #[test]
