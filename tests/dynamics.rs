@@ -1081,6 +1081,43 @@ fn bench_scaling_measures_both_series() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("takes --duration and --km only"));
 }
 
+/// `kecsim bench patch-run` (issue 52): the default run's samples post-processed as the output
+/// worker does — its counts consistent (two wheels a sample, the recomputed among the contacts,
+/// most of them on the near-conformal designed wheel, none unresolved), a largest pmax of a wheel
+/// on its rail (0.88 GPa over the first second); options of other targets refused.
+#[test]
+fn bench_patch_run_post_processes_the_default_samples() {
+    let dir = tmpdir("patch_run");
+    let out = kecsim(&["bench", "patch-run", "--duration", "1"], &dir);
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let field = |after: &str| -> f64 {
+        let rest = &stdout[stdout.find(after).unwrap_or_else(|| panic!("{after}: {stdout}")) + after.len()..];
+        rest.split_whitespace()
+            .next()
+            .unwrap()
+            .trim_end_matches([',', ';'])
+            .parse()
+            .unwrap()
+    };
+    let line = stdout.lines().find(|l| l.contains("wheelset samples")).unwrap();
+    let nums: Vec<f64> = line
+        .split([' ', ',', ';', '('])
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    // [run s, samples, contacts, recomputed, share %, unresolved]
+    let (samples, contacts, recomputed, unresolved) = (nums[1], nums[2], nums[3], nums[5]);
+    assert_eq!(samples, 6.0 * 101.0, "{line}");
+    assert!(contacts <= 2.0 * samples && contacts > 1.9 * samples, "{line}");
+    assert!(recomputed > 0.3 * contacts && recomputed <= contacts, "{line}");
+    assert_eq!(unresolved, 0.0, "{line}");
+    let pmax = field("max pmax");
+    assert!(pmax > 500.0 && pmax < 2500.0, "{stdout}");
+    let out = kecsim(&["bench", "patch-run", "--contact", "kec"], &dir);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("takes --duration only"));
+}
+
 /// `kecsim bench rhs` (issue 34): every vehicle of the size series measured; the parts' times add
 /// up to the whole evaluation (each part is timed between clock reads, nothing falls between
 /// them); one pass evaluates every kept state; the coupled pair has twice one vehicle's states.
