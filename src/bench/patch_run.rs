@@ -1,11 +1,11 @@
 //! `kecsim bench patch-run`: the cost of the samples' contact patches beyond Hertz on a run —
-//! the output worker's post-processing ([`crate::dynamics::patches`], `patches = "post"`, the
+//! the output worker's post-processing (`dynamics::patches`, `patches = "post"`, the
 //! default).
 //!
 //! The embedded default scene (the MS kilometre) runs its first `duration_s` with the patches
 //! measured but not recomputed (`patches = "hertz"`: the samples carry Hertz's pmax and area and
 //! the semi-axes the strip model starts from). Its samples are then post-processed the way the
-//! output worker does it ([`PatchPostProcess::apply`], each wheelset's samples in order with its
+//! output worker does it (`PatchPostProcess::apply_warm`, each wheelset's samples in order with its
 //! warm start), `passes` times: the median wall time per contact recomputed, with the smallest and
 //! largest pass beside it (the spread is the figure's error on a shared machine). What the
 //! recomputation gives is printed with it — the contacts recomputed, the largest pmax, the sums of
