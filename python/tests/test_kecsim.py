@@ -186,10 +186,23 @@ def test_ctrl_c_stops_the_run_and_keeps_what_it_computed(tmp_path):
     script.write_text(
         textwrap.dedent(
             """\
-            import sys, kecsim
+            import signal, sys, kecsim
+            # Python's own Ctrl-C handler even where SIGINT came ignored (a job started with `&`
+            # by a non-interactive shell: CI launched in the background).
+            signal.signal(signal.SIGINT, signal.default_int_handler)
             print("started", flush=True)
             try:
-                kecsim.run(kecsim.default_scene(), {"simulation.duration_s": 50.0}, threads=1)
+                # DOPRI5 at 1e-8 (the precision protocol's reference): tens of seconds on any
+                # machine, so the signal lands mid-run however fast the default has become.
+                kecsim.run(
+                    kecsim.default_scene(),
+                    {
+                        "simulation.duration_s": 50.0,
+                        "simulation.integrator.method": "dopri5",
+                        "simulation.integrator.rtol": 1e-8,
+                    },
+                    threads=1,
+                )
             except kecsim.Interrupted as e:
                 r = e.result
                 print("interrupted", r.interrupted, len(r.wheelsets["w1"]["t_s"]), r.wheelsets["w1"]["t_s"][-1], flush=True)
