@@ -1288,6 +1288,16 @@ fn absurd_inputs_are_refused_or_warned_with_the_reason() {
             &["integrator.newton_tolerance", "3"],
         ),
         (
+            "reuse.toml",
+            &[("record_rate_hz = 100.0", "record_rate_hz = 100.0\n\n[simulation.integrator]\nmethod = \"ros34pw2\"\nnewton_reuse = 0.5")],
+            &["newton_reuse = 0.5", "only method = \"bdf\" takes it"],
+        ),
+        (
+            "reuse_range.toml",
+            &[("record_rate_hz = 100.0", "record_rate_hz = 100.0\n\n[simulation.integrator]\nmethod = \"bdf\"\nnewton_reuse = 20.0")],
+            &["integrator.newton_reuse", "20"],
+        ),
+        (
             "stiff.toml",
             &[("[vehicle]", "[contact_forces]\nyoung_modulus_pa = 2.1e14\n\n[vehicle]")],
             &["young_modulus_pa = 210000000000000", "no engineering material"],

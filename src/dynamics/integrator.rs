@@ -80,6 +80,26 @@ pub trait OdeSystem {
         let _ = rows;
         self.rhs(t, x, dxdt)
     }
+    /// f(t, x) on every row but those of the blocks of [`Self::reusable_blocks`] marked in
+    /// `quiet` (one flag per block), which are unspecified: the BDF's Newton iteration fills them
+    /// itself ([`Settings::newton_reuse`]), so a system may skip the work only they need.
+    /// Default: the whole [`Self::rhs`].
+    fn rhs_reusing(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        dxdt: &mut [f64],
+        quiet: &[bool],
+    ) -> Result<(), Self::Error> {
+        let _ = quiet;
+        self.rhs(t, x, dxdt)
+    }
+    /// Blocks (offset, size) whose rows [`Self::rhs_reusing`] can skip, each one of the
+    /// [`Self::newton_groups`]' blocks (its rows depend on its own states and on states outside
+    /// every block, never on another block's). Default: none.
+    fn reusable_blocks(&self) -> Vec<(usize, usize)> {
+        Vec::new()
+    }
     /// The Jacobian ∂f/∂x, if the system can supply it (else finite differences are used).
     fn jacobian(&mut self, _t: f64, _x: &[f64], _jac: &mut DMatrix<f64>) -> Option<Result<(), Self::Error>> {
         None
@@ -223,6 +243,13 @@ pub struct Settings {
     /// ([`NEWTON_TOLERANCE`]). Larger: fewer iterations, the iteration error a larger share of the
     /// step's error (issue 52 measures it on the precision protocol).
     pub newton_tolerance: f64,
+    /// BDF only: Newton iterations after the first re-evaluate only the
+    /// [`OdeSystem::reusable_blocks`] whose last correction is larger than this fraction of the
+    /// Newton tolerance (every term |δᵢ| / (atol + rtol |xᵢ|) of the block); a quieter block's rows
+    /// are carried forward to first order with its block of the Jacobian, f ← f + J_bb δ_b.
+    /// The iteration then converges to within that first-order error of the full one. 0 (the
+    /// default): every iteration evaluates the whole right-hand side.
+    pub newton_reuse: f64,
     /// A stop asked for from outside (the binary's Ctrl-C): checked after every step, the
     /// integration then ends there ([`Completion::Stopped`]). Default: a fresh token, never asked.
     pub cancel: CancelToken,
@@ -254,6 +281,7 @@ impl Settings {
             jacobian_max_age: 25,
             bdf_max_order: 5,
             newton_tolerance: NEWTON_TOLERANCE,
+            newton_reuse: 0.0,
             cancel: CancelToken::default(),
             stall: None,
         }
@@ -330,6 +358,14 @@ pub enum SettingsError {
         size: usize,
         states: usize,
     },
+    /// A reusable block ([`OdeSystem::reusable_blocks`]) is not one of the Newton matrix's
+    /// blocks, whose Jacobian would carry it forward.
+    #[error("reusable block ({offset}, {size}) is not one of the Newton matrix's Jacobian blocks ({states} states)")]
+    ReusableBlock {
+        offset: usize,
+        size: usize,
+        states: usize,
+    },
 }
 
 /// Work done.
@@ -338,6 +374,10 @@ pub struct Stats {
     pub accepted: usize,
     pub rejected: usize,
     pub rhs_evaluations: usize,
+    /// BDF with [`Settings::newton_reuse`]: blocks carried forward by their Jacobian instead of
+    /// evaluated, summed over the Newton iterations (each such iteration is still counted in
+    /// `rhs_evaluations`).
+    pub reused_blocks: usize,
     pub jacobians: usize,
     /// The smallest accepted step but for the last one (cut to land on the end).
     pub smallest_step: f64,
@@ -473,6 +513,11 @@ pub fn integrate_into<S: OdeSystem + ?Sized>(
             .or_else(|| sys.jacobian_blocks().map(|b| vec![b]));
         stepper
             .set_blocks(groups, sys.kinematic_blocks(), n)
+            .map_err(IntegrationError::Settings)?;
+    }
+    if settings.method == Method::Bdf && settings.newton_reuse > 0.0 {
+        stepper
+            .set_reusable(sys.reusable_blocks(), n)
             .map_err(IntegrationError::Settings)?;
     }
     if settings.method == Method::Ros34pw2 {
@@ -829,6 +874,8 @@ struct Stepper {
     /// BDF: the factored Newton matrix and the α₀ it was factored for (None after a new
     /// Jacobian).
     newton_matrix: Option<(IterationMatrix, f64)>,
+    /// BDF with [`Settings::newton_reuse`]: the system's [`OdeSystem::reusable_blocks`].
+    reusable: Vec<(usize, usize)>,
     /// The component with the largest error term in the last trial step ([`Stats::limiting`]).
     limiting: Option<usize>,
     /// A Rosenbrock method's tableau.
@@ -852,10 +899,26 @@ impl Stepper {
             newton_blocks: None,
             newton_kinematic: Vec::new(),
             newton_matrix: None,
+            reusable: Vec::new(),
             limiting: None,
             tableau: rosenbrock::Tableau::of(method),
             radau: radau::Radau::new(if method == Method::Radau5 { n } else { 0 }),
         }
+    }
+
+    /// BDF with [`Settings::newton_reuse`]: the blocks the Newton iteration may carry forward,
+    /// each checked to be one of the Newton matrix's blocks (whose Jacobian is evaluated).
+    fn set_reusable(&mut self, reusable: Vec<(usize, usize)>, n: usize) -> Result<(), SettingsError> {
+        let known = self.newton_blocks.as_deref().unwrap_or(&[]);
+        if let Some(&(offset, size)) = reusable.iter().find(|b| !known.contains(b)) {
+            return Err(SettingsError::ReusableBlock {
+                offset,
+                size,
+                states: n,
+            });
+        }
+        self.reusable = reusable;
+        Ok(())
     }
 
     /// The Jacobian blocks by finite-difference group (the W-method's one group, the BDF's

@@ -100,6 +100,9 @@ struct Parts {
     wheelsets: bool,
     /// Keep each wheelset's solved kinematics in its memo (a full evaluation).
     keep: bool,
+    /// Bit j: wheelset j's dynamics are skipped, its rows left as they are (a Newton iteration
+    /// carries them forward, [`VehicleModel::rhs_reusing`]).
+    quiet: u64,
 }
 
 impl Parts {
@@ -107,6 +110,7 @@ impl Parts {
         bodies: true,
         wheelsets: true,
         keep: true,
+        quiet: 0,
     };
 }
 
@@ -835,6 +839,7 @@ impl Multibody {
             bodies: rows.iter().any(|&(o, _)| o < split),
             wheelsets: rows.iter().any(|&(o, m)| o + m > split),
             keep: false,
+            quiet: 0,
         }
     }
 
@@ -1020,12 +1025,15 @@ impl Multibody {
         if !parts.wheelsets {
             return Ok(VehicleSample::default());
         }
-        let dynamics: Vec<Result<WheelsetDynamics, DynamicsError>> = data
+        let dynamics: Vec<Result<Option<WheelsetDynamics>, DynamicsError>> = data
             .normal_start
             .par_iter_mut()
             .enumerate()
             .with_min_len(WHEELSETS_PER_TASK)
             .map(|(j, start)| {
+                if parts.quiet >> j & 1 == 1 {
+                    return Ok(None);
+                }
                 let (f, mo) = acc[nb + j];
                 let load = Load {
                     force: f.into(),
@@ -1043,6 +1051,7 @@ impl Multibody {
                         start,
                         self.reference.lateral_flexibility().as_ref(),
                     )
+                    .map(Some)
                     .map_err(DynamicsError::wheelset(&self.wheelsets[j].name, ws_states[j].y))
             })
             .collect();
@@ -1053,7 +1062,9 @@ impl Multibody {
         }
         let mut ws_samples = Vec::with_capacity(if sampling { nw } else { 0 });
         for (j, (dynamics, (_, pose))) in dynamics.into_iter().zip(kins).enumerate() {
-            let dynamics = dynamics?;
+            let Some(dynamics) = dynamics? else {
+                continue;
+            };
             if let Some(d) = dxdt.as_deref_mut() {
                 let o = self.wheelset_offset(j);
                 WheelsetState::write_rates(&x[o..], &mut d[o..], &dynamics, self.is_irw(j));
@@ -1445,6 +1456,39 @@ impl VehicleModel for Multibody {
     ) -> Result<(), DynamicsError> {
         self.evaluate_parts(data, t, x, Some(dxdt), self.parts_for(rows))
             .map(|_| ())
+    }
+
+    /// A Newton iteration's right-hand side without the quiet wheelsets' dynamics (their
+    /// kinematics solved all the same: their poses load the elements).
+    fn rhs_reusing(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &[f64],
+        dxdt: &mut [f64],
+        quiet: &[bool],
+    ) -> Result<(), DynamicsError> {
+        let mask = quiet
+            .iter()
+            .enumerate()
+            .filter(|(_, &q)| q)
+            .fold(0u64, |m, (j, _)| m | 1 << j);
+        self.evaluate_parts(
+            data,
+            t,
+            x,
+            Some(dxdt),
+            Parts {
+                quiet: mask,
+                ..Parts::ALL
+            },
+        )
+        .map(|_| ())
+    }
+
+    /// Up to 64 wheelsets (the quiet ones a bit mask).
+    fn reuses_wheelsets(&self) -> bool {
+        self.wheelsets.len() <= 64
     }
 
     fn sample(&self, data: &mut VehicleData, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError> {

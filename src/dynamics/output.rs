@@ -36,6 +36,9 @@ pub struct RunSummary {
     /// Jacobians evaluated (implicit and linearly implicit methods; their finite-difference
     /// right-hand sides are counted in `rhs_evaluations`).
     pub jacobians: usize,
+    /// BDF with `newton_reuse`: wheelset dynamics a Newton iteration carried forward by the
+    /// Jacobian instead of evaluating them (0 without).
+    pub wheelset_dynamics_reused: usize,
     /// What limited the step size: the states with the largest term of the error norm in most
     /// steps tried (accepted and rejected), most first (see
     /// [`crate::dynamics::integrator::Stats::limiting`]).

@@ -743,6 +743,7 @@ fn summarise(
         },
         rhs_evaluations: stats.rhs_evaluations,
         jacobians: stats.jacobians,
+        wheelset_dynamics_reused: stats.reused_blocks,
         step_limiting: Vec::new(),
         preprocessing_s: labels.preprocessing_s,
         max_abs_y_mm: fold(&|s| s.y.abs() * 1e3),

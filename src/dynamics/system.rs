@@ -268,6 +268,27 @@ pub trait VehicleModel: Send + Sync {
         let _ = rows;
         self.rhs(data, t, x, dxdt)
     }
+    /// f(t, x) but for the wheelsets marked in `quiet` (one flag per wheelset), whose dynamics
+    /// — the creep forces and the normal-force iteration — are not evaluated: their slots' rows of
+    /// `dxdt` are unspecified (the BDF's Newton iteration carries them forward by their Jacobian,
+    /// [`crate::dynamics::integrator::Settings::newton_reuse`]). Their kinematics are still
+    /// solved: their poses load the elements. Default: the whole right-hand side, and
+    /// [`Self::reuses_wheelsets`] false.
+    fn rhs_reusing(
+        &self,
+        data: &mut VehicleData,
+        t: f64,
+        x: &[f64],
+        dxdt: &mut [f64],
+        quiet: &[bool],
+    ) -> Result<(), DynamicsError> {
+        let _ = quiet;
+        self.rhs(data, t, x, dxdt)
+    }
+    /// Whether [`Self::rhs_reusing`] skips the quiet wheelsets' dynamics.
+    fn reuses_wheelsets(&self) -> bool {
+        false
+    }
     /// Everything an evaluation at (t, x) knows, for output.
     fn sample(&self, data: &mut VehicleData, t: f64, x: &[f64]) -> Result<VehicleSample, DynamicsError>;
     /// The wheelsets' contact model.
@@ -404,6 +425,26 @@ impl super::integrator::OdeSystem for Evaluator<'_> {
         rows: &[(usize, usize)],
     ) -> Result<(), DynamicsError> {
         self.model.rhs_rows(&mut self.data, t, x, dxdt, rows)
+    }
+
+    fn rhs_reusing(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        dxdt: &mut [f64],
+        quiet: &[bool],
+    ) -> Result<(), DynamicsError> {
+        self.model.rhs_reusing(&mut self.data, t, x, dxdt, quiet)
+    }
+
+    /// The wheelsets' slots, where the model skips a quiet wheelset's dynamics
+    /// ([`VehicleModel::reuses_wheelsets`]).
+    fn reusable_blocks(&self) -> Vec<(usize, usize)> {
+        if self.model.reuses_wheelsets() {
+            self.model.wheelset_slots()
+        } else {
+            Vec::new()
+        }
     }
 
     /// The W-method's blocks: each wheelset's states (the creep forces' stiff modes are the

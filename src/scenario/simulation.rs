@@ -210,6 +210,13 @@ pub struct IntegratorSpec {
     /// tolerance (0.01–1; default 0.1, CVODE's). Given with another method, it is refused.
     #[serde(default)]
     pub newton_tolerance: Option<f64>,
+    /// bdf: Newton iterations after the first skip the dynamics (creep forces, normal forces) of
+    /// the wheelsets whose last correction is below this fraction of the Newton tolerance,
+    /// carrying their rows forward by their Jacobian (0–10; default 0: never). Measured on the
+    /// kilometre (docs/performance.md, issue 52): no gain in wall time, so off by default. Given
+    /// with another method, it is refused.
+    #[serde(default)]
+    pub newton_reuse: Option<f64>,
 }
 
 impl IntegratorSpec {
@@ -221,6 +228,7 @@ impl IntegratorSpec {
         s.newton_tolerance = self
             .newton_tolerance
             .unwrap_or(crate::dynamics::integrator::NEWTON_TOLERANCE);
+        s.newton_reuse = self.newton_reuse.unwrap_or(0.0);
         s
     }
 }
@@ -253,6 +261,7 @@ impl Default for IntegratorSpec {
             jacobian_max_age: default_jacobian_max_age(),
             max_order: None,
             newton_tolerance: None,
+            newton_reuse: None,
         }
     }
 }
@@ -400,6 +409,15 @@ impl SimulationSpec {
             if self.integrator.method != Method::Bdf {
                 late.push(format!(
                     "simulation.integrator.newton_tolerance = {k}: only method = \"bdf\" takes it; method = \"{}\" would ignore it",
+                    self.integrator.method.name()
+                ));
+            }
+        }
+        if let Some(k) = self.integrator.newton_reuse {
+            check("integrator.newton_reuse", k, 0.0, 10.0);
+            if self.integrator.method != Method::Bdf {
+                late.push(format!(
+                    "simulation.integrator.newton_reuse = {k}: only method = \"bdf\" takes it; method = \"{}\" would ignore it",
                     self.integrator.method.name()
                 ));
             }

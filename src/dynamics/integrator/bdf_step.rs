@@ -52,6 +52,11 @@ impl Stepper {
             self.bdf_jacobian(sys, t, x, &mut fx, h, s, stats)?;
         }
         let mut rhs = nalgebra::DVector::zeros(n);
+        // With reusable blocks: the last correction, the last f and which blocks are quiet.
+        let reusing = !self.reusable.is_empty();
+        let mut last_delta = vec![0.0; if reusing { n } else { 0 }];
+        let mut f_last = vec![0.0; if reusing { n } else { 0 }];
+        let mut quiet = vec![false; self.reusable.len()];
         let converged = loop {
             // The matrix α_M I − J factored for an α_M within 20 % of α₀ serves (CVODE's rule),
             // its corrections scaled by 2 α_M / (α_M + α₀): exact for stiff components (1) and
@@ -76,8 +81,28 @@ impl Stepper {
             x1.copy_from_slice(&self.bdf.predicted);
             let mut previous = f64::INFINITY;
             let mut converged = false;
-            for _ in 0..NEWTON_MAX {
-                sys.rhs(t1, x1, f1).map_err(StepFailure::Model)?;
+            for iter in 0..NEWTON_MAX {
+                // After the first iteration, the reusable blocks whose last correction was small
+                // are carried forward by their Jacobian block ([`Settings::newton_reuse`]).
+                let quiet_count = if iter > 0 {
+                    self.mark_quiet(x1, &last_delta, s, &mut quiet)
+                } else {
+                    0
+                };
+                if quiet_count > 0 {
+                    f_last.copy_from_slice(f1);
+                    sys.rhs_reusing(t1, x1, f1, &quiet).map_err(StepFailure::Model)?;
+                    for (&(o, size), _) in self.reusable.iter().zip(&quiet).filter(|(_, &q)| q) {
+                        // Its block of the Jacobian: the Newton matrix evaluates no other.
+                        for r in o..o + size {
+                            let row = o..o + size;
+                            f1[r] = f_last[r] + row.map(|c| self.jac[(r, c)] * last_delta[c]).sum::<f64>();
+                        }
+                    }
+                    stats.reused_blocks += quiet_count;
+                } else {
+                    sys.rhs(t1, x1, f1).map_err(StepFailure::Model)?;
+                }
                 stats.rhs_evaluations += 1;
                 for m in 0..n {
                     rhs[m] = f1[m] - alpha0 * x1[m] - known[m];
@@ -87,6 +112,9 @@ impl Stepper {
                 for m in 0..n {
                     let dm = scale * delta[m];
                     x1[m] += dm;
+                    if reusing {
+                        last_delta[m] = dm;
+                    }
                     norm.add(x1[m], x1[m], dm, s);
                 }
                 let d = norm.value();
@@ -131,6 +159,19 @@ impl Stepper {
         }
         self.limiting = norm.worst_index;
         Ok(norm.value())
+    }
+
+    /// Marks in `quiet` the reusable blocks whose every correction term |δᵢ| / (atol + rtol |xᵢ|)
+    /// is at most [`Settings::newton_reuse`] × the Newton tolerance; returns how many. None
+    /// without reusable blocks.
+    fn mark_quiet(&self, x1: &[f64], delta: &[f64], s: &Settings, quiet: &mut [bool]) -> usize {
+        let limit = s.newton_reuse * s.newton_tolerance;
+        let mut count = 0;
+        for (q, &(o, size)) in quiet.iter_mut().zip(&self.reusable) {
+            *q = (o..o + size).all(|i| delta[i].abs() <= limit * (s.atol + s.rtol * x1[i].abs()));
+            count += usize::from(*q);
+        }
+        count
     }
 
     /// The BDF's Jacobian at (t, x), with f(t, x) evaluated into `fx` (once per step).
