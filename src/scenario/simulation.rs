@@ -404,20 +404,16 @@ impl SimulationSpec {
                 ));
             }
         }
-        if let Some(k) = self.integrator.newton_tolerance {
-            check("integrator.newton_tolerance", k, 0.01, 1.0);
+        // The BDF's Newton settings: each in its range, and refused with another method.
+        for (key, value, lo, hi) in [
+            ("newton_tolerance", self.integrator.newton_tolerance, 0.01, 1.0),
+            ("newton_reuse", self.integrator.newton_reuse, 0.0, 10.0),
+        ] {
+            let Some(k) = value else { continue };
+            check(&format!("integrator.{key}"), k, lo, hi);
             if self.integrator.method != Method::Bdf {
                 late.push(format!(
-                    "simulation.integrator.newton_tolerance = {k}: only method = \"bdf\" takes it; method = \"{}\" would ignore it",
-                    self.integrator.method.name()
-                ));
-            }
-        }
-        if let Some(k) = self.integrator.newton_reuse {
-            check("integrator.newton_reuse", k, 0.0, 10.0);
-            if self.integrator.method != Method::Bdf {
-                late.push(format!(
-                    "simulation.integrator.newton_reuse = {k}: only method = \"bdf\" takes it; method = \"{}\" would ignore it",
+                    "simulation.integrator.{key} = {k}: only method = \"bdf\" takes it; method = \"{}\" would ignore it",
                     self.integrator.method.name()
                 ));
             }

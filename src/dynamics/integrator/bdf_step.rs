@@ -162,8 +162,8 @@ impl Stepper {
     }
 
     /// Marks in `quiet` the reusable blocks whose every correction term |δᵢ| / (atol + rtol |xᵢ|)
-    /// is at most [`Settings::newton_reuse`] × the Newton tolerance; returns how many. None
-    /// without reusable blocks.
+    /// is at most [`Settings::newton_reuse`] × the Newton tolerance; returns how many (0 without
+    /// reusable blocks).
     fn mark_quiet(&self, x1: &[f64], delta: &[f64], s: &Settings, quiet: &mut [bool]) -> usize {
         let limit = s.newton_reuse * s.newton_tolerance;
         let mut count = 0;
