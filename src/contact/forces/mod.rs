@@ -21,6 +21,7 @@
 
 pub mod creepage;
 pub(crate) mod elliptic;
+pub mod exact;
 pub mod fastsim;
 pub mod hertz;
 pub(crate) mod kalker;

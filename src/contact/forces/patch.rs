@@ -16,6 +16,8 @@ pub enum CreepForceError {
     NonFinite(&'static str),
     #[error("creep forces: invalid contact patch: {0}")]
     Patch(String),
+    #[error("creep forces: {0}")]
+    Exact(#[from] super::exact::ExactError),
 }
 
 /// Everything about one contact patch that the creep-force models need.
@@ -33,6 +35,8 @@ pub struct ContactPatch {
     pub friction: f64,
     /// Kalker's coefficients at a/b.
     pub kalker: KalkerCoefficients,
+    /// Poisson's ratio ν of the (quasi-identical) bodies.
+    pub poisson: f64,
 }
 
 impl ContactPatch {
@@ -68,6 +72,7 @@ impl ContactPatch {
             shear_modulus,
             friction,
             kalker: table.at(a / b),
+            poisson: table.poisson(),
         })
     }
 
