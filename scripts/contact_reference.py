@@ -13,8 +13,10 @@ CASES.csv has the columns  n_n,a_mm,b_mm,xi,eta,phi_per_m,mu[,mx,my]  (the patch
 along the rolling direction and b across, the creepages, the spin in 1/m, the friction; mx, my
 the elements over the ellipse's length and width, default 40). The output repeats them and adds
 CONTACT's fx_n, fy_n, mz_n_m (forces on the wheel, kecsim's sign convention, which is CONTACT's:
-a positive creepage gives a negative force), its numbers of elements in adhesion and slip, and
-its version. G = 82 GPa and nu = 0.28 (steel) unless --g-gpa / --poisson say otherwise.
+a positive creepage gives a negative force), its numbers of elements in adhesion and slip, the
+curvatures a1, b1 (1/m) of its Hertzian gap h = a1 x^2 + b1 y^2, its potential contact area
+[-grid_x, grid_x] x [-grid_y, grid_y] mm of grid_mx x grid_my elements (its normal problem is solved
+on that grid), and its version. G = 82 GPa and nu = 0.28 (steel) unless --g-gpa / --poisson say otherwise.
 """
 import argparse
 import csv
@@ -63,10 +65,15 @@ def parse(out_text):
             r"FN\s+FX\s+FY\s+MZ\s+ELAST\.EN\.\s+FRIC\.POWER\s*\n\s*(\S+)\s+(\S+)\s+(\S+)\s+(\S+)", chunk
         )
         s = re.search(r"NPOT\s+NCON\s+NADH\s+NSLIP.*\n\s*(\d+)\s+(\d+)\s+(\d+)\s+(\d+)", chunk)
-        if not f:
+        c = re.search(r"THE CURVATURES A1,B1 ARE:\s+(\S+)\s+(\S+)", chunk)
+        g = re.search(r"POTENTIAL CONTACT, SCALE:\s+(\S+)\s+(\S+)", chunk)
+        d = re.search(r"DISCRETISATION MX,MY, DX,DY:\s+(\d+)\s+(\d+)", chunk)
+        if not (f and s and c and g and d):
             raise SystemExit("cannot read a case's totals from CONTACT's output")
         fn, fx, fy, mz = (float(v) for v in f.groups())
-        rows.append((fx, fy, mz * 1e-3, int(s.group(3)), int(s.group(4))))
+        rows.append((fx, fy, mz * 1e-3, int(s.group(3)), int(s.group(4)),
+                     float(c.group(1)) * 1e3, float(c.group(2)) * 1e3,  # 1/mm -> 1/m
+                     -float(g.group(1)), -float(g.group(2)), int(d.group(1)), int(d.group(2))))
     return rows
 
 
@@ -95,11 +102,13 @@ def main():
         raise SystemExit(f"CONTACT solved {len(results)} of {len(cases)} cases")
     w = csv.writer(sys.stdout, lineterminator="\n")
     w.writerow(["n_n", "a_mm", "b_mm", "xi", "eta", "phi_per_m", "mu", "mx", "my",
-                "fx_n", "fy_n", "mz_n_m", "n_adhesion", "n_slip", "contact_revision"])
-    for row, (fx, fy, mz, na, ns) in zip(cases, results):
+                "fx_n", "fy_n", "mz_n_m", "n_adhesion", "n_slip",
+                "a1_per_m", "b1_per_m", "grid_x_mm", "grid_y_mm", "grid_mx", "grid_my", "contact_revision"])
+    for row, (fx, fy, mz, na, ns, a1, b1, gx, gy, gmx, gmy) in zip(cases, results):
         w.writerow([row["n_n"], row["a_mm"], row["b_mm"], row["xi"], row["eta"], row["phi_per_m"],
                     row["mu"], row.get("mx") or 40, row.get("my") or 40,
                     f"{fx:.6g}", f"{fy:.6g}", f"{mz:.6g}", na, ns,
+                    f"{a1:.6g}", f"{b1:.6g}", f"{gx:.6g}", f"{gy:.6g}", gmx, gmy,
                     version.group(1) if version else "?"])
 
 

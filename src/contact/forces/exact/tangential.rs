@@ -47,6 +47,13 @@ use super::influence::Kernel;
 use super::ExactError;
 use crate::contact::forces::creepage::Creepage;
 
+/// The spin's rigid slip η + φ(x + c·dx) is taken at c = 1/6 of an element ahead of the centre,
+/// as CONTACT does ("offset 1/6 dq used in rolling problems"): a discretisation choice, measured
+/// here on pure spin φ = 4 1/m (a = b = 6 mm, 80 kN, μ 0.3): Fy/μN at 10/20/40/80 elements across
+/// is −0.2556/−0.2574/−0.2563/−0.2551 with it (CONTACT at 160: −0.2545), −0.218/−0.239/−0.247/
+/// −0.251 without it (first order); the creepages ξ, η are unaffected.
+pub const SPIN_OFFSET: f64 = 1.0 / 6.0;
+
 /// The state of one element in the solution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ElementState {
@@ -213,6 +220,7 @@ impl RollingOperator {
         let inv_dq = 1.0 / self.dx;
         let (wx0, wy0) = (creep.longitudinal, creep.lateral);
         let phi = creep.spin;
+        let x_ofs = SPIN_OFFSET * self.dx;
         let mut sweeps = 0;
         let mut converged = g_max == 0.0;
         while !converged {
@@ -245,7 +253,7 @@ impl RollingOperator {
                     // Slip at I under the current Δp.
                     let (ux, uy) = self.displacement(&spans, &dpx, &dpy, i, j);
                     let sx = wx0 - phi * g.y(j) + ux * inv_dq;
-                    let sy = wy0 + phi * g.x(i) + uy * inv_dq;
+                    let sy = wy0 + phi * (g.x(i) + x_ofs) + uy * inv_dq;
                     let rx = sx - dxx * px[k];
                     let ry = sy - dyy * py[k];
                     let (mut qx, mut qy) = (-rx / dxx, -ry / dyy);
@@ -302,7 +310,7 @@ impl RollingOperator {
                 if px[k].hypot(py[k]) >= bound[k] * (1.0 - 1e-9) {
                     let (ux, uy) = self.displacement(&spans, &dpx, &dpy, i, j);
                     sx[k] = wx0 - phi * g.y(j) + ux * inv_dq;
-                    sy[k] = wy0 + phi * g.x(i) + uy * inv_dq;
+                    sy[k] = wy0 + phi * (g.x(i) + x_ofs) + uy * inv_dq;
                     state[k] = ElementState::Slip;
                 } else {
                     state[k] = ElementState::Adhesion;
