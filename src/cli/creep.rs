@@ -1,10 +1,12 @@
-//! `kecsim creep`: creep-force curves of the creep-force models for one contact ellipse.
+//! `kecsim creep`: creep-force curves of the creep-force models for one contact ellipse, or
+//! (`--at POINTS.csv`) the forces of the models at given points, for scripts.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
 
+use kecsim::contact::forces::points;
 use kecsim::contact::forces::sweep::{self, SweepSettings};
 use kecsim::contact::forces::{ContactPatch, CreepModel, KalkerTable};
 use kecsim::inspect;
@@ -13,18 +15,23 @@ use super::{positive_mm, SinkArgs};
 
 #[derive(Args)]
 pub(super) struct CreepArgs {
-    /// Creep-force model: kalker (linear, saturated), polach, fastsim, or all.
-    #[arg(long, default_value = "all", value_parser = ["kalker", "polach", "fastsim", "all"])]
+    /// Creep-force model: kalker (linear, saturated), polach, fastsim, fastrip, exact (Kalker's
+    /// exact theory on a grid, the reference), or all.
+    #[arg(long, default_value = "all", value_parser = ["kalker", "polach", "fastsim", "fastrip", "exact", "all"])]
     model: String,
-    /// Normal force N, newtons.
+    /// Forces at the points of this CSV (columns n_n,a_mm,b_mm,xi,eta,phi_per_m,mu), written
+    /// back with model,fx_n,fy_n,mz_n_m per model to --csv (or stdout); no curves, no recording.
+    #[arg(long, value_name = "POINTS.csv")]
+    at: Option<PathBuf>,
+    /// Normal force N, newtons (required without --at).
     #[arg(long, value_name = "N")]
-    normal_force_n: f64,
-    /// Semi-axis of the contact ellipse in the rolling direction, mm.
+    normal_force_n: Option<f64>,
+    /// Semi-axis of the contact ellipse in the rolling direction, mm (required without --at).
     #[arg(long, value_name = "A")]
-    a_mm: f64,
-    /// Semi-axis of the contact ellipse in the lateral direction, mm.
+    a_mm: Option<f64>,
+    /// Semi-axis of the contact ellipse in the lateral direction, mm (required without --at).
     #[arg(long, value_name = "B")]
-    b_mm: f64,
+    b_mm: Option<f64>,
     /// Coefficient of friction.
     #[arg(long, default_value_t = 0.3)]
     mu: f64,
@@ -43,7 +50,7 @@ pub(super) struct CreepArgs {
     /// Poisson's ratio ν (for Kalker's coefficients).
     #[arg(long, default_value_t = 0.28)]
     poisson: f64,
-    /// Write the curves at the given N and spin as CSV.
+    /// Write the curves at the given N and spin as CSV (with --at: the forces at the points).
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
     #[command(flatten)]
@@ -51,8 +58,18 @@ pub(super) struct CreepArgs {
 }
 
 pub(super) fn run(a: CreepArgs) -> Result<()> {
+    let models: Vec<CreepModel> = if a.model == "all" {
+        CreepModel::NAMES
+            .iter()
+            .filter_map(|n| CreepModel::by_name(n))
+            .collect()
+    } else {
+        vec![CreepModel::by_name(&a.model).with_context(|| format!("unknown creep model {}", a.model))?]
+    };
+    if let Some(points) = a.at.clone() {
+        return at_points(a, &points, &models);
+    }
     let CreepArgs {
-        model,
         normal_force_n,
         a_mm,
         b_mm,
@@ -64,7 +81,16 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         poisson,
         csv,
         sink,
+        ..
     } = a;
+    let required = |v: Option<f64>, flag: &str| {
+        v.with_context(|| format!("{flag} is required (the contact ellipse and its load), or --at POINTS.csv for forces at given points"))
+    };
+    let (normal_force_n, a_mm, b_mm) = (
+        required(normal_force_n, "--normal-force-n")?,
+        required(a_mm, "--a-mm")?,
+        required(b_mm, "--b-mm")?,
+    );
     let sink = sink.sink();
     let _outputs = super::guard::<&std::path::Path>(&[], &[("--csv", csv.as_deref())], Some(&sink))?;
     anyhow::ensure!(
@@ -115,14 +141,6 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         mu,
         &table,
     )?;
-    let models: Vec<CreepModel> = if model == "all" {
-        CreepModel::NAMES
-            .iter()
-            .filter_map(|n| CreepModel::by_name(n))
-            .collect()
-    } else {
-        vec![CreepModel::by_name(&model).with_context(|| format!("unknown creep model {model}"))?]
-    };
     let settings = SweepSettings {
         max_creepage,
         points,
@@ -146,5 +164,63 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         println!("wrote {} ({} rows)", path.display(), rows.len());
     }
     println!("{}", delivered.map_err(anyhow::Error::msg)?);
+    Ok(())
+}
+
+/// `kecsim creep --at POINTS.csv [--csv OUT.csv]`: every model asked at every point.
+fn at_points(a: CreepArgs, path: &std::path::Path, models: &[CreepModel]) -> Result<()> {
+    for (given, flag) in [
+        (a.normal_force_n.is_some(), "--normal-force-n"),
+        (a.a_mm.is_some(), "--a-mm"),
+        (a.b_mm.is_some(), "--b-mm"),
+        (a.sink.given(), "--save/--spawn/--connect"),
+    ] {
+        anyhow::ensure!(
+            !given,
+            "{flag} with --at: the points file gives each point's load, ellipse and friction, and --at writes a CSV, no recording"
+        );
+    }
+    anyhow::ensure!(
+        a.shear_modulus_gpa.is_finite() && a.shear_modulus_gpa > 0.0,
+        "--shear-modulus-gpa {}: expected a positive modulus",
+        a.shear_modulus_gpa
+    );
+    anyhow::ensure!(
+        (0.0..=0.5).contains(&a.poisson),
+        "--poisson {}: expected 0 ..= 0.5",
+        a.poisson
+    );
+    let _outputs = super::guard(&[path], &[("--csv", a.csv.as_deref())], None)?;
+    let pts = points::read_points(path)?;
+    let table = KalkerTable::new(a.poisson);
+    let counter = super::progress::Counter::new(pts.len() as u64, "points");
+    let rows = points::evaluate(
+        &path.display().to_string(),
+        &pts,
+        models,
+        a.shear_modulus_gpa * 1e9,
+        &table,
+        &|| counter.tick(),
+    );
+    counter.finish();
+    let rows = rows?;
+    match &a.csv {
+        Some(out) => {
+            let mut w =
+                kecsim::files::csv_writer(out).with_context(|| format!("cannot write {}", out.display()))?;
+            points::write_forces(&mut w, &rows).with_context(|| format!("cannot write {}", out.display()))?;
+            kecsim::files::commit_csv(w).with_context(|| format!("cannot write {}", out.display()))?;
+            eprintln!(
+                "wrote {} ({} points × {} models)",
+                out.display(),
+                pts.len(),
+                models.len()
+            );
+        }
+        None => {
+            let mut w = csv::Writer::from_writer(std::io::stdout().lock());
+            points::write_forces(&mut w, &rows)?;
+        }
+    }
     Ok(())
 }

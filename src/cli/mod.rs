@@ -301,6 +301,11 @@ struct SinkArgs {
 }
 
 impl SinkArgs {
+    /// Whether any sink option was given on the command line.
+    fn given(&self) -> bool {
+        self.save.is_some() || self.spawn || self.connect.is_some()
+    }
+
     /// The sink to use: a viewer that cannot be reached (`--connect` with nothing listening within
     /// [`inspect::VIEWER_TIMEOUT`], `--spawn` without `rerun` on PATH or without a display) falls
     /// back to saving `kecsim.rrd`, and says so — before any work, so that nothing waits on an absent viewer.

@@ -131,3 +131,38 @@ impl RunObserver for Pace {
         Ok(())
     }
 }
+
+/// A progress bar over a count of items (points, cases), with the ETA; silent when stderr is not
+/// a terminal. Safe to tick from several threads.
+pub struct Counter {
+    bar: ProgressBar,
+}
+
+impl Counter {
+    /// `total` items of `what` (e.g. "points").
+    pub fn new(total: u64, what: &str) -> Counter {
+        let target = if std::io::stderr().is_terminal() {
+            ProgressDrawTarget::stderr_with_hz(10)
+        } else {
+            ProgressDrawTarget::hidden()
+        };
+        let bar = ProgressBar::with_draw_target(Some(total), target);
+        bar.set_style(
+            ProgressStyle::with_template(&format!(
+                "{{wide_bar}} {{pos}}/{{len}} {what} · {{elapsed_precise}} elapsed, ETA {{eta}}"
+            ))
+            .expect("a valid template"),
+        );
+        Counter { bar }
+    }
+
+    /// One more item done.
+    pub fn tick(&self) {
+        self.bar.inc(1);
+    }
+
+    /// Removes the bar from the terminal.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}

@@ -34,6 +34,7 @@ use serde::Deserialize;
 use std::f64::consts::PI;
 
 use super::creepage::Creepage;
+use super::exact::tangential::slip_root;
 use super::patch::{ContactPatch, CreepForce};
 
 /// The pressure distribution that bounds the traction.
@@ -47,6 +48,21 @@ pub enum TractionBound {
     Elliptic,
 }
 
+/// The traction's direction in a sliding element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SlipDirection {
+    /// The adhesion trial traction scaled to the bound (Kalker's original FASTSIM, and CONTACT's
+    /// modified FASTSIM): with three flexibilities (L₁ ≠ L₂) it does not oppose the element's slip,
+    /// and in full sliding the force is off the creepage's direction by up to ~8°.
+    #[default]
+    Scaled,
+    /// The traction opposes the element's slip (Coulomb's law element by element): with u = L p,
+    /// the slip is L(p − p_trial), and p = (L + k)⁻¹ L p_trial with k ≥ 0 such that |p| = μ p_z
+    /// (the same 2 × 2 problem as the exact solver's slip elements).
+    Opposing,
+}
+
 /// Discretisation and bound of FASTSIM.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -56,6 +72,8 @@ pub struct FastsimSettings {
     /// Number of elements along each strip (longitudinal).
     pub elements: usize,
     pub bound: TractionBound,
+    /// The traction's direction where an element slides.
+    pub direction: SlipDirection,
 }
 
 impl Default for FastsimSettings {
@@ -64,6 +82,7 @@ impl Default for FastsimSettings {
             strips: 25,
             elements: 25,
             bound: TractionBound::Parabolic,
+            direction: SlipDirection::Scaled,
         }
     }
 }
@@ -119,6 +138,7 @@ fn march(
         TractionBound::Elliptic => (mu * 3.0 * n / (2.0 * PI * a * b), true),
     };
     let (sx0, sy0, phi) = (creep.longitudinal / l1, creep.lateral / l2, creep.spin / l3);
+    let opposing = s.direction == SlipDirection::Opposing;
     let (mut fx, mut fy, mut mz) = (0.0, 0.0, 0.0);
     let inv_a2 = 1.0 / (a * a);
     // The strips are independent: march LANES of them side by side, so that the latency chain
@@ -160,9 +180,18 @@ fn march(
                 let gmax = p_scale * if elliptic { q.sqrt() } else { q };
                 let mag2 = qx * qx + qy * qy;
                 let slip = mag2 > gmax * gmax;
-                let f = if slip { gmax / mag2.sqrt() } else { 1.0 };
-                qx *= f;
-                qy *= f;
+                if slip {
+                    if opposing && gmax > 0.0 {
+                        // s ∝ L p − L q: the root k of |(L + k)⁻¹ L q| = g.
+                        let k = slip_root(-l1 * qx, -l2 * qy, l1, l2, gmax);
+                        qx *= l1 / (l1 + k);
+                        qy *= l2 / (l2 + k);
+                    } else {
+                        let f = gmax / mag2.sqrt();
+                        qx *= f;
+                        qy *= f;
+                    }
+                }
                 sfx[l] += qx;
                 sfy[l] += qy;
                 smz[l] += x * qy - y[l] * qx;

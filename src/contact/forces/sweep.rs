@@ -180,8 +180,22 @@ pub fn summary_markdown(
                 p.k_a, p.k_s, p.friction_ratio, p.friction_decay_s_per_m
             ),
             CreepModel::Fastsim(f) => format!(
-                "{} strips × {} elements, {:?} traction bound",
-                f.strips, f.elements, f.bound
+                "{} strips × {} elements, {:?} traction bound, {:?} slip direction",
+                f.strips, f.elements, f.bound, f.direction
+            ),
+            CreepModel::Fastrip(f) => format!(
+                "{} strips × {} elements (strip theory; FASTSIM's direction in slip)",
+                f.strips, f.elements
+            ),
+            CreepModel::Exact(e) => format!(
+                "Kalker's exact theory, {} × {} elements{}",
+                e.elements,
+                e.elements,
+                if e.richardson {
+                    format!(", Richardson with {} × {}", e.elements / 2, e.elements / 2)
+                } else {
+                    String::new()
+                }
             ),
         };
         s += &format!("| {} | {detail} |\n", m.name());

@@ -174,6 +174,7 @@ fn fastsim_converges_to_its_continuum() {
             strips: n,
             elements: n,
             bound: TractionBound::Parabolic,
+            ..FastsimSettings::default()
         });
         let mut err: f64 = 0.0;
         for i in 1..=30 {
@@ -242,7 +243,8 @@ fn hertz_to_patch_and_scene_toml() {
         CreepModel::Fastsim(FastsimSettings {
             strips: 40,
             elements: 25,
-            bound: TractionBound::Elliptic
+            bound: TractionBound::Elliptic,
+            direction: SlipDirection::Scaled,
         })
     );
     assert!(

@@ -78,6 +78,9 @@ impl Grid {
     }
 }
 
+/// Midpoints per element side when a pressure shape is averaged over an element.
+const SUB: usize = 8;
+
 /// The normal pressure on a grid: the contact patch as the tangential problem sees it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PressureGrid {
@@ -89,9 +92,8 @@ pub struct PressureGrid {
 impl PressureGrid {
     /// Hertz's semi-ellipsoid p = p₀ √(1 − x²/a² − y²/b²) with mx × my elements over the
     /// ellipse's bounding box (and one exterior column beyond it at each end, which the rolling
-    /// problem needs behind the trailing edge), taken at the element centres and scaled so that
-    /// Σ p dx dy = N exactly (the grid's quadrature of the ellipsoid is within O(dx) of it): full
-    /// sliding then gives μN.
+    /// problem needs behind the trailing edge), averaged over each element and scaled so that
+    /// Σ p dx dy = N exactly: full sliding then gives μN.
     pub fn hertz(a: f64, b: f64, normal_force: f64, mx: usize, my: usize) -> Result<Self, ExactError> {
         if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
             return Err(ExactError::Grid(format!(
@@ -105,7 +107,12 @@ impl PressureGrid {
         })
     }
 
-    /// A pressure of the given shape f(x, y) ≥ 0, scaled to the normal force N.
+    /// A pressure of the given shape f(x, y) ≥ 0, averaged over each element (8 × 8 midpoints),
+    /// scaled to the normal force N. Averaging, not sampling at the centre: an element the patch's
+    /// edge cuts carries its share, so the forces converge smoothly (first order) as the grid is
+    /// refined; sampled at the centres they jump by ~1 % of μN as rows enter and leave the patch
+    /// (measured: ξ = 10⁻³ on a 6 × 6 mm circle, Fx/μN −0.4487/−0.4512/−0.4453/−0.4457 at 24/32/48/64
+    /// elements across sampled, −0.4604/−0.4546/−0.4508/−0.4483 averaged).
     pub fn from_fn(
         grid: Grid,
         normal_force: f64,
@@ -119,7 +126,15 @@ impl PressureGrid {
         let mut pressure = Vec::with_capacity(grid.len());
         for j in 0..grid.my {
             for i in 0..grid.mx {
-                let p = shape(grid.x(i), grid.y(j));
+                let mut p = 0.0;
+                for u in 0..SUB {
+                    for v in 0..SUB {
+                        let x = grid.x(i) + ((u as f64 + 0.5) / SUB as f64 - 0.5) * grid.dx;
+                        let y = grid.y(j) + ((v as f64 + 0.5) / SUB as f64 - 0.5) * grid.dy;
+                        p += shape(x, y);
+                    }
+                }
+                p /= (SUB * SUB) as f64;
                 if !(p.is_finite() && p >= 0.0) {
                     return Err(ExactError::Grid(format!(
                         "pressure shape {p} at ({}, {}) m: expected finite and ≥ 0",

@@ -393,7 +393,7 @@ fn clip(px: f64, py: f64, g: f64) -> (f64, f64) {
 /// The k ≥ 0 with (rx/(dx + k))² + (ry/(dy + k))² = g², given that k = 0 gives more than g²:
 /// Newton from below on a convex decreasing function (monotone convergence), on
 /// 1/|q(k)| − 1/g which is nearly linear in k.
-fn slip_root(rx: f64, ry: f64, dx: f64, dy: f64, g: f64) -> f64 {
+pub(crate) fn slip_root(rx: f64, ry: f64, dx: f64, dy: f64, g: f64) -> f64 {
     let r = rx.hypot(ry);
     // Start where every term is at least its share: f(k₀) ≥ 0.
     let mut k = (r / g - dx.max(dy)).max(0.0);
