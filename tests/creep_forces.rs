@@ -81,7 +81,7 @@ fn creep_curves_csv_and_recording() {
         assert!(header.split(',').any(|h| h == c), "missing column {c}: {header}");
     }
     let curves = read_curves(&text);
-    assert_eq!(curves.len(), 6, "3 models × 2 curves: {:?}", curves.keys());
+    assert_eq!(curves.len(), 10, "5 models × 2 curves: {:?}", curves.keys());
     let mu_n = 0.3 * 80_000.0;
     // Linear slope from Kalker's Table E.3 by hand: a/b = 1.5, ν = 0.28; C11 by linear interpolation
     // between the facts file's rows a/b = 1.429 (4.644) and 1.667 (4.883): 4.715; C22 between 4.261
@@ -130,7 +130,7 @@ fn creep_curves_csv_and_recording() {
             e.1.extend(row.iter().map(|t| t.as_str().to_string()));
         }
     }
-    for m in ["kalker", "polach", "fastsim"] {
+    for m in ["kalker", "polach", "fastsim", "fastrip", "exact"] {
         for e in [
             format!("/creep/longitudinal/fx_n/{m}"),
             format!("/creep/lateral/fy_n/{m}"),
@@ -228,4 +228,84 @@ fn creep_bad_input_is_a_clear_error() {
         assert!(err.contains(expect), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
+}
+
+/// `kecsim creep --at POINTS.csv --csv OUT.csv`: every model at every point, the points' columns
+/// written back; the exact model agrees with CONTACT's solutions of the same points (its 40 × 40
+/// grid against kecsim's extrapolated 32/16: within 1.5 % of μN); a bad row is named by its line.
+#[test]
+fn creep_at_points_for_scripts() {
+    let dir = tmpdir("creep-at");
+    let reference = include_str!("data/contact/hertz_spin.csv");
+    let rows: Vec<Vec<f64>> = reference
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .step_by(9)
+        .map(|l| l.split(',').map(|c| c.parse().unwrap_or(f64::NAN)).collect())
+        .collect();
+    let mut points = String::from("# CONTACT's cases, every ninth\nmu,n_n,a_mm,b_mm,xi,eta,phi_per_m\n");
+    for r in &rows {
+        points += &format!("{},{},{},{},{},{},{}\n", r[6], r[0], r[1], r[2], r[3], r[4], r[5]);
+    }
+    let (input, output) = (dir.join("points.csv"), dir.join("forces.csv"));
+    std::fs::write(&input, &points).unwrap();
+    let out = kecsim(
+        &[
+            "creep",
+            "--at",
+            input.to_str().unwrap(),
+            "--csv",
+            output.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&output).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "n_n,a_mm,b_mm,xi,eta,phi_per_m,mu,model,fx_n,fy_n,mz_n_m"
+    );
+    let answers: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(answers.len(), rows.len() * 5, "5 models a point");
+    let mut worst: f64 = 0.0;
+    for (k, r) in rows.iter().enumerate() {
+        let mine = &answers[k * 5..(k + 1) * 5];
+        let models: Vec<&str> = mine.iter().map(|a| a[7]).collect();
+        assert_eq!(models, ["kalker", "polach", "fastsim", "fastrip", "exact"]);
+        let exact = &mine[4];
+        let (fx, fy): (f64, f64) = (exact[8].parse().unwrap(), exact[9].parse().unwrap());
+        assert_eq!(exact[0].parse::<f64>().unwrap(), r[0]);
+        let mun = r[6] * r[0];
+        worst = worst.max((fx - r[9]).hypot(fy - r[10]) / mun);
+    }
+    assert!(worst < 0.015, "exact vs CONTACT: |ΔF|/μN up to {worst}");
+
+    // Bad rows: named by file and line, nothing written.
+    let bad = dir.join("bad.csv");
+    std::fs::write(
+        &bad,
+        "n_n,a_mm,b_mm,xi,eta,phi_per_m,mu\n8e4,6,4,0,0,0,0.3\n-1,6,4,0,0,0,0.3\n",
+    )
+    .unwrap();
+    let out2 = dir.join("never.csv");
+    let out = kecsim(
+        &[
+            "creep",
+            "--at",
+            bad.to_str().unwrap(),
+            "--csv",
+            out2.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("bad.csv, line 3: n_n = -1"), "{err}");
+    assert!(!out2.exists());
+    // --at with a curve's own inputs is refused, not ignored.
+    let out = kecsim(&["creep", "--at", input.to_str().unwrap(), "--a-mm", "6"], &dir);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--a-mm with --at"));
 }

@@ -146,6 +146,14 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
         points,
         ..SweepSettings::default()
     };
+    if models.iter().any(|m| matches!(m, CreepModel::Exact(_))) {
+        let spins = inspect::creep::spins(spin).len();
+        eprintln!(
+            "kecsim: the exact theory at {} points (~{:.0} s; --model polach, fastsim, … alone are instant)",
+            settings.count() * (5 + spins),
+            settings.count() as f64 * (5 + spins) as f64 * 0.035 / rayon::current_num_threads() as f64
+        );
+    }
     let summary = sweep::summary_markdown(&models, &patch, spin, &settings);
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::creep::blueprint)?;

@@ -82,9 +82,11 @@ pub fn curve(
     spin: f64,
     settings: &SweepSettings,
 ) -> Result<Vec<CurvePoint>, CreepForceError> {
+    use rayon::prelude::*;
+    // In parallel: the exact solver costs tens of ms a point.
     settings
         .creepages()
-        .into_iter()
+        .into_par_iter()
         .map(|xi| {
             let creepage = match curve {
                 Curve::Longitudinal => Creepage::new(xi, 0.0, spin),

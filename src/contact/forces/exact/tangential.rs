@@ -232,7 +232,8 @@ impl RollingOperator {
             }
             sweeps += 1;
             let mut change: f64 = 0.0;
-            for j in 0..my {
+            for jj in 0..my {
+                let j = jj;
                 let Some((lo, hi)) = spans[j] else { continue };
                 let row0 = j * mx;
                 for i in lo + 1..hi {
