@@ -188,11 +188,11 @@ fn ms_in_the_curve(traction: TractionSpec) -> RunOutput {
 /// - a coasting vehicle's deceleration a times M_e — the translating masses and the wheels' spin
 ///   inertia over r₀² (rotating masses, 2.4 t of the MS vehicle's 65 t) —, within 2 %;
 /// - the held run's traction power against the power the creep forces dissipate in the contact
-///   patches, Σ −(Fx ξx + Fy ξy) V over the wheels (Polach's creep forces carry no spin moment),
-///   recomputed from the samples, within 2 %.
+///   patches, Σ −(Fx ξx + Fy ξy + Mz φ) V over the wheels (the spin moment's share counts: the
+///   exact theory's creep forces carry one), recomputed from the samples, within 2 %.
 ///
-/// Measured (2026-12-04): held 574 N, coasting M_e a 568 N (−1.1 %; it runs 0.3 % slower),
-/// dissipation 569 N × V.
+/// Measured (issue 64, the exact theory tabulated): held 821 N, coasting M_e a 814 N (−0.8 %; it
+/// runs 0.5 % slower), dissipation 815 N × V (the spin moment's share 57 N).
 #[test]
 fn a_coasting_vehicle_decelerates_by_the_curving_resistance_a_held_one_reports() {
     let held = ms_in_the_curve(TractionSpec::default());
@@ -218,7 +218,10 @@ fn a_coasting_vehicle_decelerates_by_the_curving_resistance_a_held_one_reports()
                     let p = &s[k];
                     (0..2)
                         .map(|i| {
-                            -(p.creep_x[i] * p.creepage[i][0] + p.creep_y[i] * p.creepage[i][1]) * p.speed
+                            -(p.creep_x[i] * p.creepage[i][0]
+                                + p.creep_y[i] * p.creepage[i][1]
+                                + p.spin_moment[i] * p.creepage[i][2])
+                                * p.speed
                         })
                         .sum::<f64>()
                 })

@@ -55,6 +55,16 @@ pub(super) struct BenchArgs {
     /// largest over the draws, with their median [default: 1, the scene's own initial state].
     #[arg(long, value_name = "N")]
     draws: Option<usize>,
+    /// `creep-accuracy`: every point and model as CSV.
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// `creep-accuracy`: the summary as JSON.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// `creep-accuracy`: write the grid's points (n_n,a_mm,b_mm,xi,eta,phi_per_m,mu: the input of
+    /// `kecsim creep --at` and of scripts/contact_reference.py) and stop.
+    #[arg(long, value_name = "FILE")]
+    points_csv: Option<PathBuf>,
     #[command(flatten)]
     sink: SinkArgs,
 }
@@ -77,6 +87,10 @@ enum BenchTarget {
     Kec,
     /// Hertz, Kalker coefficients, creepages and the creep-force models, with their errors.
     Creep,
+    /// Every creep-force model against Kalker's exact theory over a/b 0.2–5, spin 0–4 1/m and
+    /// creepages to full sliding (770 points): max and RMS of |ΔF|/μN, ns per contact; printed,
+    /// --json and --csv recorded.
+    CreepAccuracy,
     /// Track-frame and irregularity evaluation on the Tab. 6 track.
     Track,
     /// One contact's patch: Hertz, its gap deviation and the strip model (gap section, strips),
@@ -133,6 +147,18 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         || a.reference_contact.is_some()
         || a.reference_rtol.is_some()
         || a.draws.is_some();
+    anyhow::ensure!(
+        matches!(a.target, BenchTarget::CreepAccuracy)
+            || (a.csv.is_none() && a.json.is_none() && a.points_csv.is_none()),
+        "--csv, --json and --points-csv apply to `kecsim bench creep-accuracy` only"
+    );
+    if matches!(a.target, BenchTarget::CreepAccuracy) {
+        anyhow::ensure!(
+            !sweep_options && a.duration.is_none() && a.km.is_empty(),
+            "`kecsim bench creep-accuracy` takes --csv, --json and --points-csv only"
+        );
+        return creep_accuracy(a);
+    }
     if matches!(a.target, BenchTarget::Study) {
         let path = a
             .scenario
@@ -232,6 +258,7 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
             kecsim::bench::dynamics::dispatch().map_err(anyhow::Error::msg)?
         ),
         BenchTarget::Precision
+        | BenchTarget::CreepAccuracy
         | BenchTarget::Scaling
         | BenchTarget::Hard
         | BenchTarget::Study
@@ -239,6 +266,87 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
         | BenchTarget::PatchRun => {
             unreachable!("handled above")
         }
+    }
+    Ok(())
+}
+
+/// `kecsim bench creep-accuracy`.
+fn creep_accuracy(a: BenchArgs) -> Result<()> {
+    use kecsim::bench::creep_accuracy::{grid, measure};
+    use kecsim::contact::forces::exact::ExactSettings;
+    use kecsim::contact::forces::{
+        points, CreepModel, FastripSettings, FastsimSettings, SlipDirection, TractionBound,
+    };
+    let _outputs = super::guard::<&Path>(
+        &[],
+        &[
+            ("--csv", a.csv.as_deref()),
+            ("--json", a.json.as_deref()),
+            ("--points-csv", a.points_csv.as_deref()),
+        ],
+        None,
+    )?;
+    let pts = grid();
+    if let Some(path) = &a.points_csv {
+        let mut w = kecsim::files::csv_writer(path)?;
+        w.write_record(points::POINT_COLUMNS)?;
+        for p in &pts {
+            w.write_record([
+                format!("{}", p.normal_force_n),
+                format!("{:.9}", p.a_mm),
+                format!("{:.9}", p.b_mm),
+                format!("{:.9e}", p.xi),
+                format!("{:.9e}", p.eta),
+                format!("{}", p.phi_per_m),
+                format!("{}", p.mu),
+            ])?;
+        }
+        kecsim::files::commit_csv(w)?;
+        eprintln!("wrote {} ({} points)", path.display(), pts.len());
+        return Ok(());
+    }
+    let models: Vec<(String, CreepModel)> = vec![
+        ("kalker".into(), CreepModel::by_name("kalker").unwrap_or_default()),
+        ("polach".into(), CreepModel::by_name("polach").unwrap_or_default()),
+        ("fastsim".into(), CreepModel::Fastsim(FastsimSettings::default())),
+        (
+            "fastsim, elliptic bound, opposing slip".into(),
+            CreepModel::Fastsim(FastsimSettings {
+                bound: TractionBound::Elliptic,
+                direction: SlipDirection::Opposing,
+                ..FastsimSettings::default()
+            }),
+        ),
+        ("fastrip".into(), CreepModel::Fastrip(FastripSettings::default())),
+        ("exact-table".into(), CreepModel::ExactTable),
+        (
+            "exact 32 × 32 (no extrapolation)".into(),
+            CreepModel::Exact(ExactSettings {
+                richardson: false,
+                ..ExactSettings::default()
+            }),
+        ),
+    ];
+    let reference = CreepModel::Exact(ExactSettings::default());
+    let counter = super::progress::Counter::new(pts.len() as u64, "exact solutions");
+    let acc = measure(
+        &pts,
+        ("the exact theory (Richardson 32/16)", &reference),
+        &models,
+        &|| counter.tick(),
+    );
+    counter.finish();
+    let acc = acc?;
+    print!("{}", acc.markdown());
+    if let Some(path) = &a.json {
+        kecsim::files::write_atomic(path, serde_json::to_string_pretty(&acc.json())?.as_bytes())?;
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = &a.csv {
+        let mut w = kecsim::files::csv_writer(path)?;
+        acc.write_csv(&mut w)?;
+        kecsim::files::commit_csv(w)?;
+        println!("wrote {}", path.display());
     }
     Ok(())
 }

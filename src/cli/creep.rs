@@ -16,9 +16,13 @@ use super::{positive_mm, SinkArgs};
 #[derive(Args)]
 pub(super) struct CreepArgs {
     /// Creep-force model: kalker (linear, saturated), polach, fastsim, fastrip, exact (Kalker's
-    /// exact theory on a grid, the reference), or all.
-    #[arg(long, default_value = "all", value_parser = ["kalker", "polach", "fastsim", "fastrip", "exact", "all"])]
+    /// exact theory on a grid, the reference), exact-table (it tabulated: the default), or all.
+    #[arg(long, default_value = "all", value_parser = ["kalker", "polach", "fastsim", "fastrip", "exact", "exact-table", "all"])]
     model: String,
+    /// Rebuild the exact-theory table of `model = "exact-table"` (every node solved by the exact
+    /// solver: ~20 min on 2 cores) into FILE (the shipped one is assets/creep/exact_table.bin).
+    #[arg(long, value_name = "FILE")]
+    build_table: Option<PathBuf>,
     /// Forces at the points of this CSV (columns n_n,a_mm,b_mm,xi,eta,phi_per_m,mu), written
     /// back with model,fx_n,fy_n,mz_n_m per model to --csv (or stdout); no curves, no recording.
     #[arg(long, value_name = "POINTS.csv")]
@@ -66,6 +70,9 @@ pub(super) fn run(a: CreepArgs) -> Result<()> {
     } else {
         vec![CreepModel::by_name(&a.model).with_context(|| format!("unknown creep model {}", a.model))?]
     };
+    if let Some(out) = a.build_table.clone() {
+        return build_table(&out);
+    }
     if let Some(points) = a.at.clone() {
         return at_points(a, &points, &models);
     }
@@ -230,5 +237,34 @@ fn at_points(a: CreepArgs, path: &std::path::Path, models: &[CreepModel]) -> Res
             points::write_forces(&mut w, &rows)?;
         }
     }
+    Ok(())
+}
+
+/// `kecsim creep --build-table FILE`.
+fn build_table(out: &std::path::Path) -> Result<()> {
+    use kecsim::contact::forces::table::{ExactTable, TableSpec};
+    let _outputs = super::guard::<&std::path::Path>(&[], &[("--build-table", Some(out))], None)?;
+    let spec = TableSpec::default();
+    let lines = spec.log_ab.len() * spec.u.len() * spec.theta.len();
+    eprintln!(
+        "kecsim: solving the exact theory at {} nodes ({} × {} elements, Richardson) on {} threads",
+        lines * spec.t.len(),
+        spec.elements,
+        spec.elements,
+        rayon::current_num_threads()
+    );
+    let counter = super::progress::Counter::new(lines as u64, "node lines");
+    let t0 = std::time::Instant::now();
+    let table = ExactTable::build(&spec, &|| counter.tick());
+    counter.finish();
+    let table = table?;
+    kecsim::files::write_atomic(out, &table.to_bytes())
+        .with_context(|| format!("cannot write {}", out.display()))?;
+    println!(
+        "wrote {} ({} nodes, {:.0} s)",
+        out.display(),
+        table.len(),
+        t0.elapsed().as_secs_f64()
+    );
     Ok(())
 }

@@ -39,9 +39,9 @@ pub(super) struct PatchArgs {
     #[arg(long, default_value = "all", value_parser = ["hertz", "kp", "all"])]
     model: String,
     /// Creep-force model on each patch's equivalent ellipse (same area and width): fastsim
-    /// (Kalker's simplified theory, spin included; closest to CONTACT's exact solution), polach,
-    /// kalker.
-    #[arg(long, default_value = "fastsim", value_parser = ["kalker", "polach", "fastsim"])]
+    /// (Kalker's simplified theory, spin included), polach, kalker, fastrip, exact-table (the exact
+    /// theory tabulated), exact (solved: tens of ms a patch).
+    #[arg(long, default_value = "fastsim", value_parser = ["kalker", "polach", "fastsim", "fastrip", "exact-table", "exact"])]
     creep: String,
     /// Coefficient of friction.
     #[arg(long, default_value_t = 0.3)]

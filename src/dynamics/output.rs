@@ -49,6 +49,9 @@ pub struct RunSummary {
     pub max_normal_n: f64,
     pub min_normal_n: f64,
     pub max_abs_y_over_q: f64,
+    /// The largest spin of any contact as the share of its linear lateral force,
+    /// φ̂ = G (ab)^{3/2} C₂₃ |φ| / (μN) (0 where the run has no contact patches).
+    pub max_normalized_spin: f64,
     /// Why the run stopped early, if it did.
     pub error: Option<String>,
     /// A stop condition that ended the run normally (`stop_lateral_m`).
@@ -94,6 +97,10 @@ pub struct RunSummary {
     pub warnings: Vec<String>,
 }
 
+/// The normalised spin φ̂ above which Polach's forces are unsafe (`kecsim bench creep-accuracy`:
+/// its |ΔF|/μN against the exact theory is within 10 % without spin, 38 % at φ̂ ≈ 0.5, up to 63 %).
+pub const POLACH_SPIN_LIMIT: f64 = 0.1;
+
 impl fmt::Display for RunSummary {
     /// The plain-text summary `kecsim run` prints (and the recording's summary shows).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -132,6 +139,13 @@ impl fmt::Display for RunSummary {
                 self.min_normal_n * 1e-3,
                 self.max_normal_n * 1e-3,
                 self.max_abs_y_over_q
+            )?;
+        }
+        if self.creep_model == "polach" && self.max_normalized_spin > POLACH_SPIN_LIMIT {
+            writeln!(
+                f,
+                "warning: creep model polach at spin φ̂ up to {:.2} (G (ab)^1.5 C23 |φ| / μN; above {POLACH_SPIN_LIMIT}): Polach's spin term is off Kalker's exact theory by 20–60 % of μN there, its lateral force falls as the lateral creepage rises — use model = \"exact-table\" (kecsim bench creep-accuracy)",
+                self.max_normalized_spin
             )?;
         }
         if self.max_lift_mm > 0.0 || self.landings > 0 {

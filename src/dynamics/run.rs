@@ -214,6 +214,31 @@ pub struct RunLabels {
     pub preprocessing_s: f64,
     /// Friction and flange angle for the running-safety limits (None: no safety figures).
     pub safety: Option<super::safety::SafetyBasis>,
+    /// What normalises a contact's spin (None: the summary has no spin figure).
+    pub spin_basis: Option<SpinBasis>,
+}
+
+/// The contact's material and friction, to express its spin as the share of the linear lateral
+/// force: φ̂ = G (ab)^{3/2} C₂₃ |φ| / (μN) (Kalker's linear spin force over the friction limit).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpinBasis {
+    pub shear_modulus: f64,
+    pub friction: f64,
+    pub kalker: crate::contact::forces::KalkerTable,
+}
+
+impl SpinBasis {
+    /// φ̂ of one wheel of a sample (0 where it carries no load or has no patch).
+    pub fn normalized_spin(&self, s: &Sample, side: usize) -> f64 {
+        let [a, b] = s.semi_axes[side];
+        let n = s.normal[side];
+        if !(a > 0.0 && b > 0.0 && n > 0.0 && self.friction > 0.0) {
+            return 0.0;
+        }
+        let ab = a * b;
+        let c23 = self.kalker.at(a / b).c23;
+        self.shear_modulus * ab * ab.sqrt() * c23 * s.creepage[side][2].abs() / (self.friction * n)
+    }
 }
 
 /// The amplitude below which a hunting cycle has died out on a decelerating ramp, m: 0.1 mm (the
@@ -754,6 +779,9 @@ fn summarise(
             .map(|s| s.normal[0].min(s.normal[1]))
             .fold(f64::INFINITY, f64::min),
         max_abs_y_over_q: fold(&|s| s.max_abs_y_over_q()),
+        max_normalized_spin: labels.spin_basis.as_ref().map_or(0.0, |b| {
+            fold(&|s| b.normalized_spin(s, 0).max(b.normalized_spin(s, 1)))
+        }),
         error,
         stopped,
         critical_speed_m_s: None,

@@ -61,6 +61,9 @@ fn model_color(name: &str, shade: usize) -> Color {
     let base: [f32; 3] = match name {
         "kalker" => [60.0, 120.0, 230.0],
         "polach" => [230.0, 130.0, 40.0],
+        "fastrip" => [150.0, 80.0, 200.0],
+        "exact" => [30.0, 30.0, 30.0],
+        "exact-table" => [200.0, 50.0, 120.0],
         _ => [40.0, 170.0, 80.0],
     };
     let k = [1.0, 0.65, 1.35][shade % 3];

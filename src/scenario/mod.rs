@@ -680,7 +680,7 @@ mod tests {
         assert_eq!(scene.pair.wheel.name, "ms-tram");
         assert_eq!(scene.pair.rail.name, "54e1:blend=1");
         assert!(scene.simulation.is_some() && scene.track.is_some());
-        assert_eq!(scene.contact_forces.model.name(), "polach");
+        assert_eq!(scene.contact_forces.model.name(), "exact-table");
         assert_eq!(scene.contact_forces.friction, 0.3);
     }
 

@@ -910,6 +910,11 @@ impl Scene {
                     friction: self.contact_forces.friction,
                     flange_angle_rad,
                 }),
+                spin_basis: Some(crate::dynamics::run::SpinBasis {
+                    shear_modulus: self.contact_forces.material.shear_modulus(),
+                    friction: self.contact_forces.friction,
+                    kalker: self.contact_forces.kalker.clone(),
+                }),
             },
             contact,
             notes,

@@ -174,7 +174,7 @@ pub fn forces(patch: &ContactPatch, creep: &Creepage, s: &FastripSettings) -> Cr
 /// ∫ √(r² − (x − c)²) dx and ∫ x √(r² − (x − c)²) dx over [lo, hi] ∩ [c − r, c + r].
 fn disc_moments(r: f64, c: f64, lo: f64, hi: f64) -> (f64, f64) {
     let (lo, hi) = (lo.max(c - r), hi.min(c + r));
-    if !(hi > lo) || r <= 0.0 {
+    if hi <= lo || hi.is_nan() || lo.is_nan() || r <= 0.0 {
         return (0.0, 0.0);
     }
     // With t = x − c: F0(t) = (t √(r² − t²) + r² asin(t/r))/2, F1(t) = −(r² − t²)^{3/2}/3 (the

@@ -91,7 +91,7 @@ fn asym_long(g: f64, nu: f64) -> [f64; 3] {
 }
 
 /// The table for one Poisson's ratio, ready for interpolation in a/b.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct KalkerTable {
     nu: f64,
     /// Nodes ln(a/b), increasing (19).

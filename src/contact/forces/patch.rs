@@ -17,7 +17,9 @@ pub enum CreepForceError {
     #[error("creep forces: invalid contact patch: {0}")]
     Patch(String),
     #[error("creep forces: {0}")]
-    Exact(#[from] super::exact::ExactError),
+    Exact(#[from] super::exact::error::ExactError),
+    #[error("creep forces: {0}")]
+    Table(#[from] super::table_error::TableError),
 }
 
 /// Everything about one contact patch that the creep-force models need.

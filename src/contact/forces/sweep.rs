@@ -189,6 +189,7 @@ pub fn summary_markdown(
                 "{} strips × {} elements (strip theory; FASTSIM's direction in slip)",
                 f.strips, f.elements
             ),
+            CreepModel::ExactTable => "the exact theory tabulated (assets/creep/exact_table.bin)".to_string(),
             CreepModel::Exact(e) => format!(
                 "Kalker's exact theory, {} × {} elements{}",
                 e.elements,

@@ -28,9 +28,23 @@ fn eval(m: &CreepModel, p: &ContactPatch, c: Creepage) -> CreepForce {
 fn small_creepage_slope_is_kalker_linear() {
     for &(a, b) in &[(6e-3, 5e-3), (3e-3, 9e-3), (9e-3, 2.5e-3)] {
         let p = patch(a, b, 80e3);
-        let e = 1e-10;
+        // Deep in the linear range (forces ~1e-4 N) but above the roundoff of FaStrip's slip-zone
+        // length d ∝ ξ (at 1e-10 it is 1e-13 m and the strip integrals lose up to 45 %).
+        let e = 1e-8;
         for m in models() {
-            let tol = if m.name() == "fastsim" { 3e-3 } else { 1e-6 };
+            // FASTSIM: its discretisation; FaStrip, the exact theory (Richardson 32/16) and its
+            // table: within their grid's error of Kalker's published coefficients.
+            let tol = match m.name() {
+                "fastsim" => 3e-3,
+                "fastrip" => 0.02,
+                // Measured 1–2.6 % (a/b 3.6: C22, C23) at 32/16 elements; the table is built from it.
+                "exact" => 0.03,
+                // Its first interval in spin (φ̂ < 0.03) is a secant: the spin slope within 4.2 %
+                // of C₂₃ (|ΔF| < 10⁻³ μN there); ξ and η as the exact solver.
+                "exact-table" => 0.05,
+                // The saturation's first correction at ξ = 1e-8: ~1e-6.
+                _ => 1e-5,
+            };
             let cases = [
                 (Creepage::new(e, 0.0, 0.0), 0usize),
                 (Creepage::new(0.0, e, 0.0), 1),
@@ -93,8 +107,10 @@ fn symmetry_and_signs() {
             );
             assert!(
                 (f.fy + g.fy).abs() < 1e-9 * (1.0 + f.fy.abs()),
-                "{} odd fy",
-                m.name()
+                "{} odd fy at ({x}, {y}, {s}): {} vs {}",
+                m.name(),
+                f.fy,
+                g.fy
             );
             assert!(
                 (f.mz + g.mz).abs() < 1e-9 * (1.0 + f.mz.abs()),
@@ -107,15 +123,21 @@ fn symmetry_and_signs() {
             if y != 0.0 && s == 0.0 {
                 assert!(f.fy * y < 0.0, "{} Fy opposes ξy", m.name());
                 let h = eval(&m, &p, Creepage::new(x, -y, 0.0));
+                // The exact solver: within its iteration's residue (sweep order is not symmetric
+                // in y; measured 2e-6 of the resultant).
+                let tol = if m.name() == "exact" { 1e-5 } else { 1e-9 } * (1.0 + f.fx.hypot(f.fy));
                 assert!(
-                    (h.fx - f.fx).abs() < 1e-9 * (1.0 + f.fx.abs())
-                        && (h.fy + f.fy).abs() < 1e-9 * (1.0 + f.fy.abs())
+                    (h.fx - f.fx).abs() < tol && (h.fy + f.fy).abs() < tol,
+                    "{} mirror in y: {h:?} vs {f:?}",
+                    m.name()
                 );
             }
             if x == 0.0 && y == 0.0 {
-                // Pure spin pushes the wheel laterally like the linear theory's C23 term.
+                // Pure spin pushes the wheel laterally like the linear theory's C23 term (the
+                // exact solver's Fx: its iteration's residue).
+                let tol = if m.name() == "exact" { 1e-6 } else { 1e-9 };
                 assert!(
-                    f.fy * s < 0.0 && f.fx.abs() < 1e-9 * f.fy.abs(),
+                    f.fy * s < 0.0 && f.fx.abs() < tol * f.fy.abs(),
                     "{} pure spin",
                     m.name()
                 );
@@ -291,4 +313,46 @@ fn hertz_at_real_contact_points() {
         h.ratio() > 5.0 && h.max_pressure > 2.0 * hl.max_pressure,
         "flange {h:?} vs tread {hl:?}"
     );
+}
+
+/// The defect the exact theory exposed (issue 64): at the MS vehicle's flange root (60.57 kN,
+/// a = 6.333, b = 2.689 mm, φ = 1.831 1/m) Polach's lateral force falls as the lateral creepage
+/// rises — a negative creep stiffness, a negative damper — where the exact theory's rises, and
+/// Polach is ~20 % of μN below it there; the default model follows the exact theory.
+#[test]
+fn polach_falls_where_the_exact_theory_rises() {
+    let p = patch(6.333e-3, 2.689e-3, 60570.0);
+    let fy = |m: &CreepModel, eta: f64| -eval(m, &p, Creepage::new(0.0, eta, 1.831)).fy;
+    let polach = CreepModel::by_name("polach").unwrap();
+    let exact = CreepModel::by_name("exact").unwrap();
+    let default = CreepModel::default();
+    assert!(
+        fy(&polach, 0.01) < fy(&polach, 0.002) - 1000.0,
+        "Polach's falling branch"
+    );
+    assert!(
+        fy(&exact, 0.01) > fy(&exact, 0.002) + 1000.0,
+        "the exact theory rises"
+    );
+    assert!(fy(&default, 0.01) > fy(&default, 0.002) + 1000.0);
+    let mun = MU * 60570.0;
+    assert!((fy(&exact, 0.005) - fy(&polach, 0.005)) / mun > 0.15);
+    assert!((fy(&exact, 0.005) - fy(&default, 0.005)).abs() / mun < 0.01);
+}
+
+/// A patch outside the exact-theory table's a/b range (30 × 1 mm): the table refuses it and
+/// `exact-table` answers through the exact solver — the same force, never an extrapolation.
+#[test]
+fn the_table_model_falls_back_to_the_exact_solver_outside_its_range() {
+    let narrow = patch(30e-3, 1e-3, 80e3);
+    let c = Creepage::new(1e-3, 0.0, 0.0);
+    let t = table::ExactTable::embedded().unwrap();
+    assert!(matches!(
+        t.forces(&narrow, &c),
+        Err(table_error::TableError::OutOfRange(..))
+    ));
+    let f = eval(&CreepModel::ExactTable, &narrow, c);
+    let e = exact::forces(&narrow, &c, &exact::ExactSettings::default()).unwrap();
+    assert_eq!((f.fx, f.fy), (e.fx, e.fy));
+    assert!(f.fx < 0.0);
 }

@@ -5,7 +5,7 @@
 //! tractions are constant over an element and the conditions are collocated at its centre
 //! (Kalker 1990 §5.2, as in CONTACT).
 
-use super::ExactError;
+use super::error::ExactError;
 
 /// A rectangular grid of mx × my elements of size dx × dy.
 #[derive(Debug, Clone, Copy, PartialEq)]

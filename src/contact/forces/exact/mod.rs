@@ -19,30 +19,20 @@
 //! Cost: O(n²) per Gauss–Seidel sweep for n elements in contact (10–70 ms for the default on one
 //! core): a reference and a table builder, not a model for the integration's every step.
 
+pub mod error;
 pub(crate) mod grid;
 pub(crate) mod influence;
 pub mod normal;
 pub(crate) mod tangential;
 
 use serde::Deserialize;
-use thiserror::Error;
 
+pub use error::ExactError;
 pub use grid::{Grid, PressureGrid};
 pub use tangential::{ElementState, IterationSettings, RollingOperator, TractionSolution};
 
 use super::creepage::Creepage;
 use super::patch::{ContactPatch, CreepForce};
-
-/// Failures of the exact solver.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum ExactError {
-    #[error("exact solver: {0}")]
-    Grid(String),
-    #[error("exact solver: non-finite {0}")]
-    NonFinite(&'static str),
-    #[error("exact solver: {what} did not converge in {sweeps} sweeps")]
-    NotConverged { sweeps: usize, what: &'static str },
-}
 
 /// Discretisation of the exact solver on a Hertzian patch.
 ///
@@ -58,8 +48,8 @@ pub struct ExactSettings {
     pub elements: usize,
     /// Richardson extrapolation from n and n/2 elements.
     pub richardson: bool,
-    /// Gauss–Seidel stops when no traction changes by more than this × μ p₀ in a sweep (10⁻⁴:
-    /// the forces within 10⁻⁶ μN of the converged iteration's, measured on six cases).
+    /// Gauss–Seidel stops when no traction changes by more than this × the largest traction in a
+    /// sweep (10⁻⁴: the forces within 10⁻⁶ μN of the converged iteration's, measured on six cases).
     pub tolerance: f64,
 }
 

@@ -15,9 +15,9 @@
 //! restored after each step; it stops when the relative change of the pressure is below the
 //! tolerance. The approach δ is the mean of h + u over the contact set.
 
+use super::error::ExactError;
 use super::grid::{Grid, PressureGrid};
 use super::influence::Kernel;
-use super::ExactError;
 
 /// u = A p by direct convolution over the grid (O(n²)).
 fn apply(kernel: &Kernel, grid: &Grid, p: &[f64], out: &mut [f64]) {

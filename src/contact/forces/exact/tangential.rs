@@ -39,12 +39,12 @@
 //! otherwise slip, p_I = −(D + k)⁻¹ r with k ≥ 0 the root of |(D + k)⁻¹ r| = g (so s_I = −k p_I:
 //! the slip opposite the traction, its direction solved, not assumed). The adhesion elements
 //! carried along are clipped to their bounds. Sweeps repeat until no traction changes by more than
-//! `tolerance` × μ p_max; the slip at an element is recomputed from all Δp (O(N_c) per element,
+//! `tolerance` × the largest traction (≤ μ p_max; relative, so tiny creepages converge too); the slip at an element is recomputed from all Δp (O(N_c) per element,
 //! O(N_c²) per sweep for N_c elements in contact).
 
+use super::error::ExactError;
 use super::grid::PressureGrid;
 use super::influence::Kernel;
-use super::ExactError;
 use crate::contact::forces::creepage::Creepage;
 
 /// The spin's rigid slip η + φ(x + c·dx) is taken at c = 1/6 of an element ahead of the centre,
@@ -208,7 +208,7 @@ impl RollingOperator {
             }
         }
         // Δp_K = p_K − p_{K+} (upstream neighbour; zero beyond the grid).
-        let upstream = |p: &[f64], k: usize| if (k + 1) % mx == 0 { 0.0 } else { p[k + 1] };
+        let upstream = |p: &[f64], k: usize| if (k + 1).is_multiple_of(mx) { 0.0 } else { p[k + 1] };
         let (mut dpx, mut dpy) = (vec![0.0; n], vec![0.0; n]);
         for k in 0..n {
             dpx[k] = px[k] - upstream(&px, k);
@@ -223,17 +223,28 @@ impl RollingOperator {
         let x_ofs = SPIN_OFFSET * self.dx;
         let mut sweeps = 0;
         let mut converged = g_max == 0.0;
+        // Under-relaxation where the iteration stagnates (an element cycling between adhesion and
+        // slip): ω shrinks by a quarter whenever ten sweeps have not halved the largest change.
+        let mut omega: f64 = 1.0;
+        let mut history: Vec<f64> = Vec::new();
         while !converged {
             if sweeps >= settings.max_sweeps {
+                if start.is_some() {
+                    // A warm start that led astray: once more from zero tractions.
+                    return self.solve(patch, friction, creep, settings, None);
+                }
                 return Err(ExactError::NotConverged {
                     sweeps,
                     what: "steady rolling (Gauss–Seidel)",
                 });
             }
             sweeps += 1;
+            if history.len() >= 10 && history[history.len() - 1] > 0.5 * history[history.len() - 10] {
+                omega = (omega * 0.75).max(0.1);
+                history.clear();
+            }
             let mut change: f64 = 0.0;
-            for jj in 0..my {
-                let j = jj;
+            for j in 0..my {
                 let Some((lo, hi)) = spans[j] else { continue };
                 let row0 = j * mx;
                 for i in lo + 1..hi {
@@ -265,7 +276,9 @@ impl RollingOperator {
                         qy = -ry / (dyy + kk);
                     }
                     adhesion[k] = stick;
-                    let (ddx, ddy) = (qx - px[k], qy - py[k]);
+                    let (ddx, ddy) = (omega * (qx - px[k]), omega * (qy - py[k]));
+                    // (ω < 1: p + ω(q − p) lies inside the bound, q and p do.)
+                    let (qx, qy) = (px[k] + ddx, py[k] + ddy);
                     if ddx == 0.0 && ddy == 0.0 {
                         continue;
                     }
@@ -295,7 +308,19 @@ impl RollingOperator {
             if !change.is_finite() {
                 return Err(ExactError::NonFinite("traction (diverged)"));
             }
-            converged = change <= settings.tolerance * g_max;
+            // The undamped change: a damped sweep's steps are ω times the Gauss–Seidel ones.
+            let change = change / omega;
+            history.push(change);
+            // Relative to the largest traction (in the linear range the tractions scale with the
+            // creepage: an absolute criterion would leave tiny creepages unconverged), never below
+            // 10⁻⁹ of the bound.
+            let p_scale = px
+                .iter()
+                .zip(&py)
+                .fold(0.0f64, |m, (x, y)| m.max(x.abs()).max(y.abs()))
+                .min(g_max)
+                .max(1e-9 * g_max);
+            converged = change <= settings.tolerance * p_scale;
         }
         // Slips, states and forces.
         let (mut sx, mut sy) = (vec![0.0; n], vec![0.0; n]);

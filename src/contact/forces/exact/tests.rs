@@ -165,23 +165,3 @@ fn spin_cases(every: usize) {
     }
     assert!(worst < 1e-3, "worst |ΔF|/μN {worst}");
 }
-
-#[test]
-#[ignore]
-fn explore_speed() {
-    let p = patch(6.0, 4.0);
-    let t0 = std::time::Instant::now();
-    for c in [
-        Creepage::new(1e-5, 0.0, 0.0),
-        Creepage::new(5e-4, 0.0, 0.0),
-        Creepage::new(2e-3, 0.0, 0.0),
-        Creepage::new(0.0, 1e-3, 1.0),
-        Creepage::new(0.0, 0.0, 3.0),
-        Creepage::new(4e-3, 3e-3, 0.0),
-    ] {
-        let t1 = std::time::Instant::now();
-        let f = forces(&p, &c, &ExactSettings::default()).unwrap();
-        println!("{c:?}: {:?} {f:?}", t1.elapsed());
-    }
-    println!("total {:?}", t0.elapsed());
-}
