@@ -22,11 +22,14 @@
 //! (the table spans 0.05–20): there [`ExactTable::forces`] answers an error and the model falls
 //! back to the exact solver (never an extrapolated force).
 //!
-//! **Interpolation.** Linear in ln(a/b); monotone cubic (Fritsch–Carlson) in t, θ and u, nested
-//! in that order (θ mirrored beyond ±π/2 by the symmetry). Monotone because a cubic's overshoot at
-//! the knee where the force meets μN is a falling branch — a negative creep stiffness, the defect
-//! this model replaces (Catmull–Rom had one of 1.9·10⁻⁴ μN per step there; tested now). The table's error against the exact solver at points
-//! between its nodes is measured by `kecsim bench creep-accuracy` and tested.
+//! **Interpolation.** Each a/b slice is refined on first use ([`REFINE`]: 2× in u and t, 49
+//! directions uniform in w = tan(θ/2)) by a cubic interpolation of the nodes — Catmull–Rom in θ
+//! (mirrored beyond ±π/2 by the symmetry), then monotone cubics (Fritsch–Carlson) in t and u —, and
+//! a call reads the refined grid multilinearly (linear in ln(a/b) between two slices: 16 values).
+//! Monotone because a cubic's overshoot at the knee where the force meets μN is a falling branch —
+//! a negative creep stiffness, the defect this model replaces (Catmull–Rom had one of 1.9·10⁻⁴ μN
+//! per step there; tested now). The table's error against the exact solver is measured by
+//! `kecsim bench creep-accuracy` and tested.
 //!
 //! **File.** `assets/creep/exact_table.bin` (embedded in the library): a header (magic, version,
 //! ν, the solver's settings, the node counts), the nodes, the values as f32 (F̂x, F̂y, M̂z per
