@@ -5,7 +5,8 @@ tests/data/contact/ that kecsim's exact solver and creep models are tested again
 
 CONTACT is not part of kecsim and this script copies none of it: it writes CONTACT's input files
 (the format of its user guide, section 5) and reads the totals from its `.out` file. Build CONTACT
-as ../shared/reference/contact-build/README.md says (or from github.com/eve70a/CONTACT), then
+from github.com/eve70a/CONTACT (v25.2; with gfortran, its Intel-Fortran-only constructs ported in
+eight files, or with Intel Fortran as its makefile expects), then
 
     python3 scripts/contact_reference.py --contact /path/to/contact_linux64 CASES.csv > OUT.csv
 
