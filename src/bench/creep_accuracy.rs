@@ -17,7 +17,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::contact::forces::kalker::KalkerTable;
-use crate::contact::forces::points::CreepPoint;
+use crate::contact::forces::points::{force_fields, CreepPoint, FORCE_COLUMNS, POINT_COLUMNS};
 use crate::contact::forces::{CreepForce, CreepForceError, CreepModel};
 
 /// Shear modulus of the grid, Pa.
@@ -246,20 +246,12 @@ impl Accuracy {
     /// Every point with the exact forces and each model's: one row per (point, model), the
     /// exact theory's row first.
     pub fn write_csv<W: std::io::Write>(&self, w: &mut csv::Writer<W>) -> Result<(), csv::Error> {
-        w.write_record([
-            "n_n",
-            "a_mm",
-            "b_mm",
-            "xi",
-            "eta",
-            "phi_per_m",
-            "mu",
-            "model",
-            "fx_n",
-            "fy_n",
-            "mz_n_m",
-            "df_over_mu_n",
-        ])?;
+        w.write_record(
+            POINT_COLUMNS
+                .iter()
+                .chain(&FORCE_COLUMNS)
+                .chain(&["df_over_mu_n"]),
+        )?;
         for (k, p) in self.points.iter().enumerate() {
             let e = &self.exact[k];
             let mun = p.mu * p.normal_force_n;
@@ -270,20 +262,8 @@ impl Accuracy {
                     .map(|(m, f)| (m.label.as_str(), &f[k])),
             );
             for (label, f) in rows {
-                w.write_record([
-                    format!("{}", p.normal_force_n),
-                    format!("{:.6}", p.a_mm),
-                    format!("{:.6}", p.b_mm),
-                    format!("{:.9e}", p.xi),
-                    format!("{:.9e}", p.eta),
-                    format!("{}", p.phi_per_m),
-                    format!("{}", p.mu),
-                    label.to_string(),
-                    format!("{:.3}", f.fx + 0.0),
-                    format!("{:.3}", f.fy + 0.0),
-                    format!("{:.5}", f.mz + 0.0),
-                    format!("{:.6}", (f.fx - e.fx).hypot(f.fy - e.fy) / mun),
-                ])?;
+                let df = format!("{:.6}", (f.fx - e.fx).hypot(f.fy - e.fy) / mun);
+                w.write_record(p.csv_fields().iter().chain(&force_fields(label, f)).chain([&df]))?;
             }
         }
         w.flush()?;

@@ -291,15 +291,7 @@ fn creep_accuracy(a: BenchArgs) -> Result<()> {
         let mut w = kecsim::files::csv_writer(path)?;
         w.write_record(points::POINT_COLUMNS)?;
         for p in &pts {
-            w.write_record([
-                format!("{}", p.normal_force_n),
-                format!("{:.9}", p.a_mm),
-                format!("{:.9}", p.b_mm),
-                format!("{:.9e}", p.xi),
-                format!("{:.9e}", p.eta),
-                format!("{}", p.phi_per_m),
-                format!("{}", p.mu),
-            ])?;
+            w.write_record(p.csv_fields())?;
         }
         kecsim::files::commit_csv(w)?;
         eprintln!("wrote {} ({} points)", path.display(), pts.len());

@@ -58,6 +58,21 @@ pub struct CreepPoint {
 }
 
 impl CreepPoint {
+    /// The point's values in the order of [`POINT_COLUMNS`] (Rust's shortest round-trip form:
+    /// read back, the same numbers).
+    pub fn csv_fields(&self) -> [String; 7] {
+        [
+            self.normal_force_n,
+            self.a_mm,
+            self.b_mm,
+            self.xi,
+            self.eta,
+            self.phi_per_m,
+            self.mu,
+        ]
+        .map(|v| format!("{v}"))
+    }
+
     pub fn creepage(&self) -> Creepage {
         Creepage::new(self.xi, self.eta, self.phi_per_m)
     }
@@ -235,6 +250,16 @@ pub fn evaluate(
     Ok(per_point?.into_iter().flatten().collect())
 }
 
+/// A model's answer in the order of [`FORCE_COLUMNS`] (`+ 0.0`: no "-0").
+pub fn force_fields(model: &str, f: &CreepForce) -> [String; 4] {
+    [
+        model.to_string(),
+        format!("{:.6}", f.fx + 0.0),
+        format!("{:.6}", f.fy + 0.0),
+        format!("{:.6}", f.mz + 0.0),
+    ]
+}
+
 /// Writes the answers as CSV: the point's columns, then `model,fx_n,fy_n,mz_n_m`.
 pub fn write_forces<W: std::io::Write>(
     w: &mut csv::Writer<W>,
@@ -242,20 +267,12 @@ pub fn write_forces<W: std::io::Write>(
 ) -> Result<(), csv::Error> {
     w.write_record(POINT_COLUMNS.iter().chain(FORCE_COLUMNS.iter()))?;
     for r in rows {
-        let p = &r.point;
-        w.write_record([
-            format!("{}", p.normal_force_n),
-            format!("{}", p.a_mm),
-            format!("{}", p.b_mm),
-            format!("{}", p.xi),
-            format!("{}", p.eta),
-            format!("{}", p.phi_per_m),
-            format!("{}", p.mu),
-            r.model.to_string(),
-            format!("{:.6}", r.force.fx + 0.0), // + 0.0: no "-0"
-            format!("{:.6}", r.force.fy + 0.0),
-            format!("{:.6}", r.force.mz + 0.0),
-        ])?;
+        w.write_record(
+            r.point
+                .csv_fields()
+                .iter()
+                .chain(&force_fields(r.model, &r.force)),
+        )?;
     }
     w.flush()?;
     Ok(())

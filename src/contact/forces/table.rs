@@ -136,8 +136,13 @@ fn cr(w: f64) -> [f64; 4] {
 /// coordinate in it.
 #[inline]
 fn uniform_cell(nodes: &[f64], x: f64) -> (usize, f64) {
-    let n = nodes.len();
-    let s = ((x - nodes[0]) / (nodes[1] - nodes[0])).clamp(0.0, (n - 1) as f64);
+    cell_of(nodes[0], nodes[1] - nodes[0], nodes.len(), x)
+}
+
+/// The same for n nodes x₀ + k h.
+#[inline]
+fn cell_of(x0: f64, h: f64, n: usize, x: f64) -> (usize, f64) {
+    let s = ((x - x0) / h).clamp(0.0, (n - 1) as f64);
     let i = (s as usize).min(n - 2);
     (i, s - i as f64)
 }
@@ -385,17 +390,10 @@ impl ExactTable {
         let s = &self.spec;
         let (nu, nt, nth) = self.fine_counts();
         let (ia, wa) = uniform_cell(&s.log_ab, la);
-        let fine_cell = |v: &[f64], n: usize, x: f64, r: usize| {
-            let h = (v[1] - v[0]) / r as f64;
-            let q = ((x - v[0]) / h).clamp(0.0, (n - 1) as f64);
-            let i = (q as usize).min(n - 2);
-            (i, q - i as f64)
-        };
-        let (iu, wu) = fine_cell(&s.u, nu, u, REFINE[0]);
-        let (it, wt) = fine_cell(&s.t, nt, t, REFINE[1]);
-        let q = ((w + 1.0) * 0.5 * (nth - 1) as f64).clamp(0.0, (nth - 1) as f64);
-        let ith = (q as usize).min(nth - 2);
-        let wth = q - ith as f64;
+        let fine = |v: &[f64], r: usize| (v[1] - v[0]) / r as f64;
+        let (iu, wu) = cell_of(s.u[0], fine(&s.u, REFINE[0]), nu, u);
+        let (it, wt) = cell_of(s.t[0], fine(&s.t, REFINE[1]), nt, t);
+        let (ith, wth) = cell_of(-1.0, 2.0 / (nth - 1) as f64, nth, w);
         let mut out = [0.0; 3];
         for (da, fa) in [(0usize, 1.0 - wa), (1, wa)] {
             if fa == 0.0 {
