@@ -18,7 +18,7 @@
 //!   rename: a full disk keeps the old file and fails the command with the reason.
 //! - **Streams** ([`OutputKind::Stream`]): an output that exists and is a character device, a FIFO
 //!   or a socket (`/dev/null`, `/dev/stdout`, a named pipe) is written directly, never renamed
-//!   over, and takes no lock; a FIFO waits at most [`STREAM_WAIT`] for its reader. Block devices
+//!   over, and takes no lock; a FIFO waits at most [`STREAM_WAIT`] (`KECSIM_STREAM_WAIT_S`) for its reader. Block devices
 //!   are refused.
 //! - **Side files** (the lock, the part file, a directory's write probe) are created without
 //!   following a symlink (`O_NOFOLLOW`, the part and the probe exclusively): a link planted at
@@ -149,11 +149,27 @@ pub fn output_kind(p: &Path) -> Result<OutputKind, String> {
 }
 
 /// How long a write to a FIFO waits for a reader before failing (a FIFO nobody reads would
-/// otherwise hang the command).
+/// otherwise hang the command); `KECSIM_STREAM_WAIT_S` sets another ([`stream_wait`]).
 pub const STREAM_WAIT: Duration = Duration::from_secs(10);
 
+/// A wait of the outputs: the seconds in the environment variable `var` (a finite number ≥ 0; a
+/// test's short wait, a batch system's long one), else `default`. The one place where the
+/// library reads its waits from the environment: they are the process's settings, not the run's.
+pub fn wait_from_env(var: &str, default: Duration) -> Duration {
+    std::env::var(var)
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|v| v.is_finite() && (0.0..=86_400.0).contains(v))
+        .map_or(default, Duration::from_secs_f64)
+}
+
+/// [`STREAM_WAIT`], or `KECSIM_STREAM_WAIT_S`.
+pub fn stream_wait() -> Duration {
+    wait_from_env("KECSIM_STREAM_WAIT_S", STREAM_WAIT)
+}
+
 /// Opens the stream `p` for writing ([`OutputKind::Stream`]): a FIFO without a reader is waited
-/// for at most [`STREAM_WAIT`], then an error.
+/// for at most [`stream_wait`], then an error.
 pub fn open_stream(p: &Path) -> io::Result<File> {
     #[cfg(unix)]
     {
@@ -171,10 +187,11 @@ pub fn open_stream(p: &Path) -> io::Result<File> {
                         return Ok(f);
                     }
                     Err(e) if e.raw_os_error() == Some(libc::ENXIO) => {
-                        if start.elapsed() > STREAM_WAIT {
+                        let wait = stream_wait();
+                        if start.elapsed() > wait {
                             return Err(io::Error::other(format!(
                                 "a named pipe (FIFO) that nobody read within {:.0} s",
-                                STREAM_WAIT.as_secs_f64()
+                                wait.as_secs_f64()
                             )));
                         }
                         std::thread::sleep(Duration::from_millis(50));

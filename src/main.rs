@@ -22,8 +22,6 @@ mod say;
 
 use std::process::ExitCode;
 
-use clap::Parser;
-
 fn main() -> ExitCode {
     // An output that is stdout itself (`--save /dev/stdout`): every printed line goes to stderr,
     // from the first one on, so that the stream holds only the file.
@@ -36,7 +34,7 @@ fn main() -> ExitCode {
     }) {
         say::to_stderr();
     }
-    let result = cli::run(cli::Cli::parse());
+    let result = cli::run(cli::parse());
     let stdout = say::finish();
     match result {
         Err(e) => {

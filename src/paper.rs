@@ -476,6 +476,16 @@ pub fn assemble(
     tables_model: &str,
     duration_s: Option<f64>,
 ) -> Result<PaperFigures, PaperError> {
+    assemble_observed(scene, tables_model, duration_s, None)
+}
+
+/// [`assemble`], the two runs' samples also handed to `observer` (a progress bar).
+pub fn assemble_observed(
+    scene: &Scene,
+    tables_model: &str,
+    duration_s: Option<f64>,
+    observer: Option<&mut (dyn crate::dynamics::RunObserver + Send)>,
+) -> Result<PaperFigures, PaperError> {
     if tables_model == "kec" {
         return Err(PaperError::Scene(
             "the tables model must be another contact model than kec (lookup2, lookup)".into(),
@@ -495,7 +505,12 @@ pub fn assemble(
     let (sweep, profiles) = contact_figures(&scene.pair)?;
     let sweep_s = t.elapsed().as_secs_f64();
     let irregularities = irregularities(track, IRREGULARITY_STEP_M)?;
-    let c = crate::compare::compare(scene, &["kec".to_string(), tables_model.to_string()], duration_s)?;
+    let c = crate::compare::compare_observed(
+        scene,
+        &["kec".to_string(), tables_model.to_string()],
+        duration_s,
+        observer,
+    )?;
     let runs = c.runs;
     let (kec, tables) = match runs.as_slice() {
         [k, t] => (k, t),

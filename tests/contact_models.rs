@@ -67,6 +67,7 @@ fn errors(model: &dyn ContactModel, online: &ContactGeometry, off: &RailOffsets)
 }
 
 #[test]
+#[ignore = "slow: the online reference on irregular track (~24 s)"]
 fn contact_models_against_the_online_solution_on_irregular_track() {
     let pair = WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").unwrap();
     let online = ContactGeometry::with_defaults(pair.clone());

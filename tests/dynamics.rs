@@ -177,6 +177,7 @@ fn energy_is_conserved_without_creep() {
 /// yaw agree to a small fraction of the motion (the paper saw < 1 mm and < 0.5 mrad on its
 /// vehicle; here one wheelset, 4 s of the Klingel scene).
 #[test]
+#[ignore = "slow: four contact models over the same scene (~32 s)"]
 fn contact_models_agree() {
     let sc = scene("wheelset_klingel.toml");
     let short = |s: &mut SimulationSpec| s.duration_s = 4.0;
@@ -227,6 +228,7 @@ fn contact_models_agree() {
 /// Halving the tolerance changes the result by what the method's order says: the differences
 /// between successive tolerances (10⁻⁵, 10⁻⁶, 10⁻⁷) shrink, by roughly the tolerance ratio.
 #[test]
+#[ignore = "slow: an integrator convergence study on the scene (~14 s)"]
 fn integrator_convergence_on_the_scene() {
     let sc = scene("wheelset_klingel.toml");
     for method in [Method::Ros3, Method::Ros34pw2, Method::Dopri5] {
@@ -279,6 +281,7 @@ fn integrator_convergence_on_the_scene() {
 /// 0.3 mm disturbance is already on the cycle's side.) Well above v_lin the hunting reaches the
 /// flanges and the run ends on its stop condition (|y| > 5 mm), normally, with the samples up to it.
 #[test]
+#[ignore = "slow: speed ramps through the critical speed (~22 s)"]
 fn critical_speed_by_speed_ramp() {
     use kecsim::dynamics::linear::linear_stability;
     let sc = scene("wheelset_critical_speed.toml");
@@ -853,6 +856,7 @@ fn compare_reports_the_differences_of_the_runs() {
 /// against its own reference; a row's error is the largest over the draws and the median beside
 /// it — recomputed here from the one-draw sweeps of the same velocities.
 #[test]
+#[ignore = "slow: precision draws against DOPRI5 references (~22 s)"]
 fn precision_draws_take_the_largest_and_the_median_of_the_single_draws() {
     use kecsim::bench::precision::{precision, protocol_draws, PrecisionSettings};
     let sc = scene("wheelset_klingel.toml");
@@ -905,6 +909,7 @@ fn precision_draws_take_the_largest_and_the_median_of_the_single_draws() {
 /// tolerance down to the model's own floor (lookup against a KEC reference); the cost at equal
 /// error picks the cheapest run within the level; the command prints and records it.
 #[test]
+#[ignore = "slow: a tolerance sweep against a DOPRI5 reference (~18 s)"]
 fn precision_sweep_measures_error_against_the_reference() {
     use kecsim::bench::precision::{precision, PrecisionSettings};
     let sc = scene("wheelset_klingel.toml");
@@ -1374,11 +1379,20 @@ fn a_run_reports_wear_contact_stress_and_ride_comfort() {
     write_ms_scene(&dir, "16.0");
     let out = kecsim_ok(
         &[
-            "run", "ms.toml", "--csv", "csv", "--json", "s.json", "--save", "r.rrd",
+            "run",
+            "ms.toml",
+            "--csv",
+            "csv",
+            "--json",
+            "s.json",
+            "--save",
+            "r.rrd",
+            "--verbose",
         ],
         &dir,
     );
     for line in [
+        "ΔQ/Q₀ limit 0.6",
         "wear (USFD function",
         "contact stress (R260, k 300 MPa)",
         "ride comfort (EN 12299",

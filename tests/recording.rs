@@ -136,6 +136,25 @@ fn run_with_no_arguments_writes_kecsim_rrd() {
     }
     assert!(stdout.contains("real-time factor"), "{stdout}");
     assert!(stdout.contains("MS vehicle"), "{stdout}");
+    // The terminal: the result opens on the one-line verdict, with the limit it is held against;
+    // no line over 100 characters (the details are --verbose's and the JSON's).
+    let lines: Vec<&str> = stdout.lines().collect();
+    let verdict = lines
+        .iter()
+        .position(|l| l.starts_with("running safety: "))
+        .unwrap_or_else(|| panic!("no verdict line: {stdout}"));
+    assert!(
+        lines[verdict].contains("within every limit; nearest: ") && lines[verdict].contains(" of "),
+        "{}",
+        lines[verdict]
+    );
+    assert!(
+        lines[verdict + 1].starts_with("simulated "),
+        "the verdict is the result's first line: {stdout}"
+    );
+    for l in &lines {
+        assert!(l.chars().count() <= 100, "a line over 100 characters: {l}");
+    }
     // The layout's detailed views look where the first wheelset's series are (they pointed at a
     // single wheelset's `run/wheelset_1` and stayed empty for named wheelsets).
     let names: Vec<String> = (1..=6).map(|k| format!("w{k}")).collect();
@@ -862,7 +881,12 @@ fn a_streamed_run_arrives_whole() {
         assert!(up, "the server did not listen on {port}");
         let url = format!("rerun+http://127.0.0.1:{port}/proxy");
         let csv = format!("csv{run}");
-        let out = kecsim(&["run", "ms.toml", "--csv", &csv, "--connect", &url], &dir);
+        // The last run keeps a copy too (`--connect` with `--save`).
+        let mut args = vec!["run", "ms.toml", "--csv", &csv, "--connect", &url];
+        if run == 2 {
+            args.extend(["--save", "copy.rrd"]);
+        }
+        let out = kecsim(&args, &dir);
         // The server is still writing what it received when the CLI exits (measured: its file
         // grew by 12 % in the next 0.5 s), and Ctrl-C drops what it has not written: wait until
         // the file has stopped growing for a second (at most 30 s) before stopping it.
@@ -898,5 +922,15 @@ fn a_streamed_run_arrives_whole() {
             .count()
             - 1;
         assert_eq!(rows, csv_rows, "run {run}");
+        if run == 2 {
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            assert!(
+                stdout.contains(&format!("saved copy.rrd; streamed to {url}")),
+                "{stdout}"
+            );
+            let copy = recording_chunks(&dir.join("copy.rrd")).unwrap();
+            let copied = kecsim::inspect::readback::scalar_rows(&copy, "/run/w6/y_mm").len();
+            assert_eq!(copied, csv_rows, "the copy saved beside the stream");
+        }
     }
 }

@@ -143,22 +143,21 @@ fn outputs_that_are_pipes_or_devices_are_written_never_replaced() {
         "the FIFO was replaced by a file"
     );
 
-    // A FIFO nobody reads: an error naming it within the wait, not a hang.
+    // A FIFO nobody reads: an error naming it within the wait (made 1 s here), not a hang.
     let lonely = dir.join("lonely.json");
     mkfifo(&lonely);
-    rejects(
-        &[
-            "run",
-            s(&sc),
-            "--save",
-            s(&dir.join("r3.rrd")),
-            "--json",
-            s(&lonely),
-        ],
-        &dir,
-        60,
-        &["lonely.json", "nobody read"],
-    );
+    let r3 = dir.join("r3.rrd");
+    let args = ["run", s(&sc), "--save", s(&r3), "--json", s(&lonely)];
+    let child = spawn(&args, &dir, &[("KECSIM_STREAM_WAIT_S", "1")]);
+    let o = finish(child, Duration::from_secs(HANG_S), "run into a FIFO nobody reads");
+    assert!(!o.ok, "a FIFO nobody reads was accepted: {}", o.stdout);
+    for n in ["lonely.json", "nobody read", "within 1 s"] {
+        assert!(
+            o.stderr.contains(n),
+            "the message does not say {n:?}: {}",
+            o.stderr
+        );
+    }
 
     // A character device (the null device, made here): written, never replaced.
     let null = dir.join("null");
@@ -554,11 +553,21 @@ fn the_spawn_fallback_is_guarded_and_never_waits_without_end() {
     std::fs::create_dir_all(&bin).unwrap();
     let path = format!("{}:{}", s(&bin), std::env::var("PATH").unwrap_or_default());
     use std::os::unix::fs::PermissionsExt;
-    for (body, case) in [("exit 1", "cannot run"), ("sleep 40", "never listens")] {
+    // The fake viewer lets go of the output pipes (as the real one, detached, does): the test
+    // waits for kecsim, not for the fake's sleep.
+    for (body, case) in [
+        ("exit 1", "cannot run"),
+        ("exec >/dev/null 2>&1 </dev/null; sleep 40", "never listens"),
+    ] {
         let fake = bin.join("rerun");
         std::fs::write(&fake, format!("#!/bin/sh\n{body}\n")).unwrap();
         std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
-        let env = [("PATH", path.as_str()), ("DISPLAY", ":99")];
+        // A short wait for the viewer to listen (the default is 10 s).
+        let env = [
+            ("PATH", path.as_str()),
+            ("DISPLAY", ":99"),
+            ("KECSIM_VIEWER_WAIT_S", "1"),
+        ];
         // The fallback recording and the JSON are one file: refused before any work.
         let child = spawn(&["run", s(&sc), "--spawn", "--json", "kecsim.rrd"], &dir, &env);
         let o = finish(child, Duration::from_secs(HANG_S), "run --spawn (fake rerun)");

@@ -20,6 +20,7 @@ mod kec_accuracy;
 mod lift;
 mod lookup_entry;
 mod paper;
+mod readme;
 mod recording;
 mod reference_profiles;
 mod reliability;

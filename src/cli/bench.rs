@@ -233,6 +233,12 @@ pub(super) fn run(a: BenchArgs) -> Result<()> {
     if matches!(a.target, BenchTarget::Dynamics | BenchTarget::Dispatch) && calls != DEFAULT_CALLS {
         eprintln!("kecsim: bench: --calls does not apply to this target (it times whole runs)");
     }
+    // A spinner with the time elapsed (creep-accuracy has a bar of its own).
+    let _stage = (!matches!(a.target, BenchTarget::CreepAccuracy)).then(|| {
+        let name = clap::ValueEnum::to_possible_value(&a.target)
+            .map_or_else(String::new, |v| v.get_name().to_string());
+        super::progress::Stage::new(&format!("bench {name}: measuring"))
+    });
     match a.target {
         BenchTarget::Profiles => print!("{}", kecsim::bench::table(&kecsim::bench::profiles(calls))),
         BenchTarget::Contact => {

@@ -48,7 +48,13 @@ pub(super) fn run(a: CompareArgs) -> Result<()> {
         scene.simulation.is_some(),
         "{origin}: this scenario has no [simulation] to compare"
     );
-    let c = kecsim::compare::compare(&scene, &models, a.duration)?;
+    let progress = super::progress::Runs::new(&models);
+    let c = {
+        let mut observer = progress;
+        let c = kecsim::compare::compare_observed(&scene, &models, a.duration, Some(&mut observer));
+        observer.finish();
+        c?
+    };
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, || inspect::compare::blueprint(&c))?;
         inspect::compare::record(&rec, &c, &scene)?;

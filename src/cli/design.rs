@@ -99,13 +99,16 @@ pub(super) fn run(a: DesignArgs) -> Result<()> {
         ..WheelsetGeometry::default()
     };
     let t = std::time::Instant::now();
+    let stage = super::progress::Stage::new("designing the wheel on the rail");
     let design = design_wheel(&rail, inclination, gauge, wheelset, &target)?;
     let design_s = t.elapsed().as_secs_f64();
+    stage.set("checking the designed and the reference wheel for contact jumps");
     let pair = WheelRailPair::new(design.profile.clone(), rail.clone(), inclination, gauge, wheelset)?;
     let ref_pair = WheelRailPair::new(reference, rail, inclination, gauge, wheelset)?;
     let checks = jump_check(&pair, y_check)?;
     let ref_checks = jump_check(&ref_pair, y_check)?;
     let report = DesignReport::new(&design, &pair, &ref_pair, &checks, &ref_checks, design_s)?;
+    stage.finish();
     let summary = report.markdown(&inclination.to_string());
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::design::blueprint)?;

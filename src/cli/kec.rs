@@ -74,6 +74,7 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
             let n = ((reach / 1e-3).ceil() * 1e-3 / step).round().max(1.0) as i64;
             (-n..=n).map(|k| k as f64 * step).collect()
         };
+        let stage = super::progress::Stage::new("accuracy: building the gauge columns' tables");
         let table2 = LookupTable2::build(&geom, &columns(1e-3), &settings)?;
         // The 0.1 mm columns only around each case's gv (the four the interpolation reads there).
         let fine_step = 1e-4;
@@ -92,7 +93,12 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
             table2: &table2,
             table2_fine: Some((&fine, fine_step)),
         };
+        stage.set(&format!(
+            "accuracy: every model against the online constraints, {} cases × 41 positions",
+            cases.len()
+        ));
         let rows = kec_irregularity_errors(&geom, &model, &tables, &cases, 41).map_err(anyhow::Error::msg)?;
+        stage.finish();
         summary += "\nWith irregularities: each model's largest distance from the online approximate constraints, |Δz| [mm] / |Δφ| [mrad] / |Δγ| [°] (the contact angle of either wheel), 41 y per case. `lookup2` reads each wheel from the centred table at its own offset from its own rail (its default, `gauge_entry = \"per_wheel\"`); the gauge columns are `lookup2` with `gauge_entry = \"columns\"` (every 0.1 mm) and the paper's literal 2-entry table `lookup2-paper` (every 1 mm), each column to its own flange climb; the 1-entry table sees only al, vp, cl. All are entered by the rail pair's rigid motion (Eq. 44–46 rederived, `cross_level_entry = \"rotated\"`) but for the last two columns, by Eq. 44–46 as printed:\n\n";
         summary += &kec_error_markdown(&rows, Some(fine_step));
     }

@@ -289,8 +289,9 @@ fn check_table_range(
 /// Where the recording goes (default: `--save kecsim.rrd`).
 #[derive(Args)]
 struct SinkArgs {
-    /// Save the recording to this .rrd file [default: kecsim.rrd].
-    #[arg(long, value_name = "FILE", group = "sink")]
+    /// Save the recording to this .rrd file [default: kecsim.rrd]; with --connect or --spawn,
+    /// a copy of what is streamed (written whole whatever the viewer does).
+    #[arg(long, value_name = "FILE")]
     save: Option<PathBuf>,
     /// Start a Rerun viewer (`rerun` on PATH) and stream to it.
     #[arg(long, group = "sink")]
@@ -308,34 +309,126 @@ impl SinkArgs {
 
     /// The sink to use: a viewer that cannot be reached (`--connect` with nothing listening within
     /// [`inspect::VIEWER_TIMEOUT`], `--spawn` without `rerun` on PATH or without a display) falls
-    /// back to saving `kecsim.rrd`, and says so — before any work, so that nothing waits on an absent viewer.
+    /// back to saving the file (`--save`'s, else `kecsim.rrd`), and says so — before any work, so
+    /// that nothing waits on an absent viewer. A viewer with `--save`: both.
     fn sink(&self) -> Sink {
+        let file = self
+            .save
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(inspect::DEFAULT_RRD));
         let fallback = |why: String| {
             eprintln!(
                 "kecsim: {why}; saving the recording to {} instead",
-                inspect::DEFAULT_RRD
+                file.display()
             );
-            Sink::Save(PathBuf::from(inspect::DEFAULT_RRD))
+            Sink::Save(file.clone())
+        };
+        let viewer = |url: String| match &self.save {
+            Some(p) => Sink::ConnectAndSave(url, p.clone(), inspect::FileCopy::default()),
+            None => Sink::Connect(url),
         };
         if self.spawn {
             // The viewer is started here, before the outputs are guarded: a `rerun` that cannot
             // run or never listens falls back to the file, which the guard then checks.
             match inspect::spawn_obstacle().map_or_else(inspect::spawn_viewer, Err) {
-                Ok(url) => Sink::Connect(url),
+                Ok(url) => viewer(url),
                 Err(why) => fallback(why),
             }
         } else if let Some(url) = &self.connect {
             match inspect::probe_viewer(url, inspect::VIEWER_TIMEOUT) {
-                Ok(()) => Sink::Connect(url.clone()),
+                Ok(()) => viewer(url.clone()),
                 Err(why) => fallback(why),
             }
         } else {
-            Sink::Save(
-                self.save
-                    .clone()
-                    .unwrap_or_else(|| PathBuf::from(inspect::DEFAULT_RRD)),
-            )
+            Sink::Save(file.clone())
         }
+    }
+}
+
+/// Parses the command line as [`Cli::parse`] does, with one more help: a misspelt command clap
+/// finds nothing like (`kecsim rn`: its similarity measure wants a longer word) gets the
+/// commands within two edits of it, or that it is a prefix or an abbreviation of, as a tip.
+pub fn parse() -> Cli {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    use clap::CommandFactory;
+    let e = match Cli::try_parse() {
+        Ok(cli) => return cli,
+        Err(e) => e,
+    };
+    let suggested = e.get(ContextKind::SuggestedSubcommand).is_some();
+    if e.kind() == ErrorKind::InvalidSubcommand && !suggested {
+        if let Some(ContextValue::String(typed)) = e.get(ContextKind::InvalidSubcommand) {
+            let names: Vec<String> = Cli::command()
+                .get_subcommands()
+                .map(|c| c.get_name().to_string())
+                .collect();
+            let near = similar_commands(typed, &names);
+            if !near.is_empty() {
+                let text = e.render().to_string();
+                let (head, tail) = text.split_once("\n\n").unwrap_or((&text, ""));
+                eprintln!(
+                    "{head}\n\n  tip: a similar command exists: {}\n\n{tail}",
+                    near.iter()
+                        .map(|n| format!("'{n}'"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+                std::process::exit(2);
+            }
+        }
+    }
+    e.exit()
+}
+
+/// The commands within two edits of `typed` (Levenshtein), or that start with it, or that hold
+/// its letters in order (an abbreviation: `rn` of `run`), nearest first.
+fn similar_commands(typed: &str, names: &[String]) -> Vec<String> {
+    fn edits(a: &str, b: &str) -> usize {
+        let b: Vec<char> = b.chars().collect();
+        let mut row: Vec<usize> = (0..=b.len()).collect();
+        for (i, ca) in a.chars().enumerate() {
+            let mut prev = row[0];
+            row[0] = i + 1;
+            for (j, cb) in b.iter().enumerate() {
+                let cur = row[j + 1];
+                row[j + 1] = (prev + usize::from(ca != *cb)).min(row[j] + 1).min(cur + 1);
+                prev = cur;
+            }
+        }
+        row[b.len()]
+    }
+    let typed = typed.to_lowercase();
+    let in_order = |name: &str| {
+        let mut letters = name.chars();
+        typed.len() >= 2 && typed.chars().all(|c| letters.any(|n| n == c))
+    };
+    let mut near: Vec<(usize, &String)> = names
+        .iter()
+        .filter_map(|n| {
+            let d = edits(&typed, n);
+            (d <= 2 || (typed.len() >= 2 && n.starts_with(&typed)) || in_order(n)).then_some((d, n))
+        })
+        .collect();
+    near.sort();
+    near.into_iter().take(3).map(|(_, n)| n.clone()).collect()
+}
+
+#[cfg(test)]
+mod suggestion_tests {
+    use super::similar_commands;
+
+    #[test]
+    fn a_misspelt_command_finds_its_neighbours() {
+        let names: Vec<String> = [
+            "run", "profiles", "patch", "paper", "compare", "contact", "kec", "study",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        assert_eq!(similar_commands("rn", &names)[0], "run");
+        assert_eq!(similar_commands("pofiles", &names), vec!["profiles"]);
+        assert_eq!(similar_commands("cmp", &names), vec!["compare"]);
+        assert!(similar_commands("zzzzzz", &names).is_empty());
     }
 }
 
@@ -387,7 +480,7 @@ fn guard_trees<P: AsRef<Path>>(
             g.output(what, p)?;
         }
     }
-    if let Some(Sink::Save(p)) = sink {
+    if let Some(p) = sink.and_then(Sink::saved) {
         g.output("--save", p)?;
     }
     if g.writes_stdout() {

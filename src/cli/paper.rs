@@ -46,7 +46,10 @@ pub(super) fn run(a: PaperArgs) -> Result<()> {
         "kecsim paper: {} — contact tables, then the runs with kec and {} (each takes what `kecsim run` takes)",
         scene.name, a.tables
     );
-    let f = kecsim::paper::assemble(&scene, &a.tables, a.duration)?;
+    let mut progress = super::progress::Runs::new(&["kec".to_string(), a.tables.clone()]);
+    let f = kecsim::paper::assemble_observed(&scene, &a.tables, a.duration, Some(&mut progress));
+    progress.finish();
+    let f = f?;
     let summary = f.markdown();
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, || inspect::paper::blueprint(&f))?;

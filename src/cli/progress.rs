@@ -166,3 +166,111 @@ impl Counter {
         self.bar.finish_and_clear();
     }
 }
+
+/// A progress bar over several runs one after the other (`compare`, `paper`): the share of the
+/// runs' simulated time done, the run and its name, the ETA; silent when stderr is not a terminal.
+pub struct Runs {
+    bar: ProgressBar,
+    names: Vec<String>,
+    /// The run now going (1-based; 0 before the first).
+    index: usize,
+    duration_s: f64,
+}
+
+impl Runs {
+    /// One run per name, in order.
+    pub fn new(names: &[String]) -> Runs {
+        let bar = ProgressBar::with_draw_target(Some(1000 * names.len() as u64), draw_target());
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{wide_bar} {percent:>3}% · {msg} · {elapsed_precise} elapsed, ETA {eta}",
+            )
+            .expect("a valid template"),
+        );
+        bar.set_message("preprocessing");
+        bar.enable_steady_tick(Duration::from_millis(200));
+        Runs {
+            bar,
+            names: names.to_vec(),
+            index: 0,
+            duration_s: 1.0,
+        }
+    }
+
+    /// Removes the bar from the terminal.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl RunObserver for Runs {
+    fn start(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
+        self.index += 1;
+        self.duration_s = run.duration_s.max(1e-9);
+        self.bar.set_position(1000 * (self.index as u64 - 1));
+        Ok(())
+    }
+
+    fn sample(&mut self, sample: &OutputSample<'_>) -> Result<(), ObserverError> {
+        let share = (sample.t / self.duration_s).clamp(0.0, 1.0);
+        self.bar
+            .set_position(1000 * (self.index.max(1) as u64 - 1) + (1000.0 * share) as u64);
+        let name = self
+            .names
+            .get(self.index.wrapping_sub(1))
+            .map_or("", String::as_str);
+        self.bar.set_message(format!(
+            "run {} of {} ({name}): t = {:.1} of {:.1} s",
+            self.index,
+            self.names.len(),
+            sample.t,
+            self.duration_s
+        ));
+        Ok(())
+    }
+}
+
+/// A spinner naming the stage a command is in, with the time elapsed, for the commands whose work
+/// has no count to show (a wheel's design, an accuracy sweep, a benchmark); silent when stderr is
+/// not a terminal.
+pub struct Stage {
+    bar: ProgressBar,
+}
+
+impl Stage {
+    pub fn new(what: &str) -> Stage {
+        let bar = ProgressBar::with_draw_target(None, draw_target());
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg} · {elapsed_precise} elapsed")
+                .expect("a valid template"),
+        );
+        bar.set_message(what.to_string());
+        bar.enable_steady_tick(Duration::from_millis(200));
+        Stage { bar }
+    }
+
+    /// The next stage.
+    pub fn set(&self, what: &str) {
+        self.bar.set_message(what.to_string());
+    }
+
+    /// Removes the spinner from the terminal.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl Drop for Stage {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// stderr when it is a terminal, else nothing.
+fn draw_target() -> ProgressDrawTarget {
+    if std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr_with_hz(10)
+    } else {
+        ProgressDrawTarget::hidden()
+    }
+}

@@ -20,6 +20,7 @@ use kecsim::scenario::{RunOptions, Scene};
 
 use super::progress::{Pace, Progress};
 use super::{check_output_dir, contact_model_names, print_pair, SinkArgs};
+use kecsim::dynamics::output::BRIEF_WIDTH;
 
 #[derive(Args)]
 pub(super) struct RunArgs {
@@ -31,6 +32,9 @@ pub(super) struct RunArgs {
     /// Initial forward speed, m/s, overriding the scenario's.
     #[arg(long, value_name = "M_S")]
     speed: Option<f64>,
+    /// Simulated time, s, overriding the scenario's (checked as the scenario's: the track's end).
+    #[arg(long, value_name = "S")]
+    duration: Option<f64>,
     /// Write one CSV per wheelset into this directory, and one per carbody with its floor
     /// accelerations (as the run goes, into .NAME.csv.part-PID, renamed to NAME.csv when the run
     /// ends).
@@ -51,6 +55,10 @@ pub(super) struct RunArgs {
     /// The tab of the recording's layout the viewer opens on.
     #[arg(long, value_enum, default_value_t = kecsim::inspect::run::RunTab::Overview)]
     tab: kecsim::inspect::run::RunTab,
+    /// Print the whole summary (the profiles placed, the settling, what limited the step, every
+    /// wheelset's running safety, wear, stress and comfort in full) instead of the short one.
+    #[arg(long, short)]
+    verbose: bool,
     #[command(flatten)]
     sink: SinkArgs,
 }
@@ -60,25 +68,46 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
     let t = Instant::now();
     let mut scene = parsed.compile(&origin, &base)?;
     scene.table_cache = super::table_cache();
-    println!("scenario: {} ({origin})", scene.name);
+    let brief = |line: String| print!("{}", kecsim::dynamics::output::wrap(&line, BRIEF_WIDTH));
+    brief(format!("scenario: {} ({origin})", scene.name));
     for w in &scene.warnings {
         eprintln!("kecsim: warning: {w}");
     }
-    print_pair(&scene.pair);
     let cf = &scene.contact_forces;
-    println!(
-        "contact forces: {} creep model, μ = {}, E = {:.0} GPa, ν = {}",
-        cf.model.name(),
-        cf.friction,
-        cf.material.young_pa * 1e-9,
-        cf.material.poisson
-    );
+    if a.verbose || scene.simulation.is_none() {
+        print_pair(&scene.pair);
+        println!(
+            "contact forces: {} creep model, μ = {}, E = {:.0} GPa, ν = {}",
+            cf.model.name(),
+            cf.friction,
+            cf.material.young_pa * 1e-9,
+            cf.material.poisson
+        );
+    } else {
+        brief(format!(
+            "wheel {} on rail {} at {}; {} creep forces, μ {}",
+            scene.pair.wheel.name,
+            scene.pair.rail.name,
+            scene.pair.inclination,
+            cf.model.name(),
+            cf.friction
+        ));
+    }
+    super::check_duration(a.duration)?;
+    if let (Some(d), Some((sim, _))) = (a.duration, scene.simulation.as_mut()) {
+        sim.duration_s = d;
+    }
     if scene.simulation.is_some() {
         return simulate(&scene, a);
     }
     anyhow::ensure!(
-        a.contact.is_none() && a.speed.is_none() && a.csv.is_none() && a.json.is_none() && a.pace.is_none(),
-        "this scenario has no [simulation]: --contact, --speed, --csv, --json and --pace need one"
+        a.contact.is_none()
+            && a.speed.is_none()
+            && a.duration.is_none()
+            && a.csv.is_none()
+            && a.json.is_none()
+            && a.pace.is_none(),
+        "this scenario has no [simulation]: --contact, --speed, --duration, --csv, --json and --pace need one"
     );
     // The wheelset's contact preprocessing: 1-entry table of the real profiles, then the
     // KEC-equivalent profiles, recorded as `kecsim kec` does.
@@ -157,22 +186,26 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     }
     let s = &built.settings;
     let speed = built.vehicle.reference().speed;
-    println!(
-        "simulating {:.3} s at {} m/s (ramp {} m/s²), contact model {}, {} creep, {:?} rtol {:.0e}",
+    let brief = |line: String| print!("{}", kecsim::dynamics::output::wrap(&line, BRIEF_WIDTH));
+    let ramp = if speed.ramp_m_s2 != 0.0 {
+        format!(" (ramp {} m/s²)", speed.ramp_m_s2)
+    } else {
+        String::new()
+    };
+    brief(format!(
+        "simulating {:.3} s at {} m/s{ramp}: contact model {}, {} rtol {:.0e}",
         s.duration_s,
         speed.initial_m_s,
-        speed.ramp_m_s2,
         built.labels.contact_model,
-        built.labels.creep_model,
-        s.integrator.method,
+        format!("{:?}", s.integrator.method).to_uppercase(),
         s.integrator.rtol
-    );
+    ));
     let drive = built.vehicle.drive_info();
-    println!(
-        "traction: {} (the actual speed is the CSV's speed_m_s)",
+    brief(format!(
+        "traction: {}",
         kecsim::dynamics::traction::describe(drive.mode, drive.controller_hz, &drive.driven_wheelsets)
-    );
-    if let Some(st) = built.vehicle.settling() {
+    ));
+    if let (true, Some(st)) = (a.verbose, built.vehicle.settling()) {
         println!(
             "static settling: axle loads {} kN (elements preloaded; residual {:.1e} N)",
             st.axle_loads
@@ -210,7 +243,12 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     // The recorder is the stream's last handle: a file's footer is written here.
     let delivered = recorder.finish_stream(&sink);
     let summary = &out.summary;
-    print!("{summary}");
+    if a.verbose {
+        println!("{}", summary.verdict());
+        print!("{summary}");
+    } else {
+        print!("{}", summary.brief());
+    }
     if let Some(c) = &csv {
         for path in c.written() {
             println!("wrote {}", path.display());
@@ -226,6 +264,9 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     }
     if let Ok(line) = &delivered {
         println!("{line}");
+    }
+    if !a.verbose {
+        println!("(the whole summary: --verbose; every figure: --json FILE)");
     }
     if let RunEnd::Failed(e) = &out.end {
         let profiles = if e.in_contact_model() {

@@ -107,6 +107,17 @@ pub struct Comparison {
 /// Runs `scene` with each of `models` (the first is the reference) for `duration_s` (None: the
 /// scene's), and compares.
 pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Result<Comparison, BuildError> {
+    compare_observed(scene, models, duration_s, None)
+}
+
+/// [`compare`], each run's samples also handed to `observer` (a progress bar: its `start` comes
+/// once a run, in the order of `models`).
+pub fn compare_observed(
+    scene: &Scene,
+    models: &[String],
+    duration_s: Option<f64>,
+    mut observer: Option<&mut (dyn crate::dynamics::RunObserver + Send)>,
+) -> Result<Comparison, BuildError> {
     if models.len() < 2 {
         return Err(BuildError::TooFewModels { got: models.len() });
     }
@@ -124,9 +135,13 @@ pub fn compare(scene: &Scene, models: &[String], duration_s: Option<f64>) -> Res
             ..Default::default()
         })?;
         notes.extend(built.notes.iter().cloned());
+        let output = match observer.as_mut() {
+            Some(o) => built.run(&mut [&mut **o]),
+            None => built.run(&mut []),
+        };
         runs.push(ModelRun {
             model: model.clone(),
-            output: built.run(&mut []),
+            output,
         });
     }
     let pair_jumps = pair_has_jumps(&scene.pair);

@@ -203,6 +203,160 @@ impl fmt::Display for RunSummary {
     }
 }
 
+/// The longest line of the command line's short summary ([`RunSummary::brief`], [`wrap`]).
+pub const BRIEF_WIDTH: usize = 100;
+
+impl RunSummary {
+    /// The run's outcome in one line, what an engineer reads first: a failure or a derailment,
+    /// else the running-safety verdict ([`super::safety::Safety::verdict`]).
+    pub fn verdict(&self) -> String {
+        if let Some(e) = &self.error {
+            return format!("the run FAILED at t = {:.4} s: {e}", self.simulated_s);
+        }
+        if let Some(q) = self.derailment_max_y_over_q_2m {
+            return format!(
+                "DERAILED at t = {:.3} s (largest |Y/Q| over its last 2 m: {q:.3})",
+                self.simulated_s
+            );
+        }
+        match &self.safety {
+            Some(s) => s.verdict(),
+            None if self.samples == 0 => "no output samples: nothing to assess".into(),
+            None => "running safety: not assessed (the run has no limits' basis)".into(),
+        }
+    }
+
+    /// The short summary `kecsim run` prints: the verdict first, then the figures an engineer
+    /// looks for, each line at most [`BRIEF_WIDTH`] characters; the whole summary
+    /// ([`fmt::Display`]) is `--verbose`'s and the JSON's.
+    pub fn brief(&self) -> String {
+        let mut lines = vec![self.verdict()];
+        lines.push(format!(
+            "simulated {:.2} s in {:.2} s wall (real-time factor {:.1}); {} steps, {} right-hand sides",
+            self.simulated_s, self.wall_s, self.realtime_factor, self.steps, self.rhs_evaluations
+        ));
+        if self.samples > 0 {
+            lines.push(format!(
+                "max |y| {:.2} mm, |yaw| {:.2} mrad; wheel loads Q {:.1} .. {:.1} kN; max |Y/Q| {:.3}",
+                self.max_abs_y_mm,
+                self.max_abs_yaw_mrad,
+                self.min_normal_n * 1e-3,
+                self.max_normal_n * 1e-3,
+                self.max_abs_y_over_q
+            ));
+        }
+        if let Some(note) = &self.stopped {
+            lines.push(format!("stopped: {note}"));
+        }
+        if self.max_lift_mm > 0.0 || self.landings > 0 {
+            lines.push(format!(
+                "wheel lift up to {:.3} mm, longest {:.3} s; {} landings",
+                self.max_lift_mm, self.longest_lift_s, self.landings
+            ));
+        }
+        match (self.critical_speed_m_s, self.critical_speed_decelerating) {
+            (Some(v), false) => lines.push(format!(
+                "critical speed (hunting onset): {v:.2} m/s ({:.0} km/h)",
+                v * 3.6
+            )),
+            (Some(v), true) => lines.push(format!(
+                "nonlinear critical speed (hunting dies out): {v:.2} m/s ({:.0} km/h)",
+                v * 3.6
+            )),
+            (None, _) => {}
+        }
+        if let Some(t) = &self.traction {
+            lines.push(format!(
+                "traction {:.2} kN mean, {:.1} kW; speed within {:.3} % of {} m/s",
+                t.mean_traction_n * 1e-3,
+                t.mean_power_kw,
+                t.max_speed_deviation_percent,
+                t.reference_speed_m_s
+            ));
+            for c in &t.curves {
+                lines.push(format!(
+                    "curving resistance {:.2} kN ({:.2} N/kN of the weight) in the R {:.2} m curve",
+                    c.resistance_n * 1e-3,
+                    c.resistance_n_per_kn,
+                    c.radius_m
+                ));
+            }
+        }
+        if let Some(w) = &self.wear {
+            let worst = w
+                .wheels
+                .iter()
+                .map(|w| w.max_wear_index_n_mm2)
+                .fold(0.0, f64::max);
+            lines.push(format!(
+                "wear up to {:.2} mg/km ({}), {} regime (Tγ/A up to {:.1} N/mm²)",
+                w.max_mass_mg_per_km,
+                w.max_wheel,
+                format!("{:?}", super::wear::WearRegime::of(worst)).to_lowercase(),
+                worst
+            ));
+        }
+        if let Some(c) = &self.contact_stress {
+            let load = c.wheels.iter().map(|w| w.worst_load_factor).fold(0.0, f64::max);
+            lines.push(format!(
+                "rail stress p0 up to {:.0} MPa ({}); {:.2} × the shakedown limit; ratchetting on {:.1} %",
+                c.max_p0_mpa,
+                c.max_wheel,
+                load,
+                100.0 * c.max_share_ratchetting
+            ));
+        }
+        if let Some(c) = &self.comfort {
+            lines.push(match c.max_n_mv {
+                Some(n) => format!(
+                    "ride comfort N_MV up to {n:.2} ({}); Sperling Wz up to {:.2} lateral, {:.2} vertical",
+                    super::comfort::n_mv_class(n),
+                    c.max_wz_y,
+                    c.max_wz_z
+                ),
+                None => format!(
+                    "ride comfort: Sperling Wz up to {:.2} lateral, {:.2} vertical (no N_MV: under 5 s)",
+                    c.max_wz_y, c.max_wz_z
+                ),
+            });
+        }
+        if self.creep_model == "polach" && self.max_normalized_spin > POLACH_SPIN_LIMIT {
+            lines.push(format!(
+                "warning: Polach's creep forces at spin φ̂ up to {:.2} (unsafe above {POLACH_SPIN_LIMIT}): use \"exact-table\"",
+                self.max_normalized_spin
+            ));
+        }
+        let mut text = String::new();
+        for l in &lines {
+            text.push_str(&wrap(l, BRIEF_WIDTH));
+        }
+        text
+    }
+}
+
+/// `line` broken at spaces into lines of at most `width` characters (a word longer than that
+/// stands alone), continuations indented by two spaces; each line ends with a newline.
+pub fn wrap(line: &str, width: usize) -> String {
+    let mut out = String::new();
+    let mut current = String::new();
+    for word in line.split(' ') {
+        let len = current.chars().count();
+        if len > 0 && len + 1 + word.chars().count() > width {
+            out.push_str(current.trim_end());
+            out.push('\n');
+            current = format!("  {word}");
+        } else {
+            if len > 0 {
+                current.push(' ');
+            }
+            current.push_str(word);
+        }
+    }
+    out.push_str(current.trim_end());
+    out.push('\n');
+    out
+}
+
 /// An observer's failure (a file that cannot be written, a recording that cannot be logged): it
 /// ends the run, keeping what was recorded.
 pub type ObserverError = Box<dyn std::error::Error + Send + Sync>;

@@ -90,7 +90,92 @@ pub struct Safety {
     pub flange_angle_deg: f64,
     /// Nadal's Y/Q limit for them.
     pub nadal_limit: f64,
+    /// The limit of a wheel's unloading ΔQ/Q₀ ([`DELTA_Q_LIMIT`]).
+    pub delta_q_over_q0_limit: f64,
     pub wheelsets: Vec<WheelsetSafety>,
+}
+
+/// The limit of a wheel's unloading ΔQ/Q₀: EN 14363's 0.6 (the twist test's limit, held here
+/// against the run's largest unloading).
+pub const DELTA_Q_LIMIT: f64 = 0.6;
+
+/// One figure against its limit: which wheelset, what, the figure and the limit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Utilisation {
+    pub wheelset: String,
+    pub what: &'static str,
+    pub value: f64,
+    pub limit: f64,
+}
+
+impl Utilisation {
+    /// The figure as a share of its limit.
+    pub fn share(&self) -> f64 {
+        if self.limit > 0.0 {
+            self.value / self.limit
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+impl Safety {
+    /// Every wheelset's three figures against their limits (Y/Q against Nadal, ΣY against
+    /// Prud'homme, in kN, ΔQ/Q₀ against [`DELTA_Q_LIMIT`]), the largest share first.
+    pub fn utilisations(&self) -> Vec<Utilisation> {
+        let mut u: Vec<Utilisation> = self
+            .wheelsets
+            .iter()
+            .flat_map(|w| {
+                [
+                    ("Y/Q", w.y_over_q_2m, self.nadal_limit),
+                    ("ΣY kN", w.sum_y_2m_n * 1e-3, w.prudhomme_limit_n * 1e-3),
+                    ("ΔQ/Q₀", w.delta_q_over_q0, self.delta_q_over_q0_limit),
+                ]
+                .map(|(what, value, limit)| Utilisation {
+                    wheelset: w.name.clone(),
+                    what,
+                    value,
+                    limit,
+                })
+            })
+            .collect();
+        u.sort_by(|a, b| b.share().total_cmp(&a.share()));
+        u
+    }
+
+    /// The one-line verdict: `running safety: within every limit; nearest: w5 Y/Q 0.51 of 1.37`,
+    /// or `running safety: LIMIT EXCEEDED: w1 Y/Q 1.52 over 1.37 (and 2 more)`.
+    pub fn verdict(&self) -> String {
+        let u = self.utilisations();
+        let fmt = |x: &Utilisation| match x.what {
+            "ΣY kN" => format!("{} ΣY {:.1} kN", x.wheelset, x.value),
+            _ => format!("{} {} {:.3}", x.wheelset, x.what, x.value),
+        };
+        let limit = |x: &Utilisation| match x.what {
+            "ΣY kN" => format!("{:.1} kN", x.limit),
+            _ => format!("{:.3}", x.limit),
+        };
+        let over: Vec<&Utilisation> = u.iter().filter(|x| x.share() > 1.0).collect();
+        match (over.first(), u.first()) {
+            (Some(x), _) => format!(
+                "running safety: LIMIT EXCEEDED: {} over {}{}",
+                fmt(x),
+                limit(x),
+                if over.len() > 1 {
+                    format!(" (and {} more)", over.len() - 1)
+                } else {
+                    String::new()
+                }
+            ),
+            (None, Some(x)) => format!(
+                "running safety: within every limit; nearest: {} of {}",
+                fmt(x),
+                limit(x)
+            ),
+            (None, None) => "running safety: no wheelset samples to assess".into(),
+        }
+    }
 }
 
 const WHEELS: [&str; 2] = ["left", "right"];
@@ -187,6 +272,7 @@ pub fn assess(
         friction: basis.friction,
         flange_angle_deg: basis.flange_angle_rad.to_degrees(),
         nadal_limit: nadal_limit(basis.flange_angle_rad, basis.friction),
+        delta_q_over_q0_limit: DELTA_Q_LIMIT,
         wheelsets: list,
     }
 }
@@ -196,8 +282,8 @@ impl fmt::Display for Safety {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "running safety (EN 14363 style: largest 2 m sliding means): Y/Q limit (Nadal, μ {}, flange {:.1}°) {:.3}",
-            self.friction, self.flange_angle_deg, self.nadal_limit
+            "running safety (EN 14363 style: largest 2 m sliding means): Y/Q limit (Nadal, μ {}, flange {:.1}°) {:.3}; ΔQ/Q₀ limit {}; ΣY limit per wheelset (Prud'homme)",
+            self.friction, self.flange_angle_deg, self.nadal_limit, self.delta_q_over_q0_limit
         )?;
         for w in &self.wheelsets {
             writeln!(

@@ -28,7 +28,7 @@ pub mod patch;
 pub mod precision;
 pub mod profiles;
 pub mod readback;
-mod rrd_file;
+pub mod rrd_file;
 pub mod run;
 pub mod study;
 pub mod track;
@@ -49,6 +49,32 @@ pub enum Sink {
     Spawn,
     /// Stream to a running viewer at this gRPC URL.
     Connect(String),
+    /// Stream to a running viewer at this gRPC URL and save the same recording to the file
+    /// (`--connect` or `--spawn` with `--save`); the file is written whole whatever the viewer
+    /// does.
+    ConnectAndSave(String, PathBuf, FileCopy),
+}
+
+impl Sink {
+    /// The file the recording is saved to, if it is saved.
+    pub fn saved(&self) -> Option<&std::path::Path> {
+        match self {
+            Sink::Save(p) | Sink::ConnectAndSave(_, p, _) => Some(p),
+            Sink::Spawn | Sink::Connect(_) => None,
+        }
+    }
+}
+
+/// The file of a [`Sink::ConnectAndSave`] once the recording is open (its end is written by
+/// [`finish_recording`] on its own, not when the viewer's stream ends).
+#[derive(Debug, Clone, Default)]
+pub struct FileCopy(std::sync::Arc<std::sync::OnceLock<rrd_file::Handle>>);
+
+impl PartialEq for FileCopy {
+    /// Every copy is alike: a sink is compared by where it goes.
+    fn eq(&self, _: &FileCopy) -> bool {
+        true
+    }
 }
 
 /// Default file of `--save`.
@@ -79,6 +105,10 @@ pub enum InspectError {
 /// How long `--connect` waits for a viewer to answer.
 pub const VIEWER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(3);
 
+/// How long `--spawn` waits for the viewer it started to listen ([`spawn_viewer`]);
+/// `KECSIM_VIEWER_WAIT_S` sets another.
+pub const SPAWN_WAIT: std::time::Duration = std::time::Duration::from_secs(10);
+
 /// Why a spawned viewer could not show anything here, if it could not: no `rerun` executable on
 /// PATH, or (Linux) no display for its window (`DISPLAY`, `WAYLAND_DISPLAY` unset: a server, a
 /// container, an ssh session without forwarding).
@@ -107,16 +137,62 @@ pub fn viewer_on_path() -> bool {
 }
 
 /// Starts a Rerun viewer (`rerun` on PATH) and returns the URL to stream to once it listens
-/// (within the SDK's wait and then [`VIEWER_TIMEOUT`]); the error says why not — a `rerun` that
+/// (within [`SPAWN_WAIT`], or `KECSIM_VIEWER_WAIT_S`); the error says why not — a `rerun` that
 /// cannot run, or one that never listens, is then a fallback decided before any output is
 /// guarded, never a wait without end.
 pub fn spawn_viewer() -> Result<String, String> {
-    let opts = rerun::SpawnOptions::default();
+    let opts = rerun::SpawnOptions {
+        // The SDK's own wait (~6 s, not settable) is replaced by ours.
+        wait_for_bind: false,
+        ..Default::default()
+    };
+    let wait = crate::files::wait_from_env("KECSIM_VIEWER_WAIT_S", SPAWN_WAIT);
+    let start = std::time::Instant::now();
+    // The SDK asks the executable for its version first and waits for the answer without end: a
+    // `rerun` that hangs would hang the command. Asked here first, within the wait.
+    viewer_answers(wait)?;
     let info = rerun::spawn(&opts).map_err(|e| format!("cannot spawn a Rerun viewer ({e})"))?;
     let url = format!("rerun+http://127.0.0.1:{}/proxy", info.port);
-    probe_viewer(&url, VIEWER_TIMEOUT)
-        .map_err(|e| format!("the spawned Rerun viewer does not listen ({e})"))?;
-    Ok(url)
+    loop {
+        match probe_viewer(&url, std::time::Duration::from_millis(500)) {
+            Ok(()) => return Ok(url),
+            Err(_) if start.elapsed() < wait => std::thread::sleep(std::time::Duration::from_millis(100)),
+            Err(_) => {
+                return Err(format!(
+                    "the spawned Rerun viewer does not listen at {url} within {:.0} s",
+                    wait.as_secs_f64()
+                ))
+            }
+        }
+    }
+}
+
+/// Whether `rerun --version` (the `rerun` on PATH) answers within `wait`; one that does not is
+/// killed and the error says so.
+fn viewer_answers(wait: std::time::Duration) -> Result<(), String> {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new("rerun")
+        .arg("--version")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| format!("cannot run the Rerun viewer `rerun` ({e})"))?;
+    let start = std::time::Instant::now();
+    loop {
+        match child.try_wait() {
+            Ok(Some(_)) => return Ok(()),
+            Ok(None) if start.elapsed() < wait => std::thread::sleep(std::time::Duration::from_millis(20)),
+            _ => {
+                child.kill().ok();
+                child.wait().ok();
+                return Err(format!(
+                    "the Rerun viewer on PATH does not answer `rerun --version` within {:.0} s",
+                    wait.as_secs_f64()
+                ));
+            }
+        }
+    }
 }
 
 /// Checks that something listens at the viewer URL's host and port (`rerun+http://HOST:PORT/…`;
@@ -150,58 +226,94 @@ pub fn probe_viewer(url: &str, timeout: std::time::Duration) -> Result<(), Strin
 
 /// Ends a recording: a file is renamed from its part file into place (see [`crate::files`]); a
 /// stream to a viewer is delivered ([`deliver`]: everything taken by the other side, within
-/// [`DELIVERY_TIMEOUT`]); the line to
-/// print says where the recording went; a stream the viewer did not take is an error (the command
-/// then exits non-zero, after writing its other outputs). `rec` must be the stream's last handle:
-/// a file's footer is written when it drops here.
+/// [`delivery_timeout`]); the line to print says where the recording went. A stream the viewer
+/// refused is an error (the command then exits non-zero, after writing its other outputs) unless
+/// the recording was also saved; one whose end the viewer did not confirm in time is said in the
+/// line, not an error (what it took it shows). `rec` must be the stream's last handle: a file's
+/// footer is written when it drops here.
 pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, String> {
     match sink {
         Sink::Save(p) => {
-            let target = crate::files::write_target(p);
-            let stream = crate::files::output_kind(p) == Ok(crate::files::OutputKind::Stream);
-            let part = crate::files::part_path(&target);
-            let fail = |e: String| {
-                if !stream {
-                    std::fs::remove_file(&part).ok();
-                }
-                format!(
-                    "cannot save {}: {e}{}",
-                    p.display(),
-                    if stream {
-                        ""
-                    } else {
-                        "; the file there before is kept"
-                    }
-                )
-            };
-            // Every write error of the recording is seen here (rrd_file keeps the first and
-            // fails every flush after it); the footer, written when the last handle drops, is
-            // checked on the file itself.
-            rec.flush_blocking().map_err(|e| fail(e.to_string()))?;
+            let flushed = rec.flush_blocking().map_err(|e| e.to_string());
             drop(rec);
-            if stream {
-                return Ok(format!("saved {}", p.display()));
-            }
-            check_rrd_whole(&part).map_err(&fail)?;
-            std::fs::File::open(&part)
-                .and_then(|f| f.sync_all())
-                .map_err(|e| fail(e.to_string()))?;
-            // Now whole, it takes the file's name (through a symlink: the file it points to).
-            std::fs::rename(&part, &target).map_err(|e| fail(e.to_string()))?;
-            Ok(format!("saved {}", p.display()))
+            complete_file(p, flushed)
+        }
+        Sink::ConnectAndSave(url, p, copy) => {
+            let start = std::time::Instant::now();
+            let timeout = delivery_timeout();
+            // Both sinks flushed; the file's own errors are its handle's.
+            let streamed = rec.flush_with_timeout(timeout);
+            let file_end = copy.0.get().map_or_else(
+                || Err("the file was never opened".to_string()),
+                rrd_file::Handle::finish,
+            );
+            let saved = complete_file(p, file_end)?;
+            let left = timeout.saturating_sub(start.elapsed());
+            let line = match streamed.map_err(Delivery::from).and_then(|()| deliver(rec, left)) {
+                Ok(()) => format!("streamed to {url}"),
+                Err(Delivery::Unconfirmed(e)) => format!(
+                    "streamed to {url} (its end not confirmed: {e}; what the viewer shows may lack the last samples)"
+                ),
+                Err(Delivery::Refused(e)) => format!("the viewer at {url} did NOT take the recording ({e})"),
+            };
+            Ok(format!("{saved}; {line}"))
         }
         Sink::Spawn | Sink::Connect(_) => {
             let (to, viewer) = match sink {
                 Sink::Connect(u) => (u.clone(), format!("the viewer at {u}")),
                 _ => ("the spawned viewer".to_string(), "the spawned viewer".to_string()),
             };
-            deliver(rec, DELIVERY_TIMEOUT)
-                .map(|()| format!("streamed to {to}"))
-                .map_err(|e| {
-                    format!("the recording was NOT delivered: {viewer} did not take it ({e}); run again with --save FILE")
-                })
+            let timeout = delivery_timeout();
+            let start = std::time::Instant::now();
+            let streamed = rec.flush_with_timeout(timeout).map_err(Delivery::from);
+            match streamed.and_then(|()| deliver(rec, timeout.saturating_sub(start.elapsed()))) {
+                Ok(()) => Ok(format!("streamed to {to}")),
+                Err(Delivery::Unconfirmed(e)) => Ok(format!(
+                    "streamed to {to}; its end was not confirmed ({e}): what the viewer shows may lack the last samples (--save FILE keeps a copy)"
+                )),
+                Err(Delivery::Refused(e)) => Err(format!(
+                    "the recording was NOT delivered: {viewer} did not take it ({e}); run again with --save FILE"
+                )),
+            }
         }
     }
+}
+
+/// The end of a saved recording: `flushed` (every write's first error, the footer's included)
+/// checked, the part file checked whole, synced and renamed onto the target; a stream (a FIFO,
+/// a device) is written in place. The line to print, or why the file was not saved (the file
+/// there before is kept).
+fn complete_file(p: &std::path::Path, flushed: Result<(), String>) -> Result<String, String> {
+    let target = crate::files::write_target(p);
+    let stream = crate::files::output_kind(p) == Ok(crate::files::OutputKind::Stream);
+    let part = crate::files::part_path(&target);
+    let fail = |e: String| {
+        if !stream {
+            std::fs::remove_file(&part).ok();
+        }
+        format!(
+            "cannot save {}: {e}{}",
+            p.display(),
+            if stream {
+                ""
+            } else {
+                "; the file there before is kept"
+            }
+        )
+    };
+    // Every write error of the recording is seen here (rrd_file keeps the first and fails every
+    // flush after it); the footer is checked on the file itself.
+    flushed.map_err(&fail)?;
+    if stream {
+        return Ok(format!("saved {}", p.display()));
+    }
+    check_rrd_whole(&part).map_err(&fail)?;
+    std::fs::File::open(&part)
+        .and_then(|f| f.sync_all())
+        .map_err(|e| fail(e.to_string()))?;
+    // Now whole, it takes the file's name (through a symlink: the file it points to).
+    std::fs::rename(&part, &target).map_err(|e| fail(e.to_string()))?;
+    Ok(format!("saved {}", p.display()))
 }
 
 /// Checks that the recording file `path` ends with the stream footer the SDK writes last (`RRF2`
@@ -240,27 +352,48 @@ fn check_rrd_whole(path: &std::path::Path) -> Result<(), String> {
 /// stream's queue sent and the call closed by the other side (see [`deliver`]).
 pub const DELIVERY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(20);
 
+/// [`DELIVERY_TIMEOUT`], or the seconds of `KECSIM_DELIVERY_WAIT_S`.
+pub fn delivery_timeout() -> std::time::Duration {
+    crate::files::wait_from_env("KECSIM_DELIVERY_WAIT_S", DELIVERY_TIMEOUT)
+}
+
+/// Why a stream's delivery is not confirmed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Delivery {
+    /// The other side refused the stream or failed (nothing, or not all, arrived).
+    Refused(String),
+    /// The stream went out but its end was not confirmed in time (a slow or busy viewer: what
+    /// was sent may well have arrived).
+    Unconfirmed(String),
+}
+
+impl From<rerun::sink::SinkFlushError> for Delivery {
+    fn from(e: rerun::sink::SinkFlushError) -> Delivery {
+        match e {
+            rerun::sink::SinkFlushError::Timeout => Delivery::Unconfirmed(e.to_string()),
+            _ => Delivery::Refused(e.to_string()),
+        }
+    }
+}
+
 /// Ends a stream to a viewer or a server and waits, at most `timeout`, until the other side has
 /// taken everything: the SDK's flush only hands the queued messages to its network task (a
 /// process that exits then loses the last of them in flight: the summary, the last rows), while
 /// dropping the stream's last handle sends what is queued, ends the call and waits for the other
 /// side to close it — the confirmation. That wait has no end in the SDK (a viewer that stopped
 /// answering), so the drop runs on a thread of its own, waited for with `timeout`; past it the
-/// stream is left to the process's exit, and the error says so.
-pub fn deliver(rec: RecordingStream, timeout: std::time::Duration) -> Result<(), String> {
-    let start = std::time::Instant::now();
-    rec.flush_with_timeout(timeout).map_err(|e| e.to_string())?;
+/// stream is left to the process's exit ([`Delivery::Unconfirmed`]).
+pub fn deliver(rec: RecordingStream, timeout: std::time::Duration) -> Result<(), Delivery> {
     let (done, confirmed) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
         drop(rec);
         let _ = done.send(());
     });
-    let left = timeout.saturating_sub(start.elapsed());
-    confirmed.recv_timeout(left).map_err(|_| {
-        format!(
+    confirmed.recv_timeout(timeout).map_err(|_| {
+        Delivery::Unconfirmed(format!(
             "the end of the stream was not confirmed within {:.0} s",
             timeout.as_secs_f64()
-        )
+        ))
     })
 }
 
@@ -272,6 +405,22 @@ pub fn open_recording(
     layout: impl Fn() -> Layout,
 ) -> Result<RecordingStream, InspectError> {
     open_recording_with(app_id, sink, layout).map(|(rec, _)| rec)
+}
+
+/// The file a recording is saved to: its part file beside the target (renamed onto it by
+/// [`finish_recording`]: a reader never sees half a recording, one that fails keeps the old
+/// file), or a stream (`/dev/stdout`, a named pipe: its reader waited for, at most
+/// [`crate::files::stream_wait`]).
+fn open_rrd_file(path: &std::path::Path) -> Result<std::fs::File, InspectError> {
+    let open_failed =
+        |e: String| InspectError::Model(format!("cannot save the recording to {}: {e}", path.display()));
+    if crate::files::output_kind(path) == Ok(crate::files::OutputKind::Stream) {
+        crate::files::open_stream(path).map_err(|e| open_failed(e.to_string()))
+    } else {
+        let target = crate::files::write_target(path);
+        crate::files::create_side_file(&crate::files::part_path(&target))
+            .map_err(|e| open_failed(e.to_string()))
+    }
 }
 
 /// [`open_recording`], also returning the layout as sent (to change it later).
@@ -289,17 +438,34 @@ pub fn open_recording_with(
         // never sees half a recording; one that fails keeps the old file), or into a stream
         // (`/dev/stdout`, a named pipe: its reader waited for, at most files::STREAM_WAIT).
         Sink::Save(path) => {
-            let open_failed = |e: String| {
+            let file = open_rrd_file(path)?;
+            rrd_file::stream_into(app_id, file).map_err(|e| {
                 InspectError::Model(format!("cannot save the recording to {}: {e}", path.display()))
+            })?
+        }
+        Sink::ConnectAndSave(url, path, copy) => {
+            let file = open_rrd_file(path)?;
+            let (file_sink, handle) = rrd_file::sink_into(file).map_err(|e| {
+                InspectError::Model(format!("cannot save the recording to {}: {e}", path.display()))
+            })?;
+            let rerun::external::re_uri::RedapUri::Proxy(uri) = url.parse().map_err(|e| {
+                InspectError::Model(format!(
+                    "{url} is not a viewer's URL (rerun+http://HOST:PORT/proxy): {e}"
+                ))
+            })?
+            else {
+                return Err(InspectError::Model(format!(
+                    "{url} is not a viewer's URL (rerun+http://HOST:PORT/proxy)"
+                )));
             };
-            let file = if crate::files::output_kind(path) == Ok(crate::files::OutputKind::Stream) {
-                crate::files::open_stream(path).map_err(|e| open_failed(e.to_string()))?
-            } else {
-                let target = crate::files::write_target(path);
-                crate::files::create_side_file(&crate::files::part_path(&target))
-                    .map_err(|e| open_failed(e.to_string()))?
-            };
-            rrd_file::stream_into(app_id, file).map_err(open_failed)?
+            copy.0.set(handle).ok();
+            let grpc: Box<dyn rerun::sink::LogSink> = Box::new(rerun::sink::GrpcSink::new(uri));
+            builder()
+                .set_sinks(vec![file_sink, grpc])
+                .map_err(|source| InspectError::Open {
+                    what: format!("connecting to {url}"),
+                    source,
+                })?
         }
         Sink::Connect(url) => {
             builder()

@@ -11,7 +11,7 @@
 //! ([`super::finish_recording`]).
 
 use std::io::Write;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use re_log_encoding::{CrateVersion, Encoder, EncodingOptions};
@@ -27,7 +27,39 @@ struct State {
 }
 
 /// The sink handed to the recording stream.
-struct Sink(Mutex<State>);
+struct Sink(Arc<Mutex<State>>);
+
+/// The file of a sink handed to a stream that also goes elsewhere (a viewer, with `--connect`
+/// and `--save` together): its end is written by [`Handle::finish`] when the run ends, whatever
+/// the other sink's end waits for.
+#[derive(Clone)]
+pub struct Handle(Arc<Mutex<State>>);
+
+impl std::fmt::Debug for Handle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("rrd_file::Handle")
+    }
+}
+
+impl Handle {
+    /// Writes the file's footer and its last bytes (once; later messages are not written);
+    /// the first error of any write, if one failed.
+    pub fn finish(&self) -> Result<(), String> {
+        let mut s = lock(&self.0);
+        if let Some(e) = s.encoder.take() {
+            if let Err(e) = finish_encoder(e) {
+                s.error.get_or_insert(e);
+            }
+        }
+        s.error.clone().map_or(Ok(()), Err)
+    }
+}
+
+fn finish_encoder(mut e: Enc) -> Result<(), String> {
+    e.finish().map_err(|e| e.to_string())?;
+    let mut w = e.into_inner().map_err(|e| e.to_string())?;
+    w.flush().map_err(|e| e.to_string())
+}
 
 fn lock(s: &Mutex<State>) -> std::sync::MutexGuard<'_, State> {
     s.lock().unwrap_or_else(|e| e.into_inner())
@@ -69,20 +101,27 @@ impl LogSink for Sink {
 
 /// A recording stream that writes into `file` (see the module doc).
 pub fn stream_into(app_id: &'static str, file: std::fs::File) -> Result<rerun::RecordingStream, String> {
+    let (sink, _) = sink_into(file)?;
+    let rec = rerun::RecordingStreamBuilder::new(app_id)
+        .buffered()
+        .map_err(|e| e.to_string())?;
+    rec.set_sink(sink);
+    Ok(rec)
+}
+
+/// The sink that writes into `file`, and its handle (to end the file explicitly).
+pub fn sink_into(file: std::fs::File) -> Result<(Box<dyn LogSink>, Handle), String> {
     let encoder = Encoder::new_eager(
         CrateVersion::LOCAL,
         EncodingOptions::PROTOBUF_COMPRESSED,
         std::io::BufWriter::new(file),
     )
     .map_err(|e| e.to_string())?;
-    let rec = rerun::RecordingStreamBuilder::new(app_id)
-        .buffered()
-        .map_err(|e| e.to_string())?;
-    rec.set_sink(Box::new(Sink(Mutex::new(State {
+    let state = Arc::new(Mutex::new(State {
         encoder: Some(encoder),
         error: None,
-    }))));
-    Ok(rec)
+    }));
+    Ok((Box::new(Sink(state.clone())), Handle(state)))
 }
 
 impl Drop for Sink {
@@ -90,12 +129,8 @@ impl Drop for Sink {
     /// checks).
     fn drop(&mut self) {
         let mut s = lock(&self.0);
-        if let Some(mut e) = s.encoder.take() {
-            if e.finish().is_ok() {
-                if let Ok(mut w) = e.into_inner() {
-                    w.flush().ok();
-                }
-            }
+        if let Some(e) = s.encoder.take() {
+            finish_encoder(e).ok();
         }
     }
 }

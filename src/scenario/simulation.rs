@@ -213,8 +213,8 @@ pub struct IntegratorSpec {
     /// bdf: Newton iterations after the first skip the dynamics (creep forces, normal forces) of
     /// the wheelsets whose last correction is below this fraction of the Newton tolerance,
     /// carrying their rows forward by their Jacobian (0–10; default 0: never). Measured on the
-    /// kilometre (docs/performance.md, issue 52): no gain in wall time, so off by default. Given
-    /// with another method, it is refused.
+    /// kilometre (docs/performance.md, *Measured and not built*): no gain in wall time, so off by
+    /// default. Given with another method, it is refused.
     #[serde(default)]
     pub newton_reuse: Option<f64>,
 }

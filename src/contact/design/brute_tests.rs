@@ -184,6 +184,7 @@ fn ms_tram_pair() -> WheelRailPair {
 /// percentage points, the wall within 0.02 mm, the conicity at 2 and 3 mm within 3 %; and the
 /// realism checks pass.
 #[test]
+#[ignore = "slow: brute-force contact over the ms-tram wheel (~19 s)"]
 fn ms_tram_brute_force_contact_is_continuous_and_agrees() {
     let pair = ms_tram_pair();
     let table = LookupTable1::build(

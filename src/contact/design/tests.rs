@@ -34,6 +34,7 @@ fn shipped_target(text: &str) -> (DesignTarget, Profile, Inclination, TrackGauge
 /// y(γ) = ∫ (ρ_w − ρ_r) cos γ dγ = Δ sin γ). The design's wheel, with its roll iterated, must be
 /// that arc: its curvature from the profile's spline within 1 % of 1/(R + Δ).
 #[test]
+#[ignore = "slow: a wheel designed on a circular rail (~20 s)"]
 fn a_circular_rail_gets_the_conjugate_circle() {
     let (r, delta) = (0.080, 0.020);
     let s: Vec<f64> = (0..=800).map(|k| -0.04 + 0.08 * k as f64 / 800.0).collect();
@@ -107,6 +108,7 @@ fn a_circular_rail_gets_the_conjugate_circle() {
 /// anchors (y = 0 and the flank) are where the target puts them, and its flange is within
 /// EN 13715's measures.
 #[test]
+#[ignore = "slow: the stand-in wheel designed again from its target (~34 s)"]
 fn the_shipped_stand_in_is_its_target_designed() {
     let (t, rail, incl, gauge, ws) = ms_standin();
     let d = design_wheel(&rail, incl, gauge, ws, &t).unwrap();
@@ -192,6 +194,7 @@ fn profile_difference(a: &Profile, b: &Profile) -> f64 {
 /// the rail's joints, conicity ≤ 0.4 at 2 and 3 mm, a wall; while `ms-standin` fails the ones
 /// the review found (margin, speed, dwell), so the checks can tell them apart.
 #[test]
+#[ignore = "slow: the ms-tram wheel designed again from its target (~21 s)"]
 fn ms_tram_is_its_target_designed_and_realistic() {
     let (t, rail, incl, gauge, ws) = shipped_target(include_str!("../../../assets/designs/ms-tram.toml"));
     let d = design_wheel(&rail, incl, gauge, ws, &t).unwrap();

@@ -119,8 +119,9 @@ pub struct KecContact {
 /// path the solve already computed for the equations of motion (Eq. 49–50: dx/dq = −J⁻¹ ∂F/∂q).
 /// Between the RHS evaluations of a step and its neighbours q moves little, so Newton starts
 /// within its quadratic range: fewer iterations than from the last x alone (measured on the
-/// default kilometre in docs/performance.md, *Issue 52*). Where the prediction lands off a profile
-/// or fails, the solve's own fall-backs (the table guess) take over, as from any start.
+/// default kilometre in docs/performance.md, *The levers, measured*). Where the prediction lands
+/// off a profile or fails, the solve's own fall-backs (the table guess) take over, as from any
+/// start.
 #[derive(Debug, Clone, Copy)]
 struct KecWarm {
     q: [f64; N_Q],
