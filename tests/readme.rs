@@ -196,3 +196,32 @@ fn the_command_reader_finds_blocks_continuations_and_spans() {
     );
     assert_eq!(c[1].0, 4);
 }
+
+/// The README is a guide, not a record: at most 450 lines (the figures' history is
+/// CHANGELOG.md's), and no heading names an issue or a session in it or in docs/.
+#[test]
+fn the_readme_is_a_guide_and_the_docs_are_by_topic() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let n = readme.lines().count();
+    assert!(
+        n <= 450,
+        "README.md has {n} lines (at most 450: details go to docs/)"
+    );
+    let mut files = vec![root().join("README.md")];
+    for e in std::fs::read_dir(root().join("docs")).unwrap() {
+        files.push(e.unwrap().path());
+    }
+    for f in files.iter().filter(|p| p.extension().is_some_and(|e| e == "md")) {
+        let text = std::fs::read_to_string(f).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            let lower = line.to_lowercase();
+            let heading = line.starts_with('#');
+            assert!(
+                !(heading && (lower.contains("issue ") || lower.contains("session"))),
+                "{}:{}: a heading names an issue or a session: {line}",
+                f.display(),
+                i + 1
+            );
+        }
+    }
+}

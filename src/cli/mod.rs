@@ -413,25 +413,6 @@ fn similar_commands(typed: &str, names: &[String]) -> Vec<String> {
     near.into_iter().take(3).map(|(_, n)| n.clone()).collect()
 }
 
-#[cfg(test)]
-mod suggestion_tests {
-    use super::similar_commands;
-
-    #[test]
-    fn a_misspelt_command_finds_its_neighbours() {
-        let names: Vec<String> = [
-            "run", "profiles", "patch", "paper", "compare", "contact", "kec", "study",
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-        assert_eq!(similar_commands("rn", &names)[0], "run");
-        assert_eq!(similar_commands("pofiles", &names), vec!["profiles"]);
-        assert_eq!(similar_commands("cmp", &names), vec!["compare"]);
-        assert!(similar_commands("zzzzzz", &names).is_empty());
-    }
-}
-
 /// The title of a command's summary on a pair: `kecsim CMD: WHEEL on RAIL at INCLINATION`.
 fn title(command: &str, pair: &WheelRailPair) -> String {
     format!(
@@ -562,4 +543,23 @@ fn positive_mm(name: &str, v: f64) -> Result<f64> {
         "{name} {v}: expected a positive length in mm"
     );
     Ok(v * 1e-3)
+}
+
+#[cfg(test)]
+mod suggestion_tests {
+    use super::similar_commands;
+
+    #[test]
+    fn a_misspelt_command_finds_its_neighbours() {
+        let names: Vec<String> = [
+            "run", "profiles", "patch", "paper", "compare", "contact", "kec", "study",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        assert_eq!(similar_commands("rn", &names)[0], "run");
+        assert_eq!(similar_commands("pofiles", &names), vec!["profiles"]);
+        assert_eq!(similar_commands("cmp", &names), vec!["compare"]);
+        assert!(similar_commands("zzzzzz", &names).is_empty());
+    }
 }

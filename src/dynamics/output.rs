@@ -208,7 +208,7 @@ pub const BRIEF_WIDTH: usize = 100;
 
 impl RunSummary {
     /// The run's outcome in one line, what an engineer reads first: a failure or a derailment,
-    /// else the running-safety verdict ([`super::safety::Safety::verdict`]).
+    /// else the running-safety verdict (`Safety::verdict`).
     pub fn verdict(&self) -> String {
         if let Some(e) = &self.error {
             return format!("the run FAILED at t = {:.4} s: {e}", self.simulated_s);
