@@ -55,45 +55,86 @@ fn shown(c: &Comparison) -> Vec<String> {
 
 /// The layout without a 3D view: a tab per wheelset shown, the report.
 pub fn blueprint_for(wheelsets: &[String]) -> Layout {
-    let mut tabs = wheelset_tabs(wheelsets);
+    let mut tabs = wheelset_tabs(wheelsets, &|_, _| None);
     tabs.push(View::text_document("Report").origin("/compare/summary").into());
     Layout::new(Container::tabs(tabs)).timeline(TIME)
 }
 
 /// A tab per wheelset shown: its y, yaw and normal forces by model, and the differences from the
-/// first model against the paper's bounds, three plots a row.
-fn wheelset_tabs(wheelsets: &[String]) -> Vec<Item> {
-    let plot = |title: String, origin: String| View::time_series(title).origin(origin).into();
+/// first model, three plots a row. `extent(k, quantity)`: the differences' smallest and largest
+/// value on the `k`th wheelset shown (`dy_mm`, `dyaw_mrad`), so that their plots open on the data
+/// (a 0.007 mm difference lay flat on zero in a plot scaled to the paper's ± 1 mm), the bound in
+/// the title.
+fn wheelset_tabs(wheelsets: &[String], extent: &dyn Fn(usize, &str) -> Option<[f64; 2]>) -> Vec<Item> {
+    let plot = |title: String, origin: String| View::time_series(title).origin(origin);
+    let diff = |k: usize, w: &String, quantity: &str, label: &str, unit: &str, bound: f64| {
+        let base = format!("{w}: {label} from the first model [{unit}]");
+        let view = |title: String| plot(title, format!("/compare/{w}/{quantity}"));
+        match extent(k, quantity).and_then(|[lo, hi]| super::layout::round_range(lo.min(0.0), hi.max(0.0))) {
+            Some([lo, hi]) => {
+                let largest = lo.abs().max(hi.abs());
+                let title = if largest < bound {
+                    format!("{base}; the paper's ± {bound} {unit} lie off this scale")
+                } else {
+                    format!("{base} (grey: the paper's ± {bound} {unit})")
+                };
+                view(title).y_range(lo, hi).into()
+            }
+            None => view(format!("{base} (grey: the paper's ± {bound} {unit})")).into(),
+        }
+    };
     wheelsets
         .iter()
-        .map(|w| {
+        .enumerate()
+        .map(|(k, w)| {
             Container::grid(
                 3,
                 [
-                    plot(format!("{w}: y [mm]"), format!("/compare/{w}/y_mm")),
-                    plot(
-                        format!("{w}: Δy from the first model [mm] (grey: the paper's ± 1 mm)"),
-                        format!("/compare/{w}/dy_mm"),
-                    ),
+                    plot(format!("{w}: y [mm]"), format!("/compare/{w}/y_mm")).into(),
+                    diff(k, w, "dy_mm", "Δy", "mm", 1.0),
                     plot(
                         format!("{w}: normal force left [kN]"),
                         format!("/compare/{w}/normal_left_kn"),
-                    ),
-                    plot(format!("{w}: yaw [mrad]"), format!("/compare/{w}/yaw_mrad")),
-                    plot(
-                        format!("{w}: Δyaw [mrad] (grey: the paper's ± 0.5 mrad)"),
-                        format!("/compare/{w}/dyaw_mrad"),
-                    ),
+                    )
+                    .into(),
+                    plot(format!("{w}: yaw [mrad]"), format!("/compare/{w}/yaw_mrad")).into(),
+                    diff(k, w, "dyaw_mrad", "Δyaw", "mrad", 0.5),
                     plot(
                         format!("{w}: normal force right [kN]"),
                         format!("/compare/{w}/normal_right_kn"),
-                    ),
+                    )
+                    .into(),
                 ],
             )
             .named(w.clone())
             .into()
         })
         .collect()
+}
+
+/// The smallest and largest difference from the first model of `quantity` (`dy_mm`, `dyaw_mrad`)
+/// on the `k`th wheelset, over the samples every run covers (what [`record`] logs).
+fn difference_extent(c: &Comparison, k: usize, quantity: &str) -> Option<[f64; 2]> {
+    let f = |s: &Sample| match quantity {
+        "dy_mm" => s.y * 1e3,
+        _ => s.yaw * 1e3,
+    };
+    let first = &c.runs.first()?.output.wheelsets.get(k)?.1;
+    let mut range: Option<[f64; 2]> = None;
+    for run in c.runs.iter().skip(1) {
+        let other = &run.output.wheelsets.get(k)?.1;
+        for (a, b) in first
+            .iter()
+            .zip(other)
+            .take_while(|(a, _)| a.t <= c.common_s + 1e-9)
+        {
+            let d = f(b) - f(a);
+            if d.is_finite() {
+                range = Some(range.map_or([d, d], |[lo, hi]| [lo.min(d), hi.max(d)]));
+            }
+        }
+    }
+    range
 }
 
 /// Lateral spacing of the models' vehicles in the 3D view, m: each on a track of its own, drawn
@@ -121,14 +162,15 @@ pub fn blueprint(c: &Comparison) -> Layout {
     .origin(format!("/compare/world/{}/follow", first.model))
     .contents(["/compare/world/**"])
     .eye([12.0, -14.0 - spread, 9.0], [-8.0, 0.5 * spread, 1.0]);
+    // The result first: the report (its result lines, then the tables) above the vehicles.
     let mut tabs: Vec<Item> = vec![Container::vertical([
-        world.into(),
         View::text_document("Report").origin("/compare/summary").into(),
+        world.into(),
     ])
-    .shares([2.0, 1.0])
-    .named("Vehicles and report")
+    .shares([1.3, 1.0])
+    .named("Report and vehicles")
     .into()];
-    tabs.extend(wheelset_tabs(&shown(c)));
+    tabs.extend(wheelset_tabs(&shown(c), &|k, q| difference_extent(c, k, q)));
     Layout::new(Container::tabs(tabs)).timeline(TIME)
 }
 
@@ -141,7 +183,8 @@ fn record_world(rec: &RecordingStream, c: &Comparison, scene: &Scene) -> Result<
             root: format!("compare/world/{}", run.model),
             track: true,
             offset_m: k as f64 * MODEL_SPACING_M,
-            tint: (k > 0).then(|| Color::from_unmultiplied_rgba(r, g, b, 110)),
+            // Every model in its plots' colour (the first one too: it was left grey).
+            tint: Some(Color::from_unmultiplied_rgba(r, g, b, 110)),
         };
         let mut world = World3d::styled(scene, World3dSettings::default(), style);
         world.log_statics(rec)?;

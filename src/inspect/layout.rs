@@ -48,12 +48,12 @@ fn new_id() -> Uuid {
     Uuid::random()
 }
 
-/// A y range for data spanning `lo..=hi` whose axis is labelled at two values at least: the
-/// viewer labels its axes at powers of ten, and a range holding a single multiple of its decade
-/// step shows a single label (`0` on a ±7.5 mm plot). The data padded by 5 %, widened where
-/// needed to two multiples of its decade step D = 10^⌊log₁₀ span⌋, padded again by 3 % so that
-/// those labels sit inside (a flat series: ± 1 % of its value, or ± 1 at zero); None for no
-/// finite data.
+/// A y range for data spanning `lo..=hi` whose axis is labelled at three round values at least:
+/// the viewer labels its axes at powers of ten, and a range holding a single multiple of its
+/// decade step shows a single label (`0` on a ±7.5 mm plot). The data padded by 5 %, widened
+/// where needed to three multiples of its decade step D = 10^⌊log₁₀ span⌋, padded again by 3 %
+/// so that those labels sit inside (a flat series: ± 1 % of its value, or ± 1 at zero); None for
+/// no finite data.
 pub fn round_range(lo: f64, hi: f64) -> Option<[f64; 2]> {
     if !(lo.is_finite() && hi.is_finite()) || lo > hi {
         return None;
@@ -68,9 +68,18 @@ pub fn round_range(lo: f64, hi: f64) -> Option<[f64; 2]> {
     let (mut lo, mut hi) = (lo - pad, hi + pad);
     let decade = 10f64.powf((hi - lo).log10().floor());
     let multiples = (hi / decade).floor() - (lo / decade).ceil() + 1.0;
-    if multiples < 2.0 {
+    if multiples < 3.0 {
+        // Out to the round values either side, then one more step on the side nearer to the
+        // data's edge, until three multiples lie inside.
         lo = lo.min((lo / decade).floor() * decade);
         hi = hi.max((hi / decade).ceil() * decade);
+        while ((hi - lo) / decade).round() < 2.0 {
+            if hi - (hi / decade).ceil() * decade >= 0.0 && (lo / decade).fract() == 0.0 {
+                hi += decade;
+            } else {
+                lo -= decade;
+            }
+        }
         let pad = 0.03 * (hi - lo);
         lo -= pad;
         hi += pad;
@@ -712,10 +721,10 @@ mod tests {
         }
     }
 
-    /// y ranges that hold the data and two multiples of their decade step (two axis labels at
-    /// least), not more than 2.5 × the data's span.
+    /// y ranges that hold the data and three multiples of their decade step (three axis labels
+    /// at least), not more than 3.5 × the data's span.
     #[test]
-    fn y_ranges_hold_the_data_and_two_labels() {
+    fn y_ranges_hold_the_data_and_three_labels() {
         for (lo, hi) in [
             (-7.5, 7.5),
             (-8.3, 1.5),
@@ -724,14 +733,17 @@ mod tests {
             (18.996, 19.003),
             (-0.42, 3.95),
             (-4.1, 4.2),
+            (0.0, 0.0071),
+            (0.12, 0.19),
+            (95.0, 105.0),
         ] {
             let [a, b] = round_range(lo, hi).unwrap();
             assert!(a < lo && b > hi, "{lo}..{hi}: {a}..{b}");
             let d = 10f64.powf((b - a).log10().floor());
             let inside = ((a / d).ceil() as i64..=(b / d).floor() as i64).count();
-            assert!(inside >= 2, "{lo}..{hi}: {a}..{b}, step {d}");
+            assert!(inside >= 3, "{lo}..{hi}: {a}..{b}, step {d}");
             if hi > lo {
-                assert!(b - a <= 2.5 * (hi - lo), "{lo}..{hi}: {a}..{b}");
+                assert!(b - a <= 3.5 * (hi - lo), "{lo}..{hi}: {a}..{b}");
             }
         }
         assert_eq!(round_range(f64::NAN, 1.0), None);

@@ -33,6 +33,7 @@ pub mod run;
 pub mod study;
 pub mod track;
 pub mod world3d;
+pub mod xyplot;
 
 use std::path::PathBuf;
 

@@ -15,9 +15,10 @@
 //! * `time` — simulated time, s: Fig. 18–19 too.
 //!
 //! A view plots the time panel's timeline only (Rerun 0.36 views cannot choose their own,
-//! rerun-io/rerun#6828): the recording opens on its first tab, Fig. 14–16, with `y_um`; Fig. 17–19
-//! show after picking `distance_mm` in the time panel, which their titles say. Fig. 15 is static
-//! and always shows.
+//! rerun-io/rerun#6828): the recording opens on `distance_mm` (Fig. 17–19), and Fig. 14 and 16,
+//! sweeps over y, are shown as static x–y plots ([`super::xyplot`], `paper/fig14/plot_*`,
+//! `paper/fig16/plot_*`) so that every tab opens full; their series stay on `y_um` too. Fig. 15
+//! is static.
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
@@ -25,6 +26,7 @@
 //! | `paper/fig15/{real, equivalent, rail}` | LineStrips2D, static | right wheel real and KEC-equivalent, right rail (mm, `[Y, −Z]`) |
 //! | `paper/fig15/knife_edge` | Points2D, static | the knife edge |
 //! | `paper/fig16/{z_mm, roll_mrad}` | Scalars (real, KEC) on `y_um` | z − r0 and roll φ |
+//! | `paper/fig14/plot_{wheel,rail}`, `paper/fig16/plot_{z,roll}` | static x–y plots ([`super::xyplot`]) | Fig. 14 and 16 as shown |
 //! | `paper/fig17/{al,vp,gv,cl}_mm` | Scalars on `distance_mm` | irregularities |
 //! | `paper/fig18/{y_mm, yaw_mrad}/NAME` | Scalars (NAME kec, NAME TABLES) | y, ψ of the front bogie's bodies |
 //! | `paper/fig18/{dy_mm, dyaw_mrad}/NAME` | Scalars | \|KEC − tables\| |
@@ -98,18 +100,25 @@ fn plot(title: impl Into<String>, origin: impl Into<String>) -> Item {
     View::time_series(title).origin(origin.into()).into()
 }
 
+/// A static x–y plot of a sweep over y ([`super::xyplot`]): it shows whatever the time panel's
+/// timeline, so that the recording opens on the distance figures with this tab full too.
+fn sweep_plot(title: impl Into<String>, origin: impl Into<String>) -> Item {
+    let (x, y) = super::xyplot::BOUNDS;
+    View::spatial2d(title).origin(origin.into()).bounds(x, y).into()
+}
+
 /// Fig. 14 (the wheel and the rail side by side, as the paper's) above, Fig. 15 and Fig. 16
 /// below.
 pub fn contact_tab() -> Item {
     Container::vertical([
         Container::horizontal([
-            plot(
-                "Fig. 14: contact on the wheel s^w [mm] vs y [µm] (timeline y_um)",
-                "/paper/fig14/s_wheel_mm",
+            sweep_plot(
+                "Fig. 14: contact on the wheel s^w [mm] vs y [mm]; green left, blue right",
+                "/paper/fig14/plot_wheel",
             ),
-            plot(
-                "Fig. 14: contact on the rail s^r [mm] vs y [µm] (timeline y_um)",
-                "/paper/fig14/s_rail_mm",
+            sweep_plot(
+                "Fig. 14: contact on the rail s^r [mm] vs y [mm]; green left, blue right",
+                "/paper/fig14/plot_rail",
             ),
         ])
         .into(),
@@ -120,13 +129,13 @@ pub fn contact_tab() -> Item {
             .origin("/paper/fig15")
             .into(),
             Container::vertical([
-                plot(
-                    "Fig. 16: z − r0 [mm], real and KEC vs y [µm] (timeline y_um)",
-                    "/paper/fig16/z_mm",
+                sweep_plot(
+                    "Fig. 16: z − r0 [mm] vs y [mm]; real (white), KEC (orange)",
+                    "/paper/fig16/plot_z",
                 ),
-                plot(
-                    "Fig. 16: roll φ [mrad], real and KEC vs y [µm] (timeline y_um)",
-                    "/paper/fig16/roll_mrad",
+                sweep_plot(
+                    "Fig. 16: roll φ [mrad] vs y [mm]; real (white), KEC (orange)",
+                    "/paper/fig16/plot_roll",
                 ),
             ])
             .into(),
@@ -156,6 +165,29 @@ pub fn irregularity_tab() -> Item {
 
 /// Fig. 18: y and ψ above, their differences below (the paper's layout).
 pub fn kinematics_tab(tables: &str) -> Item {
+    kinematics_tab_scaled(tables, None)
+}
+
+/// [`kinematics_tab`], the difference plots opening on the largest differences `largest` (|Δy|
+/// mm, |Δψ| mrad; a 0.007 mm difference lay flat on zero in a plot scaled to the paper's 1 mm),
+/// the bound in the title.
+pub fn kinematics_tab_scaled(tables: &str, largest: Option<(f64, f64)>) -> Item {
+    let diff = |what: &str, unit: &str, bound: f64, largest: Option<f64>| -> Item {
+        let origin = format!("/paper/fig18/{}", if what == "y" { "dy_mm" } else { "dyaw_mrad" });
+        let sym = if what == "y" { "Δy" } else { "Δψ" };
+        match largest.and_then(|m| super::layout::round_range(0.0, m)) {
+            Some([lo, hi]) if hi < bound => View::time_series(format!(
+                "Fig. 18: |{sym}| [{unit}]; the paper's {bound} {unit} lies off this scale"
+            ))
+            .origin(origin)
+            .y_range(lo.max(-0.05 * hi), hi)
+            .into(),
+            _ => plot(
+                format!("Fig. 18: |{sym}| [{unit}] (grey: the paper's {bound} {unit})"),
+                origin,
+            ),
+        }
+    };
     Container::grid(
         2,
         [
@@ -167,14 +199,8 @@ pub fn kinematics_tab(tables: &str) -> Item {
                 format!("Fig. 18: yaw ψ [mrad], kec and {tables} (timeline distance_mm)"),
                 "/paper/fig18/yaw_mrad",
             ),
-            plot(
-                "Fig. 18: |Δy| [mm] (grey: the paper's 1 mm)",
-                "/paper/fig18/dy_mm",
-            ),
-            plot(
-                "Fig. 18: |Δψ| [mrad] (grey: the paper's 0.5 mrad)",
-                "/paper/fig18/dyaw_mrad",
-            ),
+            diff("y", "mm", 1.0, largest.map(|l| l.0)),
+            diff("yaw", "mrad", 0.5, largest.map(|l| l.1)),
         ],
     )
     .named("Fig. 18: front bogie")
@@ -220,7 +246,7 @@ pub fn blueprint_for(tables: &str, wheelsets: &[String]) -> Layout {
         forces_tab(tables, wheelsets),
         Container::vertical([summary_tab()]).named("Tab. 7: cost").into(),
     ]))
-    .timeline(Y_TIMELINE)
+    .timeline(DISTANCE)
     .play_state(super::layout::PlayState::Paused)
 }
 
@@ -237,7 +263,17 @@ fn wheelsets(f: &PaperFigures) -> Vec<String> {
 
 /// The layout for `f`.
 pub fn blueprint(f: &PaperFigures) -> Layout {
-    blueprint_for(&f.tables_model, &wheelsets(f))
+    let (dy, dpsi) = f.max_differences();
+    let tables = f.tables_model.as_str();
+    Layout::new(Container::tabs([
+        contact_tab(),
+        irregularity_tab(),
+        kinematics_tab_scaled(tables, Some((dy * 1e3, dpsi * 1e3))),
+        forces_tab(tables, &wheelsets(f)),
+        Container::vertical([summary_tab()]).named("Tab. 7: cost").into(),
+    ]))
+    .timeline(DISTANCE)
+    .play_state(super::layout::PlayState::Paused)
 }
 
 /// Records every figure and the summary `summary` (see the module doc).
@@ -299,6 +335,65 @@ fn record_contact(rec: &RecordingStream, f: &PaperFigures) -> Result<(), Inspect
             entity,
             values,
             2,
+        )?;
+    }
+    // The same sweeps as static plots (what the layout shows, whatever the timeline).
+    let curve = |g: &dyn Fn(&crate::paper::SweepRow) -> f64| -> Vec<(f64, f64)> {
+        f.sweep.iter().map(|r| (r.y * 1e3, g(r))).collect()
+    };
+    let white = Color::from_rgb(235, 235, 235);
+    let orange = Color::from_rgb(240, 110, 50);
+    for (entity, a, b, names, colors, widths) in [
+        (
+            "paper/fig14/plot_wheel",
+            curve(&|r| r.s_wheel[0] * 1e3),
+            curve(&|r| r.s_wheel[1] * 1e3),
+            ["left wheel", "right wheel"],
+            [rgb(LEFT), rgb(RIGHT)],
+            [2.0, 2.0],
+        ),
+        (
+            "paper/fig14/plot_rail",
+            curve(&|r| r.s_rail[0] * 1e3),
+            curve(&|r| r.s_rail[1] * 1e3),
+            ["left rail", "right rail"],
+            [rgb(LEFT), rgb(RIGHT)],
+            [2.0, 2.0],
+        ),
+        (
+            "paper/fig16/plot_z",
+            curve(&|r| r.z_real * 1e3),
+            curve(&|r| r.z_kec * 1e3),
+            ["real", "KEC"],
+            [white, orange],
+            [WIDE, THIN],
+        ),
+        (
+            "paper/fig16/plot_roll",
+            curve(&|r| r.roll_real * 1e3),
+            curve(&|r| r.roll_kec * 1e3),
+            ["real", "KEC"],
+            [white, orange],
+            [WIDE, THIN],
+        ),
+    ] {
+        super::xyplot::log(
+            rec,
+            entity,
+            &[
+                super::xyplot::Series {
+                    name: names[0],
+                    color: colors[0],
+                    width: widths[0],
+                    points: &a,
+                },
+                super::xyplot::Series {
+                    name: names[1],
+                    color: colors[1],
+                    width: widths[1],
+                    points: &b,
+                },
+            ],
         )?;
     }
     let p = &f.profiles;

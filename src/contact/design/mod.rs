@@ -951,14 +951,7 @@ impl DesignReport {
             "# kecsim design-wheel: '{}' on {} at {}\n\n",
             t.name, self.rail, inclination
         );
-        s += &format!(
-            "Target contact angle γ(y) of the left wheel (y towards its flange): {}\n\n",
-            t.contact_angle
-                .iter()
-                .map(|(y, g)| format!("{:+.2} mm → {:.2}°", y * 1e3, g.to_degrees()))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+        s += &format!("**Verdict**: {}\n\n", self.verdict());
         s += &format!(
             "Designed in {:.2} s: {} roll iterations (last change of φ {:.1e} rad); the designed pair's constraints give the target angle to {:.3}° (largest difference over the designed range)\n\n",
             self.design_s,
@@ -1024,7 +1017,7 @@ impl DesignReport {
         for (a, c, r) in &self.conicity {
             s += &format!("| {:.1} | {} | {} |\n", a * 1e3, f(c), f(r));
         }
-        s += "\nRealism on the centred gauge (issue 48; the thresholds and their reasons: `kecsim::contact::design::realism`; a failed check is flagged here, not refused):\n\n";
+        s += "\nRealism on the centred gauge (the thresholds and their reasons: `kecsim::contact::design::realism`; a failed check is flagged here, not refused):\n\n";
         let mut names = vec![t.name.as_str()];
         let mut figures = vec![&self.realism];
         if let Some(r) = &self.reference_realism {
@@ -1032,7 +1025,43 @@ impl DesignReport {
             figures.push(r);
         }
         s += &Realism::markdown(&names, &figures);
+        s += &format!(
+            "\nTarget contact angle γ(y) of the left wheel (y towards its flange): {}\n",
+            t.contact_angle
+                .iter()
+                .map(|(y, g)| format!("{:+.2} mm → {:.2}°", y * 1e3, g.to_degrees()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
         s
+    }
+
+    /// The design's verdict in one line: the contact jumps on the centred gauge and over the
+    /// gauge columns, the flange against EN 13715's ranges, the realism checks.
+    pub fn verdict(&self) -> String {
+        let centred = self.checks.iter().find(|c| c.gv == 0.0).map(|c| c.jumps.len());
+        let all: usize = self.checks.iter().map(|c| c.jumps.len()).sum();
+        let jumps = match centred {
+            Some(0) => format!(
+                "jump-free on the centred gauge ({})",
+                jump_free_span(&self.checks)
+            ),
+            Some(n) => format!("{n} CONTACT JUMPS on the centred gauge ({all} over the gauge columns)"),
+            None => format!("{all} contact jumps over the gauge columns"),
+        };
+        let flange = self.design.measures.problems();
+        let flange = if flange.is_empty() {
+            "the flange within EN 13715's ranges".to_string()
+        } else {
+            format!("the flange OUTSIDE EN 13715's ranges ({})", flange.join("; "))
+        };
+        let realism = self.realism.problems();
+        let realism = if realism.is_empty() {
+            "every realism check passed".to_string()
+        } else {
+            format!("{} realism checks FAILED ({})", realism.len(), realism.join("; "))
+        };
+        format!("{jumps}; {flange}; {realism}")
     }
 
     /// The profile file's header: where it comes from, where it runs and the target, so that it
