@@ -30,12 +30,10 @@ pub fn blueprint() -> Layout {
     let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
     let side_views = |side: &str| -> Container {
         Container::vertical([
-            View::spatial2d(format!(
-                "{side}: profiles and pressure along the rail (1 mm = {MPA_PER_MM} MPa)"
-            ))
-            .origin(format!("/patch/section/{side}"))
-            .into(),
-            View::spatial2d(format!("{side}: patches from above (x rolling, lateral up), mm"))
+            View::spatial2d(format!("{side}: profiles, pressure (1 mm = {MPA_PER_MM} MPa)"))
+                .origin(format!("/patch/section/{side}"))
+                .into(),
+            View::spatial2d(format!("{side}: patches from above [mm]"))
                 .origin(format!("/patch/shape/{side}"))
                 .into(),
         ])
@@ -43,17 +41,19 @@ pub fn blueprint() -> Layout {
     Layout::new(
         Container::vertical([
             Container::horizontal([
-                plot("pmax [MPa] (left)", "/patch/pmax_mpa/left"),
-                plot("pmax [MPa] (right)", "/patch/pmax_mpa/right"),
-                plot("N [kN] (left)", "/patch/fn_kn/left"),
-                plot("N [kN] (right)", "/patch/fn_kn/right"),
+                plot("pmax [MPa], left, vs shift y [0.1 mm]", "/patch/pmax_mpa/left"),
+                plot("pmax [MPa], right, vs shift y [0.1 mm]", "/patch/pmax_mpa/right"),
+                plot("N [kN], left, vs shift y [0.1 mm]", "/patch/fn_kn/left"),
+                plot("N [kN], right, vs shift y [0.1 mm]", "/patch/fn_kn/right"),
             ])
             .into(),
+            // The table whole: its panel as wide as both sides' views together.
             Container::horizontal([
                 side_views("left").into(),
                 side_views("right").into(),
                 View::text_document("Patches").origin("/patch/summary").into(),
             ])
+            .shares([1.0, 1.0, 2.0])
             .into(),
         ])
         .shares([1.0, 2.0]),

@@ -1,8 +1,9 @@
 //! `kecsim bench precision`: the work–precision diagram, error against wall time on log–log axes,
 //! one line per contact model and integrator through its tolerance sweep (each point labelled with
-//! its rtol), decade grid lines labelled; the report beside it. Plotted in 2D views with
-//! x = 100 log₁₀(wall time / s) and y = −100 log₁₀(error) (so that smaller errors lie lower, as on
-//! paper: the 2D view's y axis points down).
+//! its rtol), grid lines labelled (wall time at 1, 2, 5 × 10^k, error at its decades); the report
+//! below. Plotted in 2D views with x = 100 s_x log₁₀(wall time / s) and y = −100 log₁₀(error) (so
+//! that smaller errors lie lower, as on paper: the 2D view's y axis points down), s_x widening a
+//! decade of wall time so that the diagram is 1.6 times as wide as high.
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
@@ -16,9 +17,20 @@ use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument
 use super::{log_static, InspectError};
 use crate::compare::precision::{Precision, PrecisionRow};
 
-/// Plot coordinates of (wall s, error) on the log–log axes.
-fn at(wall: f64, error: f64) -> [f32; 2] {
-    [(100.0 * wall.log10()) as f32, (-100.0 * error.log10()) as f32]
+/// Plot coordinates of (wall s, error) on the log–log axes, a decade of wall time `sx` times as
+/// wide as a decade of error (so that a sweep over one decade of time and three of error is not
+/// drawn as a narrow column).
+fn at(wall: f64, error: f64, sx: f64) -> [f32; 2] {
+    [
+        (100.0 * sx * wall.log10()) as f32,
+        (-100.0 * error.log10()) as f32,
+    ]
+}
+
+/// The width of a decade of wall time against one of error: the diagram 1.6 times as wide as it
+/// is high, or square decades where that is wider already.
+fn decade_aspect(wall_decades: i32, error_decades: i32) -> f64 {
+    (1.6 * error_decades.max(1) as f64 / wall_decades.max(1) as f64).max(1.0)
 }
 
 /// The layout: Δy and Δψ diagrams side by side, the report below them.
@@ -67,17 +79,25 @@ pub fn record(rec: &RecordingStream, p: &Precision) -> Result<(), InspectError> 
         };
         let (wl, wh) = (10f64.powi(w0), 10f64.powi(w1));
         let (el, eh) = (10f64.powi(e0), 10f64.powi(e1));
+        let sx = decade_aspect(w1 - w0, e1 - e0);
+        let at = |w: f64, e: f64| at(w, e, sx);
         let mut strips = Vec::new();
         let mut labels = Vec::new();
+        // Wall time at 1, 2 and 5 in each decade (three labels at least on a single decade).
         for k in w0..=w1 {
-            let w = 10f64.powi(k);
-            strips.push(vec![at(w, el), at(w, eh)]);
-            labels.push(format!("{w:.0e} s"));
+            for m in [1.0, 2.0, 5.0] {
+                let w = m * 10f64.powi(k);
+                if w > wh * (1.0 + 1e-9) {
+                    break;
+                }
+                strips.push(vec![at(w, el), at(w, eh)]);
+                labels.push(format!("{} s", super::xyplot::short(w)));
+            }
         }
         for k in e0..=e1 {
             let e = 10f64.powi(k);
             strips.push(vec![at(wl, e), at(wh, e)]);
-            labels.push(format!("{e:.0e} {unit}"));
+            labels.push(format!("{} {unit}", super::xyplot::short(e)));
         }
         log_static(
             rec,

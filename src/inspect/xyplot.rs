@@ -47,6 +47,20 @@ pub fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     (first..=last).map(|i| i as f64 * step).collect()
 }
 
+/// A positive value in few characters: `0.02`, `5`, `1e-5` (below 0.001 or from 10⁵ on).
+pub fn short(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if !(1e-3..1e5).contains(&a) {
+        let s = format!("{v:.0e}");
+        return s;
+    }
+    let decimals = if a >= 1.0 { 0 } else { (-a.log10()).ceil() as usize };
+    format!("{v:.decimals$}")
+}
+
 /// A tick's label: as few decimals as its step needs.
 fn label(v: f64, step: f64) -> String {
     let decimals = if step >= 1.0 {
