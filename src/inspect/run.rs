@@ -457,11 +457,14 @@ pub fn blueprint_with(
                     View::time_series("running safety: Y/Q, 2 m mean, larger wheel (grey: Nadal's limit)")
                         .origin("/run/safety/y_over_q_2m")
                         .into(),
-                    View::time_series("ΣY, 2 m mean [kN] (grey: ± the smallest Prud'homme limit)")
+                    // One legend for the row (it hid ΣY's data): the wheelsets keep their colours.
+                    View::time_series("ΣY, 2 m mean [kN], colours as left (grey: ± Prud'homme's smallest)")
                         .origin("/run/safety/sum_y_2m_kn")
+                        .no_legend()
                         .into(),
-                    View::time_series("ΔQ/Q₀, larger wheel (grey: 0.6, EN 14363's limit)")
+                    View::time_series("ΔQ/Q₀, larger wheel, coloured as left (grey: 0.6, EN 14363's limit)")
                         .origin("/run/safety/delta_q_over_q0")
+                        .no_legend()
                         .into(),
                 ],
                 1.2,
