@@ -4,8 +4,9 @@
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
-//! | `run/shakedown/limit` | LineStrips2D static | the elastic shakedown limit p0/k = min(4, 1/μ) (drawn `[20 μ, −p0/k]`: μ 0.6 is 12 wide, p0/k up) |
+//! | `run/shakedown/limit` | LineStrips2D static | the elastic shakedown limit p0/k = min(4, 1/μ) (drawn `[40 μ, −p0/k]`: μ 0.6 is 24 wide, p0/k up) |
 //! | `run/shakedown/axes`, `run/shakedown/ticks` | LineStrips2D, Points2D static | axes with ticks (μ 0.25, 0.5; p0/k 4, 8, 12) |
+//! | `run/shakedown/regions` | Points2D static | the regions named: elastic shakedown below the limit, plastic shakedown and ratchetting above |
 //! | `run/shakedown/NAME` | Points2D static | every sample's contact of wheelset NAME's wheels, (μ, p0/k), at the run's end |
 //! | `run/wear/{wheel,rail}/NAME_SIDE` | BarChart static | where wheel NAME's SIDE wheel wears: the mass lost (mg) in 2 mm bins of s^w, of s^r, at the run's end |
 //! | `run/wear/{wheel,rail}/most_worn` | BarChart static | the same of the wheel with the largest wear per km |
@@ -24,8 +25,9 @@ use crate::dynamics::sample::Sample;
 use crate::dynamics::system::FloorPoint;
 use crate::dynamics::wear::{Wear, WearBin, BIN_MM};
 
-/// The shakedown map's drawing scale of μ (so that μ 0.6 spans as much as p0/k 12).
-pub const MU_SCALE: f32 = 20.0;
+/// The shakedown map's drawing scale of μ (μ 0.6 spans twice as much as p0/k 12: the map fills
+/// a wide panel).
+pub const MU_SCALE: f32 = 40.0;
 
 /// The comfort series (entity stems under `run/comfort/`) and their plots' titles.
 pub const COMFORT_SERIES: [(&str, &str); 4] = [
@@ -79,8 +81,26 @@ pub fn log_statics(rec: &RecordingStream) -> Result<(), InspectError> {
             .with_labels(labels)
             .with_colors([Color::from_rgb(150, 150, 150)])
             .with_radii([Radius::new_ui_points(2.0)]),
+    )?;
+    // The regions named where they lie: below the limit the rail shakes down elastically,
+    // above it plastic shakedown or ratchetting (μ > 0.3: surface ratchetting).
+    log_static(
+        rec,
+        "run/shakedown/regions",
+        &Points2D::new([map_xy(0.42, 1.6), map_xy(0.3, 9.5)])
+            .with_labels([
+                "below the red limit: elastic shakedown",
+                "above it: plastic shakedown, ratchetting",
+            ])
+            .with_colors([Color::from_rgb(200, 200, 200)])
+            .with_radii([Radius::new_ui_points(0.5)])
+            .with_show_labels(true),
     )
 }
+
+/// The map's drawing bounds (x: 40 μ over μ −0.08 … 0.65; y: −p0/k over 13.5 … −1.5), for the
+/// view's [`super::View::bounds`]: the map fills its panel.
+pub const SHAKEDOWN_BOUNDS: ([f64; 2], [f64; 2]) = ([-3.2, 26.0], [-13.5, 1.5]);
 
 /// A sample's wheels on the map (drawn; off the rail: none).
 pub fn shakedown_points(s: &Sample) -> Vec<[f32; 2]> {

@@ -493,10 +493,14 @@ pub fn blueprint_with(
     );
 
     let wear = Container::vertical([
+        // The map as wide as the two wear charts together.
         Container::horizontal([
-            View::spatial2d("Shakedown map: p0/k against μ, every wheel's contact (R260)")
-                .origin("/run/shakedown")
-                .into(),
+            View::spatial2d(
+                "Shakedown map (R260): p0/k against μ, every contact, wheelsets coloured as in Forces and safety",
+            )
+            .origin("/run/shakedown")
+            .bounds(assessment::SHAKEDOWN_BOUNDS.0, assessment::SHAKEDOWN_BOUNDS.1)
+            .into(),
             View::bar_chart("Most worn wheel: wear [mg] in 2 mm of the wheel profile s^w [mm]")
                 .origin("/run/wear/wheel/most_worn")
                 .no_legend()
@@ -506,6 +510,7 @@ pub fn blueprint_with(
                 .no_legend()
                 .into(),
         ])
+        .shares([2.0, 1.0, 1.0])
         .into(),
         Container::horizontal([
             View::spatial2d(RunningBands::title("left", band_unit_m))
