@@ -2,6 +2,7 @@
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
+//! | `run/bands/{left,right}/axes`, `…/tick_labels` | LineStrips2D, Points2D, static | the axes: the track in metres at round ticks over the run's distance from its first sample, s^r at −20, 0, 20 mm (both rails' views span the same track) |
 //! | `run/bands/left/K`, `run/bands/right/K` | Points2D, static | every wheel's contact on that rail, (s/u, −s^r): the track coordinate in units of u metres against the contact's position on the rail head in mm (paper convention; drawn upward), coloured by the normal force ([`force_color`]) |
 //!
 //! A 2D view keeps its axes' scales equal, so the track's unit u is chosen for the run's length
@@ -50,12 +51,73 @@ pub struct RunningBands {
     batches: usize,
     /// The track coordinate's unit u, m.
     unit_m: f64,
+    /// The distance the run is to cover, m (the axes' length; 0: none drawn).
+    distance_m: f64,
 }
 
 impl RunningBands {
     /// Bands whose track coordinate is in units of `unit_m` metres.
     pub fn new(unit_m: f64) -> RunningBands {
-        RunningBands { batches: 0, unit_m }
+        RunningBands {
+            batches: 0,
+            unit_m,
+            distance_m: 0.0,
+        }
+    }
+
+    /// [`Self::new`], with axes over `distance_m` from the first sample on: the track in metres
+    /// at round ticks, s^r at −20, 0, 20 mm; both rails' views then span the same track.
+    pub fn with_axes(unit_m: f64, distance_m: f64) -> RunningBands {
+        RunningBands {
+            distance_m,
+            ..RunningBands::new(unit_m)
+        }
+    }
+
+    /// The axes of both bands from the track coordinate `s0` (m) over the run's distance and
+    /// the wheelsets' `spread` (m: the front one's lead on the rearmost).
+    fn log_axes(&self, rec: &RecordingStream, s0: f64, spread: f64) -> Result<(), InspectError> {
+        let s1 = s0 + self.distance_m + spread.max(0.0);
+        let x = |s: f64| (s / self.unit_m) as f32;
+        // Below the band (s^r up to ±45 mm on a rail head, drawn −s^r).
+        let base = 50.0f32;
+        let ticks = super::xyplot::ticks(s0, s1);
+        let mut lines = vec![
+            vec![[x(s0), base], [x(s1), base]],
+            vec![[x(s0), -45.0], [x(s0), base]],
+        ];
+        let mut at = Vec::new();
+        let mut labels = Vec::new();
+        for &s in &ticks {
+            lines.push(vec![[x(s), base], [x(s), base + 4.0]]);
+            at.push([x(s), base + 10.0]);
+            labels.push(format!("{} m", super::xyplot::short(s).trim_end_matches(".0")));
+        }
+        for sr in [-20.0f32, 0.0, 20.0] {
+            lines.push(vec![[x(s0) - 2.0, -sr], [x(s0), -sr]]);
+            at.push([x(s0) - 9.0, -sr]);
+            labels.push(format!("{sr:+.0} mm"));
+        }
+        let grey = Color::from_rgb(150, 150, 150);
+        for side in ["left", "right"] {
+            log_static(
+                rec,
+                &format!("run/bands/{side}/axes"),
+                &rerun::LineStrips2D::new(lines.clone())
+                    .with_colors([grey])
+                    .with_radii([Radius::new_ui_points(1.0)]),
+            )?;
+            log_static(
+                rec,
+                &format!("run/bands/{side}/tick_labels"),
+                &Points2D::new(at.clone())
+                    .with_labels(labels.clone())
+                    .with_colors([grey])
+                    .with_radii([Radius::new_ui_points(0.5)])
+                    .with_show_labels(true),
+            )?;
+        }
+        Ok(())
     }
 
     /// The track coordinate's unit for a run over `distance_m`: 1, 2 or 5 × 10^k m, the one
@@ -88,6 +150,18 @@ impl RunningBands {
         let n: usize = samples.iter().map(Vec::len).sum();
         if n == 0 {
             return Ok(());
+        }
+        if self.batches == 0 && self.distance_m > 0.0 {
+            // From the rearmost wheelset's first sample to the front one's last.
+            let (s0, front) = samples
+                .iter()
+                .flatten()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), s| {
+                    (a.min(s.s), b.max(s.s))
+                });
+            if s0.is_finite() {
+                self.log_axes(rec, s0, front - s0)?;
+            }
         }
         for (wheel, side) in ["left", "right"].into_iter().enumerate() {
             let points = samples

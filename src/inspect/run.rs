@@ -173,13 +173,17 @@ pub fn plot_rows(table: &'static [Quantity], wheelsets: &[String]) -> Vec<Vec<Pl
 /// The running bands' track unit for `scene`'s run ([`RunningBands::unit_for`] the distance it
 /// covers; 0 m without a simulation).
 fn band_unit(scene: &Scene) -> f64 {
-    let distance = scene.simulation.as_ref().map_or(0.0, |(sim, _)| {
+    RunningBands::unit_for(band_distance(scene))
+}
+
+/// The distance the scene's run is to cover, m (its speed and ramp over its duration).
+fn band_distance(scene: &Scene) -> f64 {
+    scene.simulation.as_ref().map_or(0.0, |(sim, _)| {
         let t = sim.duration_s;
         (sim.speed_m_s * t + 0.5 * sim.speed_ramp_m_s2 * t * t)
             .max(sim.speed_m_s * t)
             .max(0.0)
-    });
-    RunningBands::unit_for(distance)
+    })
 }
 
 /// The layout for the run of `wheelsets` (by name) with the default 3D view
@@ -809,7 +813,7 @@ impl LiveRecorder {
             styled: std::collections::HashSet::new(),
             sent: 0,
             world: World3d::new(scene, *world),
-            bands: RunningBands::new(band_unit(scene)),
+            bands: RunningBands::with_axes(band_unit(scene), band_distance(scene)),
             shakedown: vec![Vec::new(); wheelsets.len()],
             floor_points: Vec::new(),
             floor_t: Vec::new(),
