@@ -672,9 +672,10 @@ fn the_3d_view_follows_the_simulated_states() {
         let points: Vec<[f32; 2]> = chunks
             .iter()
             .filter(|c| {
-                c.entity_path()
-                    .to_string()
-                    .starts_with(&format!("/run/bands/{side}/"))
+                // The band's batches (`K`), not its axes and their tick labels.
+                let path = c.entity_path().to_string();
+                path.strip_prefix(&format!("/run/bands/{side}/"))
+                    .is_some_and(|k| k.parse::<usize>().is_ok())
             })
             .flat_map(|c| {
                 c.iter_slices::<[f32; 2]>(rerun::Points2D::descriptor_positions().component)
