@@ -249,8 +249,14 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
                 rrd_file::Handle::finish,
             );
             let saved = complete_file(p, file_end)?;
-            let left = timeout.saturating_sub(start.elapsed());
-            let line = match streamed.map_err(Delivery::from).and_then(|()| deliver(rec, left)) {
+            // The stream is always let go on a thread of its own (its drop waits without end for
+            // a silent viewer); waited for only when the flush went through.
+            let left = match &streamed {
+                Ok(()) => timeout.saturating_sub(start.elapsed()),
+                Err(_) => std::time::Duration::ZERO,
+            };
+            let delivered = deliver(rec, left);
+            let line = match streamed.map_err(Delivery::from).and(delivered) {
                 Ok(()) => format!("streamed to {url}"),
                 Err(Delivery::Unconfirmed(e)) => format!(
                     "streamed to {url} (its end not confirmed: {e}; what the viewer shows may lack the last samples)"
@@ -267,7 +273,14 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
             let timeout = delivery_timeout();
             let start = std::time::Instant::now();
             let streamed = rec.flush_with_timeout(timeout).map_err(Delivery::from);
-            match streamed.and_then(|()| deliver(rec, timeout.saturating_sub(start.elapsed()))) {
+            // Let go on a thread of its own in any case (dropped here, a stream to a silent
+            // viewer would wait without end); waited for only when the flush went through.
+            let left = match &streamed {
+                Ok(()) => timeout.saturating_sub(start.elapsed()),
+                Err(_) => std::time::Duration::ZERO,
+            };
+            let delivered = deliver(rec, left);
+            match streamed.and(delivered) {
                 Ok(()) => Ok(format!("streamed to {to}")),
                 Err(Delivery::Unconfirmed(e)) => Ok(format!(
                     "streamed to {to}; its end was not confirmed ({e}): what the viewer shows may lack the last samples (--save FILE keeps a copy)"
