@@ -293,6 +293,23 @@ fn command_prints_table7_and_records_every_figure() {
     for e in ["real", "equivalent", "rail", "knife_edge"] {
         assert!(fig15.contains(&format!("/paper/fig15/{e}")), "{e}: {fig15:?}");
     }
+    // Fig. 17–19 as the layout shows them: static x–y figures against the distance, a line per
+    // series (Fig. 18: kec and tables for each of the three bodies), the legends beside them.
+    let statics: std::collections::HashSet<String> = chunks
+        .iter()
+        .filter(|c| c.is_static())
+        .map(|c| c.entity_path().to_string())
+        .collect();
+    for e in [
+        "/paper/fig17/plot_al/series/0",
+        "/paper/fig18/plot_y/series/5",
+        "/paper/fig18/plot_y/legend",
+        "/paper/fig18/plot_dyaw/series/2",
+        "/paper/fig19/plot_normal/w1/series/3",
+        "/paper/fig19/plot_dnormal/w2/legend",
+    ] {
+        assert!(statics.contains(e), "missing {e}");
+    }
     let summary = chunks
         .iter()
         .any(|c| c.entity_path().to_string() == "/paper/summary");

@@ -392,6 +392,25 @@ fn contact_sweep_writes_table_csv_and_recording() {
         rows.len(),
         "one contact point per row"
     );
+    // The plots as the layout shows them: static x–y figures against y in mm, the two-line ones
+    // with their legend, a cursor marker per line at every row (following the sections).
+    for e in [
+        "/contact/figures/dr_mm/series/0",
+        "/contact/figures/dr_mm/tick_labels",
+        "/contact/figures/s_wheel_mm/legend",
+        "/contact/figures/contact_angle_deg/cursor",
+    ] {
+        assert!(rec.contains_key(e), "missing {e}: {:?}", rec.keys());
+    }
+    assert!(
+        !rec.contains_key("/contact/figures/dr_mm/legend"),
+        "one line: no legend"
+    );
+    assert_eq!(
+        rec["/contact/figures/contact_angle_deg/cursor"].points.len(),
+        2 * rows.len(),
+        "a marker per side at every row"
+    );
 }
 
 #[test]

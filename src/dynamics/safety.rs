@@ -99,11 +99,41 @@ pub struct Safety {
 /// against the run's largest unloading).
 pub const DELTA_Q_LIMIT: f64 = 0.6;
 
-/// One figure against its limit: which wheelset, what, the figure and the limit.
+/// A running-safety criterion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Criterion {
+    /// Y/Q, 2 m mean, against Nadal's limit.
+    YOverQ,
+    /// ΣY, 2 m mean, kN, against Prud'homme's limit.
+    SumY,
+    /// ΔQ/Q₀ against [`DELTA_Q_LIMIT`].
+    DeltaQ,
+}
+
+impl Criterion {
+    /// Its symbol (`Y/Q`, `ΣY`, `ΔQ/Q₀`).
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Criterion::YOverQ => "Y/Q",
+            Criterion::SumY => "ΣY",
+            Criterion::DeltaQ => "ΔQ/Q₀",
+        }
+    }
+
+    /// A figure of it with its unit: `0.512`, `18.1 kN`.
+    pub fn format(self, v: f64) -> String {
+        match self {
+            Criterion::SumY => format!("{v:.1} kN"),
+            _ => format!("{v:.3}"),
+        }
+    }
+}
+
+/// One figure against its limit: which wheelset, what, the figure and the limit (ΣY in kN).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Utilisation {
     pub wheelset: String,
-    pub what: &'static str,
+    pub what: Criterion,
     pub value: f64,
     pub limit: f64,
 }
@@ -128,9 +158,9 @@ impl Safety {
             .iter()
             .flat_map(|w| {
                 [
-                    ("Y/Q", w.y_over_q_2m, self.nadal_limit),
-                    ("ΣY kN", w.sum_y_2m_n * 1e-3, w.prudhomme_limit_n * 1e-3),
-                    ("ΔQ/Q₀", w.delta_q_over_q0, self.delta_q_over_q0_limit),
+                    (Criterion::YOverQ, w.y_over_q_2m, self.nadal_limit),
+                    (Criterion::SumY, w.sum_y_2m_n * 1e-3, w.prudhomme_limit_n * 1e-3),
+                    (Criterion::DeltaQ, w.delta_q_over_q0, self.delta_q_over_q0_limit),
                 ]
                 .map(|(what, value, limit)| Utilisation {
                     wheelset: w.name.clone(),
@@ -148,14 +178,8 @@ impl Safety {
     /// or `running safety: LIMIT EXCEEDED: w1 Y/Q 1.52 over 1.37 (and 2 more)`.
     pub fn verdict(&self) -> String {
         let u = self.utilisations();
-        let fmt = |x: &Utilisation| match x.what {
-            "ΣY kN" => format!("{} ΣY {:.1} kN", x.wheelset, x.value),
-            _ => format!("{} {} {:.3}", x.wheelset, x.what, x.value),
-        };
-        let limit = |x: &Utilisation| match x.what {
-            "ΣY kN" => format!("{:.1} kN", x.limit),
-            _ => format!("{:.3}", x.limit),
-        };
+        let fmt = |x: &Utilisation| format!("{} {} {}", x.wheelset, x.what.symbol(), x.what.format(x.value));
+        let limit = |x: &Utilisation| x.what.format(x.limit);
         let over: Vec<&Utilisation> = u.iter().filter(|x| x.share() > 1.0).collect();
         match (over.first(), u.first()) {
             (Some(x), _) => format!(

@@ -129,7 +129,8 @@ pub fn log_shakedown_points(
 
 /// One floor point's accelerations and continuous comfort as series, at the sample times `t`
 /// (rate `fs_hz`) on the duration timeline `timeline`, its lines named by the point and drawn in
-/// `color` (one of its own: seven points in one plot).
+/// `color` (one of its own: seven points in one plot). Returns each plot's origin
+/// (`/run/comfort/STEM`) with the extent of this point's values in it (for its y range).
 pub fn log_floor_series(
     rec: &RecordingStream,
     timeline: &'static str,
@@ -138,10 +139,11 @@ pub fn log_floor_series(
     acc: &[[f64; 3]],
     fs_hz: f64,
     color: Color,
-) -> Result<(), InspectError> {
+) -> Result<Vec<(String, Vec<f64>)>, InspectError> {
     let n = t.len().min(acc.len());
+    let mut extents = Vec::new();
     if n == 0 {
-        return Ok(());
+        return Ok(extents);
     }
     let [cy, cz] = continuous_comfort(&acc[..n], fs_hz);
     let values = [
@@ -151,6 +153,13 @@ pub fn log_floor_series(
         cz,
     ];
     for ((stem, _), values) in COMFORT_SERIES.iter().zip(values) {
+        let finite = values.iter().copied().filter(|v| v.is_finite());
+        let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+        if lo <= hi {
+            extents.push((format!("/run/comfort/{stem}"), vec![lo, hi]));
+        }
         let time = TimeColumn::new_duration_secs(timeline, t[..n].iter().copied());
         let name = format!("{}_{}", point.carbody, point.point);
         send_scalar_rows(
@@ -163,7 +172,7 @@ pub fn log_floor_series(
             vec![color],
         )?;
     }
-    Ok(())
+    Ok(extents)
 }
 
 /// One wear histogram as a bar chart over the profile's coordinate (mm), bars [`BIN_MM`] wide.

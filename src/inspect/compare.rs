@@ -55,7 +55,7 @@ fn shown(c: &Comparison) -> Vec<String> {
 
 /// The layout without a 3D view: a tab per wheelset shown, the report.
 pub fn blueprint_for(wheelsets: &[String]) -> Layout {
-    let mut tabs = wheelset_tabs(wheelsets, &|_, _| None);
+    let mut tabs = wheelset_tabs(wheelsets, 2, &|_, _| None);
     tabs.push(View::text_document("Report").origin("/compare/summary").into());
     Layout::new(Container::tabs(tabs)).timeline(TIME)
 }
@@ -65,11 +65,29 @@ pub fn blueprint_for(wheelsets: &[String]) -> Layout {
 /// value on the `k`th wheelset shown (`dy_mm`, `dyaw_mrad`), so that their plots open on the data
 /// (a 0.007 mm difference lay flat on zero in a plot scaled to the paper's ± 1 mm), the bound in
 /// the title.
-fn wheelset_tabs(wheelsets: &[String], extent: &dyn Fn(usize, &str) -> Option<[f64; 2]>) -> Vec<Item> {
-    let plot = |title: String, origin: String| View::time_series(title).origin(origin);
+fn wheelset_tabs(
+    wheelsets: &[String],
+    models: usize,
+    extent: &dyn Fn(usize, &str) -> Option<[f64; 2]>,
+) -> Vec<Item> {
+    // Each plot's legend (a line per model) above its data (the y range raised to make room).
+    let values = |k: usize, title: String, quantity: &str, w: &String| -> Item {
+        let view = View::time_series(title)
+            .origin(format!("/compare/{w}/{quantity}"))
+            .legend_rows(models);
+        match extent(k, quantity).and_then(|[lo, hi]| super::layout::round_range(lo, hi)) {
+            Some([lo, hi]) => view.y_range(lo, hi).into(),
+            None => view.into(),
+        }
+    };
     let diff = |k: usize, w: &String, quantity: &str, label: &str, unit: &str, bound: f64| {
         let base = format!("{w}: {label} from the first model [{unit}]");
-        let view = |title: String| plot(title, format!("/compare/{w}/{quantity}"));
+        // The models but the first, and the bound.
+        let view = |title: String| {
+            View::time_series(title)
+                .origin(format!("/compare/{w}/{quantity}"))
+                .legend_rows(models)
+        };
         match extent(k, quantity).and_then(|[lo, hi]| super::layout::round_range(lo.min(0.0), hi.max(0.0))) {
             Some([lo, hi]) => {
                 let largest = lo.abs().max(hi.abs());
@@ -90,26 +108,48 @@ fn wheelset_tabs(wheelsets: &[String], extent: &dyn Fn(usize, &str) -> Option<[f
             Container::grid(
                 3,
                 [
-                    plot(format!("{w}: y [mm]"), format!("/compare/{w}/y_mm")).into(),
+                    values(k, format!("{w}: y [mm]"), "y_mm", w),
                     diff(k, w, "dy_mm", "Δy", "mm", 1.0),
-                    plot(
-                        format!("{w}: normal force left [kN]"),
-                        format!("/compare/{w}/normal_left_kn"),
-                    )
-                    .into(),
-                    plot(format!("{w}: yaw [mrad]"), format!("/compare/{w}/yaw_mrad")).into(),
+                    values(k, format!("{w}: normal force left [kN]"), "normal_left_kn", w),
+                    values(k, format!("{w}: yaw [mrad]"), "yaw_mrad", w),
                     diff(k, w, "dyaw_mrad", "Δyaw", "mrad", 0.5),
-                    plot(
-                        format!("{w}: normal force right [kN]"),
-                        format!("/compare/{w}/normal_right_kn"),
-                    )
-                    .into(),
+                    values(k, format!("{w}: normal force right [kN]"), "normal_right_kn", w),
                 ],
             )
             .named(w.clone())
             .into()
         })
         .collect()
+}
+
+/// The smallest and largest value of `quantity` (`y_mm`, `yaw_mrad`, `normal_left_kn`,
+/// `normal_right_kn`) on the `k`th wheelset over every model, over the samples every run covers
+/// (what [`record`] logs); None for another quantity.
+fn value_extent(c: &Comparison, k: usize, quantity: &str) -> Option<[f64; 2]> {
+    let f: fn(&Sample) -> f64 = match quantity {
+        "y_mm" => |s| s.y * 1e3,
+        "yaw_mrad" => |s| s.yaw * 1e3,
+        "normal_left_kn" => |s| s.normal[0] * 1e-3,
+        "normal_right_kn" => |s| s.normal[1] * 1e-3,
+        _ => return None,
+    };
+    let mut range: Option<[f64; 2]> = None;
+    for run in &c.runs {
+        for s in run
+            .output
+            .wheelsets
+            .get(k)?
+            .1
+            .iter()
+            .take_while(|s| s.t <= c.common_s + 1e-9)
+        {
+            let v = f(s);
+            if v.is_finite() {
+                range = Some(range.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]));
+            }
+        }
+    }
+    range
 }
 
 /// The smallest and largest difference from the first model of `quantity` (`dy_mm`, `dyaw_mrad`)
@@ -170,7 +210,10 @@ pub fn blueprint(c: &Comparison) -> Layout {
     .shares([1.3, 1.0])
     .named("Report and vehicles")
     .into()];
-    tabs.extend(wheelset_tabs(&shown(c), &|k, q| difference_extent(c, k, q)));
+    tabs.extend(wheelset_tabs(&shown(c), c.runs.len(), &|k, q| match q {
+        "dy_mm" | "dyaw_mrad" => difference_extent(c, k, q),
+        _ => value_extent(c, k, q),
+    }));
     Layout::new(Container::tabs(tabs)).timeline(TIME)
 }
 

@@ -11,6 +11,7 @@
 //! | `contact/plots/z_mm`, `roll_mrad`, `dr_mm` | Scalars on `y_um` | wheelset height z − r0, roll φ, Δr = r_left − r_right |
 //! | `contact/plots/s_wheel_mm`, `s_rail_mm` | Scalars (left, right) | contact position on wheel and rail (paper convention) |
 //! | `contact/plots/contact_angle_deg` | Scalars (left, right) | contact angles |
+//! | `contact/figures/*` | [`super::xyplot`], static; a cursor on `y_um` | the plots above drawn against y in mm, as the layout shows them |
 //! | `contact/summary` | TextDocument | conicity, jumps, interpolation error |
 
 use super::{Container, Item, Layout, View};
@@ -40,15 +41,15 @@ pub fn blueprint() -> Layout {
             ])
             .into(),
             Container::horizontal([
-                plot("z − r0 [mm]", "/contact/plots/z_mm"),
-                plot("roll [mrad]", "/contact/plots/roll_mrad"),
-                plot("Δr = r_left − r_right [mm]", "/contact/plots/dr_mm"),
+                plot("z − r0 [mm]", "/contact/plots/z_mm", false),
+                plot("roll [mrad]", "/contact/plots/roll_mrad", false),
+                plot("Δr = r_left − r_right [mm]", "/contact/plots/dr_mm", false),
             ])
             .into(),
             Container::horizontal([
-                plot("contact on wheel s^w [mm]", "/contact/plots/s_wheel_mm"),
-                plot("contact on rail s^r [mm]", "/contact/plots/s_rail_mm"),
-                plot("contact angle [deg]", "/contact/plots/contact_angle_deg"),
+                plot("contact on wheel s^w [mm]", "/contact/plots/s_wheel_mm", true),
+                plot("contact on rail s^r [mm]", "/contact/plots/s_rail_mm", true),
+                plot("contact angle [deg]", "/contact/plots/contact_angle_deg", true),
                 View::text_document("Summary").origin("/contact/summary").into(),
             ])
             .into(),
@@ -65,14 +66,32 @@ pub(crate) fn log_err(entity: &str) -> impl FnOnce(rerun::RecordingStreamError) 
     }
 }
 
-/// A plot of a sweep's function of y (on [`TIMELINE`]), its title naming the x quantity.
-pub(crate) fn sweep_plot(title: &str, origin: &str) -> Item {
-    View::time_series(format!("{title} against y [µm]"))
-        .origin(origin.to_string())
+/// The entity of the figure drawn from the series at `entity` (`…/plots/NAME` →
+/// `…/figures/NAME`).
+pub(crate) fn figure_entity(entity: &str) -> String {
+    entity.trim_start_matches('/').replacen("/plots/", "/figures/", 1)
+}
+
+/// A plot of a sweep's function of y: the static x–y figure of the series at `origin` (drawn by
+/// [`send_series`]; y in mm at round ticks, a marker at the time panel's y), its legend right of
+/// the plot where it has one, its title naming the axes.
+pub(crate) fn sweep_plot(title: &str, origin: &str, legend: bool) -> Item {
+    let (x, y) = if legend {
+        super::xyplot::BOUNDS_WITH_LEGEND
+    } else {
+        super::xyplot::BOUNDS
+    };
+    View::spatial2d(format!("{title} against y [mm]"))
+        .origin(format!("/{}", figure_entity(origin)))
+        .bounds(x, y)
         .into()
 }
 
-/// One scalar series (or a pair left/right) against y.
+/// The sweeps' two colours (left or real orange, right or KEC blue).
+const COLORS: [[u8; 3]; 2] = [[230, 120, 40], [60, 140, 230]];
+
+/// One scalar series (or a pair left/right) against y: the Scalars on [`TIMELINE`] at `entity`
+/// and their figure ([`sweep_plot`]).
 pub(crate) fn send_series(
     rec: &RecordingStream,
     entity: &str,
@@ -80,12 +99,57 @@ pub(crate) fn send_series(
     values: Vec<f64>,
     names: &[&str],
 ) -> Result<(), InspectError> {
-    let colors: Vec<Color> = [[230, 120, 40], [60, 140, 230]]
+    let colors: Vec<Color> = COLORS
         .iter()
         .take(names.len())
         .map(|c| Color::from_rgb(c[0], c[1], c[2]))
         .collect();
+    send_figure(rec, &figure_entity(entity), ys, &values, names, &colors)?;
     super::send_scalar_columns(rec, TIMELINE, entity, ys, values, names, colors)
+}
+
+/// The x–y figure of series against y (µm ticks `ys`, values interleaved by row as
+/// [`super::send_scalar_columns`] takes them): y in mm, a legend where there are several.
+pub(crate) fn send_figure(
+    rec: &RecordingStream,
+    entity: &str,
+    ys: &[i64],
+    values: &[f64],
+    names: &[&str],
+    colors: &[Color],
+) -> Result<(), InspectError> {
+    let n = names.len().max(1);
+    let points: Vec<Vec<(f64, f64)>> = (0..n)
+        .map(|k| {
+            ys.iter()
+                .zip(values.iter().skip(k).step_by(n))
+                .map(|(&y, &v)| (y as f64 * 1e-3, v))
+                .collect()
+        })
+        .collect();
+    let series: Vec<super::xyplot::Series<'_>> = names
+        .iter()
+        .zip(colors)
+        .zip(&points)
+        .enumerate()
+        // The first line wider, so that one lying on another (real under KEC) still shows.
+        .map(|(k, ((&name, &color), points))| super::xyplot::Series {
+            name,
+            color,
+            width: if k == 0 && n > 1 { 3.0 } else { 1.5 },
+            points,
+        })
+        .collect();
+    super::xyplot::log_with(
+        rec,
+        entity,
+        &series,
+        super::xyplot::Extras {
+            legend: names.len() > 1,
+            cursor: Some((TIMELINE, ys)),
+            ..Default::default()
+        },
+    )
 }
 
 /// Logs the real cross-sections of a sweep under `base` (`{base}/{left,right}/{rail,wheel,contact}`):

@@ -11,6 +11,7 @@
 //! | `creep/longitudinal/fx_n/{model}` | Scalars on `creepage_step` | Fx vs ξx, one line per normal load (½N, N, 1½N; a, b ∝ N^⅓) |
 //! | `creep/lateral/fy_n/{model}` | Scalars | Fy vs ξy at N, one line per spin |
 //! | `creep/lateral/mz_nm/{model}` | Scalars | spin moment Mz vs ξy at N, one line per spin (FASTSIM and the linear theory) |
+//! | `creep/figures/{fx,fy,mz}` | [`super::xyplot`], static; a cursor on `creepage_step` | the curves above against ξ in %, kN and N·m, as the layout shows them (legend: the models; a model's lines its shades) |
 //! | `creep/patch/ellipse` | LineStrips2D, static | the contact ellipse, mm (x rolling direction to the right, y lateral up) |
 //! | `creep/patch/{longitudinal,lateral}` | Points2D per step | FASTSIM traction distribution of each curve: adhesion (green) and slip (red) elements, size ∝ |p| |
 //! | `creep/summary` | TextDocument, static | inputs, Kalker coefficients, model parameters |
@@ -29,13 +30,26 @@ pub const TIMELINE: &str = "creepage_step";
 /// Layout: the three plots on top, the patch views and the summary below; the time cursor follows
 /// the data (opens at the end of the sweep: full sliding).
 pub fn blueprint() -> Layout {
-    let plot = |title: &str, origin: &str| View::time_series(title).origin(origin.to_string()).into();
+    // Static x–y figures (ξ in % at round ticks), the models named right of each plot.
+    let plot = |title: &str, origin: &str| {
+        let (x, y) = super::xyplot::BOUNDS_WITH_LEGEND;
+        View::spatial2d(title)
+            .origin(origin.to_string())
+            .bounds(x, y)
+            .into()
+    };
     Layout::new(
         Container::vertical([
             Container::horizontal([
-                plot("Fx [N] vs ξx (loads)", "/creep/longitudinal/fx_n"),
-                plot("Fy [N] vs ξy (spins)", "/creep/lateral/fy_n"),
-                plot("Mz [N·m] vs ξy (spins)", "/creep/lateral/mz_nm"),
+                plot(
+                    "Fx [kN] vs ξx [%] at N/2, N, 3N/2 (larger |Fx| at larger N)",
+                    "/creep/figures/fx",
+                ),
+                plot("Fy [kN] vs ξy [%], spins 0 and φ (φ darker)", "/creep/figures/fy"),
+                plot(
+                    "Mz [N·m] vs ξy [%], spins 0 and φ (φ darker)",
+                    "/creep/figures/mz",
+                ),
             ])
             .into(),
             Container::horizontal([
@@ -71,6 +85,9 @@ fn model_color(name: &str, shade: usize) -> Color {
     Color::from_rgb(c[0], c[1], c[2])
 }
 
+/// A figure's series: name, colour, points (ξ in %, value).
+type FigureSeries = (String, Color, Vec<(f64, f64)>);
+
 /// The spins shown on the lateral curves: 0 and the chosen one (0, 1, 2 1/m when it is 0).
 pub fn spins(spin: f64) -> Vec<f64> {
     if spin == 0.0 {
@@ -95,6 +112,14 @@ pub fn record(
     let ticks: Vec<i64> = (0..xis.len() as i64).map(|i| i - half).collect();
     let err = |e: crate::contact::forces::CreepForceError| InspectError::Model(e.to_string());
     let n0 = patch.normal_force;
+    // The figures' series (name, colour, points (ξ %, value)), every model's.
+    let mut figures: [Vec<FigureSeries>; 3] = Default::default();
+    let as_points = |values: &[f64], k: usize, n: usize, scale: f64| -> Vec<(f64, f64)> {
+        xis.iter()
+            .zip(values.iter().skip(k).step_by(n))
+            .map(|(&xi, &v)| (xi * 100.0, v * scale))
+            .collect()
+    };
     for model in models {
         let name = model.name();
         // Fx vs ξx for three loads.
@@ -114,7 +139,14 @@ pub fn record(
             .map(|n| format!("{name} N = {:.0} kN", n * 1e-3))
             .collect();
         let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        let colors = (0..loads.len()).map(|k| model_color(name, k)).collect();
+        let colors: Vec<Color> = (0..loads.len()).map(|k| model_color(name, k)).collect();
+        for k in 0..loads.len() {
+            figures[0].push((
+                names[k].clone(),
+                colors[k],
+                as_points(&values, k, loads.len(), 1e-3),
+            ));
+        }
         send_scalar_columns(
             rec,
             TIMELINE,
@@ -141,7 +173,19 @@ pub fn record(
         }
         let names: Vec<String> = spins.iter().map(|s| format!("{name} φ = {s} 1/m")).collect();
         let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        let colors = || (0..spins.len()).map(|k| model_color(name, k)).collect();
+        let colors = || {
+            (0..spins.len())
+                .map(|k| model_color(name, k))
+                .collect::<Vec<Color>>()
+        };
+        // Spin 0 in the model's colour, the others darker (shade 1).
+        let shade = |k: usize| model_color(name, if k == 0 { 0 } else { 1 });
+        for (k, label) in names.iter().enumerate() {
+            figures[1].push((label.clone(), shade(k), as_points(&fy, k, spins.len(), 1e-3)));
+            if name != "polach" {
+                figures[2].push((label.clone(), shade(k), as_points(&mz, k, spins.len(), 1.0)));
+            }
+        }
         send_scalar_columns(
             rec,
             TIMELINE,
@@ -162,6 +206,33 @@ pub fn record(
                 colors(),
             )?;
         }
+    }
+
+    // The figures: the legend names each model once, in its base colour.
+    let legend: Vec<(&str, Color)> = models
+        .iter()
+        .map(|m| (m.name(), model_color(m.name(), 0)))
+        .collect();
+    for (figure, entity) in figures.iter().zip(["fx", "fy", "mz"]) {
+        let series: Vec<super::xyplot::Series<'_>> = figure
+            .iter()
+            .map(|(name, color, points)| super::xyplot::Series {
+                name,
+                color: *color,
+                width: 1.5,
+                points,
+            })
+            .collect();
+        super::xyplot::log_with(
+            rec,
+            &format!("creep/figures/{entity}"),
+            &series,
+            super::xyplot::Extras {
+                legend: true,
+                legend_entries: &legend,
+                cursor: Some((TIMELINE, &ticks)),
+            },
+        )?;
     }
 
     // The ellipse, mm: x to the right, y up (Rerun's 2D view is Y-down).

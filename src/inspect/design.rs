@@ -8,6 +8,7 @@
 //! | `design/profiles/{rail,designed,reference}` | LineStrips2D, static | the left rail and both wheels centred on it, Y from the taping line |
 //! | `design/section/{designed,reference}/{left,right}/…` | as `kecsim contact` | each pair's wheels and contact points at every y |
 //! | `design/plots/{s_wheel_mm,s_rail_mm,contact_angle_deg,dr_mm}/{designed,reference}` | Scalars (left, right) on `y_um` | contact on wheel and rail, contact angles, Δr |
+//! | `design/figures/{s_wheel_mm,s_rail_mm,contact_angle_deg,dr_mm}` | [`super::xyplot`], static | both pairs' plots above against y in mm, as the layout shows them |
 //! | `design/summary` | TextDocument | target, flange measures, jumps, conicity |
 
 use super::{Container, Layout, View};
@@ -41,16 +42,18 @@ pub fn blueprint() -> Layout {
                 plot(
                     "contact on wheel s^w [mm] (Fig. 14 left)",
                     "/design/plots/s_wheel_mm",
+                    true,
                 ),
                 plot(
                     "contact on rail s^r [mm] (Fig. 14 right)",
                     "/design/plots/s_rail_mm",
+                    true,
                 ),
             ])
             .into(),
             Container::horizontal([
-                plot("contact angle [deg]", "/design/plots/contact_angle_deg"),
-                plot("Δr = r_left − r_right [mm]", "/design/plots/dr_mm"),
+                plot("contact angle [deg]", "/design/plots/contact_angle_deg", true),
+                plot("Δr = r_left − r_right [mm]", "/design/plots/dr_mm", true),
                 View::text_document("Summary").origin("/design/summary").into(),
             ])
             .into(),
@@ -68,6 +71,76 @@ fn strip(points: Vec<(f64, f64)>, l_w: f64, color: [u8; 3]) -> LineStrips2D {
         .with_radii([Radius::new_ui_points(1.5)])
 }
 
+/// The designed pair's colours (full) and the reference's (pale): left, right.
+fn pair_colors(name: &str) -> [Color; 2] {
+    let c = if name == "designed" {
+        [[230, 120, 40], [60, 140, 230]]
+    } else {
+        [[240, 190, 150], [160, 190, 225]]
+    };
+    c.map(|c| Color::from_rgb(c[0], c[1], c[2]))
+}
+
+/// Both pairs' functions of y drawn as the layout's figures (`design/figures/*`): the designed
+/// pair in full colour, the reference pale, y in mm.
+fn figures(rec: &RecordingStream, pairs: [(&LookupTable1, &str); 2]) -> Result<(), InspectError> {
+    type Of = fn(&TableRow) -> Vec<f64>;
+    let quantities: [(&str, Of, &[&str]); 4] = [
+        (
+            "s_wheel_mm",
+            |r| vec![r.x[2] * 1e3, r.x[4] * 1e3],
+            &["left", "right"],
+        ),
+        (
+            "s_rail_mm",
+            |r| vec![r.x[3] * 1e3, r.x[5] * 1e3],
+            &["left", "right"],
+        ),
+        (
+            "contact_angle_deg",
+            |r| vec![r.contact_angle[0].to_degrees(), r.contact_angle[1].to_degrees()],
+            &["left", "right"],
+        ),
+        ("dr_mm", |r| vec![r.delta_r() * 1e3], &["Δr"]),
+    ];
+    for (quantity, of, wheels) in quantities {
+        let mut names = Vec::new();
+        let mut colors = Vec::new();
+        let mut points = Vec::new();
+        for (table, pair) in pairs {
+            for (k, wheel) in wheels.iter().enumerate() {
+                names.push(format!("{pair} {wheel}"));
+                colors.push(pair_colors(pair)[k]);
+                points.push(
+                    table
+                        .rows
+                        .iter()
+                        .map(|r| (r.y * 1e3, of(r)[k]))
+                        .collect::<Vec<_>>(),
+                );
+            }
+        }
+        let series: Vec<super::xyplot::Series<'_>> = (0..names.len())
+            .map(|k| super::xyplot::Series {
+                name: &names[k],
+                color: colors[k],
+                width: 1.5,
+                points: &points[k],
+            })
+            .collect();
+        super::xyplot::log_with(
+            rec,
+            &format!("design/figures/{quantity}"),
+            &series,
+            super::xyplot::Extras {
+                legend: true,
+                ..Default::default()
+            },
+        )?;
+    }
+    Ok(())
+}
+
 /// One pair's functions of y under `design/plots/*/{name}`.
 fn plots(rec: &RecordingStream, table: &LookupTable1, name: &str) -> Result<(), InspectError> {
     let ys: Vec<i64> = table.rows.iter().map(|r| (r.y * 1e6).round() as i64).collect();
@@ -78,15 +151,7 @@ fn plots(rec: &RecordingStream, table: &LookupTable1, name: &str) -> Result<(), 
         format!("{name} right"),
         format!("{name} Δr"),
     );
-    let colors = |n: usize| -> Vec<Color> {
-        let full = [[230, 120, 40], [60, 140, 230]];
-        let pale = [[240, 190, 150], [160, 190, 225]];
-        let c = if name == "designed" { full } else { pale };
-        c.iter()
-            .take(n)
-            .map(|c| Color::from_rgb(c[0], c[1], c[2]))
-            .collect()
-    };
+    let colors = |n: usize| -> Vec<Color> { pair_colors(name).into_iter().take(n).collect() };
     let send_series = |rec: &RecordingStream, entity: &str, ys: &[i64], values: Vec<f64>, names: &[&str]| {
         super::send_scalar_columns(rec, TIMELINE, entity, ys, values, names, colors(names.len()))
     };
@@ -158,6 +223,13 @@ pub fn record(
     )?;
     plots(rec, &report.table, "designed")?;
     plots(rec, &report.reference_table, "reference")?;
+    figures(
+        rec,
+        [
+            (&report.table, "designed"),
+            (&report.reference_table, "reference"),
+        ],
+    )?;
     log_static(
         rec,
         "design/summary",

@@ -9,6 +9,7 @@
 //! | `kec/equivalent/{left,right}/knife_edge` | Points2D, static | the knife-edge rail (the contact, always) |
 //! | `kec/profiles/{left,right}` | LineStrips2D + Points2D, static | f^k(s^k) in its own frame, kinks marked |
 //! | `kec/plots/z_mm`, `kec/plots/roll_mrad` | Scalars (real, KEC) on `y_um` | kinematics from the real profiles and from KEC |
+//! | `kec/figures/z_mm`, `kec/figures/roll_mrad` | [`super::xyplot`], static; a cursor on `y_um` | the same against y in mm, as the layout shows them |
 //! | `kec/summary` | TextDocument | kinks, accuracy |
 
 use super::{Container, Layout, View};
@@ -36,12 +37,8 @@ pub fn blueprint() -> Layout {
             row("real", "Real profiles"),
             row("equivalent", "Knife-edge-equivalent profile"),
             Container::horizontal([
-                View::time_series("z − r0 [mm], real and KEC, against y [µm]")
-                    .origin("/kec/plots/z_mm")
-                    .into(),
-                View::time_series("roll [mrad], real and KEC, against y [µm]")
-                    .origin("/kec/plots/roll_mrad")
-                    .into(),
+                super::contact::sweep_plot("z − r0 [mm], real and KEC,", "/kec/plots/z_mm", true),
+                super::contact::sweep_plot("roll [mrad], real and KEC,", "/kec/plots/roll_mrad", true),
                 View::spatial2d("Equivalent profiles f^k(s^k) [mm]")
                     .origin("/kec/profiles")
                     .into(),

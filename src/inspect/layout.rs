@@ -87,6 +87,15 @@ pub fn round_range(lo: f64, hi: f64) -> Option<[f64; 2]> {
     Some([lo, hi])
 }
 
+/// `range` (a y range) raised so that a legend of `rows` lines in the view's top corner sits above
+/// the data, not on it: the data keep the lower 1 − f of the height, f = 0.06 + 0.08 · rows (a
+/// line ~18 px of a ~230 px plot), at most one half.
+pub fn legend_room(range: [f64; 2], rows: usize) -> [f64; 2] {
+    let f = (0.06 + 0.08 * rows as f64).min(0.5);
+    let [lo, hi] = range;
+    [lo, hi + (hi - lo) * f / (1.0 - f)]
+}
+
 /// A view of a layout: its class, title, origin, query and the properties it opens with.
 #[derive(Debug)]
 pub struct View {
@@ -96,6 +105,8 @@ pub struct View {
     origin: String,
     contents: Vec<String>,
     properties: Vec<(&'static str, Vec<SerializedComponentBatch>)>,
+    /// The lines of its legend, where it shows one ([`legend_room`]).
+    legend_rows: Option<usize>,
 }
 
 impl View {
@@ -107,6 +118,7 @@ impl View {
             origin: "/".into(),
             contents: vec!["$origin/**".into()],
             properties: Vec::new(),
+            legend_rows: None,
         }
     }
 
@@ -201,8 +213,31 @@ impl View {
         )
     }
 
-    /// A time-series view's y range.
+    /// A time-series view's y range, raised by [`legend_room`] where the view shows a legend.
     pub fn y_range(self, min: f64, max: f64) -> View {
+        let [min, max] = match self.legend_rows {
+            Some(rows) => legend_room([min, max], rows),
+            None => [min, max],
+        };
+        self.with_property(
+            "ScalarAxis",
+            &ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([
+                min, max,
+            ]))),
+        )
+    }
+
+    /// The number of lines the view's legend shows (2 unless said): the y ranges set later make
+    /// room for it ([`legend_room`]); call before [`View::y_range`].
+    pub fn legend_rows(mut self, rows: usize) -> View {
+        if self.legend_rows.is_some() {
+            self.legend_rows = Some(rows);
+        }
+        self
+    }
+
+    /// A y range as given, no room made for the legend.
+    pub fn y_range_exact(self, min: f64, max: f64) -> View {
         self.with_property(
             "ScalarAxis",
             &ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([
@@ -212,7 +247,8 @@ impl View {
     }
 
     /// A time-series view's legend in `corner`.
-    pub fn legend(self, corner: Corner2D) -> View {
+    pub fn legend(mut self, corner: Corner2D) -> View {
+        self.legend_rows = self.legend_rows.or(Some(2));
         self.with_property(
             "PlotLegend",
             &PlotLegend::new()
@@ -222,7 +258,8 @@ impl View {
     }
 
     /// A time-series view without a legend (one line, named by the title).
-    pub fn no_legend(self) -> View {
+    pub fn no_legend(mut self) -> View {
+        self.legend_rows = None;
         self.with_property(
             "PlotLegend",
             &PlotLegend::new().with_visible(Visible::from(false)),
@@ -606,7 +643,8 @@ impl SentLayout {
     }
 
     /// Sets the y range of every time-series view whose origin `range_of` knows: the data's
-    /// extent, widened where needed so that the axis has two labels at least ([`round_range`]).
+    /// extent, widened where needed so that the axis has three labels at least ([`round_range`]),
+    /// raised where the view shows a legend so that it sits above the data ([`legend_room`]).
     /// The range is a starting view: the user still zooms.
     pub fn set_y_ranges(
         self,
@@ -620,6 +658,10 @@ impl SentLayout {
             }
             let Some([lo, hi]) = range_of(&v.origin).and_then(|[a, b]| round_range(a, b)) else {
                 continue;
+            };
+            let [lo, hi] = match v.legend_rows {
+                Some(rows) => legend_room([lo, hi], rows),
+                None => [lo, hi],
             };
             self.bp.log(
                 format!("{}/ScalarAxis", v.blueprint_path()),
@@ -640,6 +682,24 @@ impl SentLayout {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The room made for a legend: the data keep the lower part of the range, the legend's band
+    /// above them grows with its lines, at most half the plot.
+    #[test]
+    fn a_legend_gets_a_band_above_the_data() {
+        let data = [-2.0, 8.0];
+        for rows in [1, 2, 4, 7, 20] {
+            let [lo, hi] = legend_room(data, rows);
+            assert_eq!(lo, data[0]);
+            let band = (hi - data[1]) / (hi - lo);
+            let expected = (0.06 + 0.08 * rows as f64).min(0.5);
+            assert!((band - expected).abs() < 1e-12, "{rows} rows: band {band}");
+        }
+        // Set through a view: the y range raised, a view without a legend left as given.
+        let with = View::time_series("a").legend_rows(4).y_range(0.0, 1.0);
+        let without = View::time_series("b").no_legend().y_range(0.0, 1.0);
+        assert!(with.legend_rows == Some(4) && without.legend_rows.is_none());
+    }
     use rerun::external::re_log_types::StoreKind;
 
     /// The blueprint entities a layout sends (their paths), from a memory sink, and whether it

@@ -240,23 +240,15 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
             complete_file(p, flushed)
         }
         Sink::ConnectAndSave(url, p, copy) => {
-            let start = std::time::Instant::now();
-            let timeout = delivery_timeout();
             // Both sinks flushed; the file's own errors are its handle's.
-            let streamed = rec.flush_with_timeout(timeout);
-            let file_end = copy.0.get().map_or_else(
-                || Err("the file was never opened".to_string()),
-                rrd_file::Handle::finish,
-            );
+            let (delivery, file_end) = end_stream(rec, || {
+                copy.0.get().map_or_else(
+                    || Err("the file was never opened".to_string()),
+                    rrd_file::Handle::finish,
+                )
+            });
             let saved = complete_file(p, file_end)?;
-            // The stream is always let go on a thread of its own (its drop waits without end for
-            // a silent viewer); waited for only when the flush went through.
-            let left = match &streamed {
-                Ok(()) => timeout.saturating_sub(start.elapsed()),
-                Err(_) => std::time::Duration::ZERO,
-            };
-            let delivered = deliver(rec, left);
-            let line = match streamed.map_err(Delivery::from).and(delivered) {
+            let line = match delivery {
                 Ok(()) => format!("streamed to {url}"),
                 Err(Delivery::Unconfirmed(e)) => format!(
                     "streamed to {url} (its end not confirmed: {e}; what the viewer shows may lack the last samples)"
@@ -270,17 +262,7 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
                 Sink::Connect(u) => (u.clone(), format!("the viewer at {u}")),
                 _ => ("the spawned viewer".to_string(), "the spawned viewer".to_string()),
             };
-            let timeout = delivery_timeout();
-            let start = std::time::Instant::now();
-            let streamed = rec.flush_with_timeout(timeout).map_err(Delivery::from);
-            // Let go on a thread of its own in any case (dropped here, a stream to a silent
-            // viewer would wait without end); waited for only when the flush went through.
-            let left = match &streamed {
-                Ok(()) => timeout.saturating_sub(start.elapsed()),
-                Err(_) => std::time::Duration::ZERO,
-            };
-            let delivered = deliver(rec, left);
-            match streamed.and(delivered) {
+            match end_stream(rec, || ()).0 {
                 Ok(()) => Ok(format!("streamed to {to}")),
                 Err(Delivery::Unconfirmed(e)) => Ok(format!(
                     "streamed to {to}; its end was not confirmed ({e}): what the viewer shows may lack the last samples (--save FILE keeps a copy)"
@@ -291,6 +273,23 @@ pub fn finish_recording(rec: RecordingStream, sink: &Sink) -> Result<String, Str
             }
         }
     }
+}
+
+/// The end of a stream: flushed within the delivery wait ([`delivery_timeout`]), `after_flush`
+/// run (a saved copy's end), then the stream let go on a thread of its own in any case — dropped
+/// here, a stream to a silent viewer would wait without end — waited for only when the flush went
+/// through. Returns the delivery and what `after_flush` returned.
+fn end_stream<T>(rec: RecordingStream, after_flush: impl FnOnce() -> T) -> (Result<(), Delivery>, T) {
+    let timeout = delivery_timeout();
+    let start = std::time::Instant::now();
+    let streamed = rec.flush_with_timeout(timeout).map_err(Delivery::from);
+    let after = after_flush();
+    let left = match &streamed {
+        Ok(()) => timeout.saturating_sub(start.elapsed()),
+        Err(_) => std::time::Duration::ZERO,
+    };
+    let delivered = deliver(rec, left);
+    (streamed.and(delivered), after)
 }
 
 /// The end of a saved recording: `flushed` (every write's first error, the footer's included)

@@ -14,11 +14,11 @@
 //!   samples (0.19 m apart at 19 m/s) on one tick;
 //! * `time` — simulated time, s: Fig. 18–19 too.
 //!
-//! A view plots the time panel's timeline only (Rerun 0.36 views cannot choose their own,
-//! rerun-io/rerun#6828): the recording opens on `distance_mm` (Fig. 17–19), and Fig. 14 and 16,
-//! sweeps over y, are shown as static x–y plots ([`super::xyplot`], `paper/fig14/plot_*`,
-//! `paper/fig16/plot_*`) so that every tab opens full; their series stay on `y_um` too. Fig. 15
-//! is static.
+//! A time-series view plots the time panel's timeline only (Rerun 0.36 views cannot choose their
+//! own, rerun-io/rerun#6828) and labels a sequence's ticks as they are (`#123 848`, mm): every
+//! figure is therefore shown as a static x–y plot ([`super::xyplot`]) — Fig. 14 and 16 against y
+//! in mm, Fig. 17–19 against the distance in m, each at round ticks — so that every tab opens
+//! full whatever the timeline; the series stay on their timelines too. Fig. 15 is static.
 //!
 //! | entity | archetype | what |
 //! |---|---|---|
@@ -28,6 +28,7 @@
 //! | `paper/fig16/{z_mm, roll_mrad}` | Scalars (real, KEC) on `y_um` | z − r0 and roll φ |
 //! | `paper/fig14/plot_{wheel,rail}`, `paper/fig16/plot_{z,roll}` | static x–y plots ([`super::xyplot`]) | Fig. 14 and 16 as shown |
 //! | `paper/fig17/{al,vp,gv,cl}_mm` | Scalars on `distance_mm` | irregularities |
+//! | `paper/fig17/plot_*`, `paper/fig18/plot_{y,yaw,dy,dyaw}`, `paper/fig19/plot_{normal,dnormal}/NAME` | static x–y plots ([`super::xyplot`]) | Fig. 17–19 as shown: against the distance in m at round ticks |
 //! | `paper/fig18/{y_mm, yaw_mrad}/NAME` | Scalars (NAME kec, NAME TABLES) | y, ψ of the front bogie's bodies |
 //! | `paper/fig18/{dy_mm, dyaw_mrad}/NAME` | Scalars | \|KEC − tables\| |
 //! | `paper/fig18/{dy_mm, dyaw_mrad}/bound` | Scalars | the paper's bounds, 1 mm and 0.5 mrad |
@@ -96,10 +97,6 @@ fn style(
     )
 }
 
-fn plot(title: impl Into<String>, origin: impl Into<String>) -> Item {
-    View::time_series(title).origin(origin.into()).into()
-}
-
 /// A static x–y plot of a sweep over y ([`super::xyplot`]): it shows whatever the time panel's
 /// timeline, so that the recording opens on the distance figures with this tab full too.
 fn sweep_plot(title: impl Into<String>, origin: impl Into<String>) -> Item {
@@ -148,14 +145,26 @@ pub fn contact_tab() -> Item {
     .into()
 }
 
+/// A static x–y figure along the distance ([`super::xyplot`]: s in m at round ticks), its legend
+/// right of the plot where it has one.
+fn distance_plot(title: impl Into<String>, origin: impl Into<String>, legend: bool) -> Item {
+    let (x, y) = if legend {
+        super::xyplot::BOUNDS_WITH_LEGEND
+    } else {
+        super::xyplot::BOUNDS
+    };
+    View::spatial2d(title).origin(origin.into()).bounds(x, y).into()
+}
+
 /// Fig. 17: the four irregularities, two by two.
 pub fn irregularity_tab() -> Item {
     Container::grid(
         2,
         IRREGULARITIES.iter().map(|(name, title, _)| {
-            plot(
-                format!("Fig. 17: {title} [mm] (timeline distance_mm)"),
-                format!("/paper/fig17/{name}_mm"),
+            distance_plot(
+                format!("Fig. 17: {title} [mm] along s [m]"),
+                format!("/paper/fig17/plot_{name}"),
+                false,
             )
         }),
     )
@@ -168,36 +177,32 @@ pub fn kinematics_tab(tables: &str) -> Item {
     kinematics_tab_scaled(tables, None)
 }
 
-/// [`kinematics_tab`], the difference plots opening on the largest differences `largest` (|Δy|
-/// mm, |Δψ| mrad; a 0.007 mm difference lay flat on zero in a plot scaled to the paper's 1 mm),
-/// the bound in the title.
+/// [`kinematics_tab`], the difference plots' titles giving their largest values `largest` (|Δy|
+/// mm, |Δψ| mrad) beside the paper's bounds: each plot is scaled to its data (a 0.007 mm
+/// difference lay flat on zero in a plot scaled to the paper's 1 mm).
 pub fn kinematics_tab_scaled(tables: &str, largest: Option<(f64, f64)>) -> Item {
     let diff = |what: &str, unit: &str, bound: f64, largest: Option<f64>| -> Item {
-        let origin = format!("/paper/fig18/{}", if what == "y" { "dy_mm" } else { "dyaw_mrad" });
+        let origin = format!("/paper/fig18/plot_d{what}");
         let sym = if what == "y" { "Δy" } else { "Δψ" };
-        match largest.and_then(|m| super::layout::round_range(0.0, m)) {
-            Some([lo, hi]) if hi < bound => View::time_series(format!(
-                "Fig. 18: |{sym}| [{unit}]; the paper's {bound} {unit} lies off this scale"
-            ))
-            .origin(origin)
-            .y_range(lo.max(-0.05 * hi), hi)
-            .into(),
-            _ => plot(
-                format!("Fig. 18: |{sym}| [{unit}] (grey: the paper's {bound} {unit})"),
-                origin,
-            ),
-        }
+        let max = largest.map_or(String::new(), |m| format!(" (max {})", significant(m)));
+        distance_plot(
+            format!("Fig. 18: |{sym}| [{unit}]{max}; the paper's bound {bound} {unit}"),
+            origin,
+            true,
+        )
     };
     Container::grid(
         2,
         [
-            plot(
-                format!("Fig. 18: lateral displacement y [mm], kec and {tables} (timeline distance_mm)"),
-                "/paper/fig18/y_mm",
+            distance_plot(
+                format!("Fig. 18: lateral displacement y [mm], kec and {tables}, along s [m]"),
+                "/paper/fig18/plot_y",
+                true,
             ),
-            plot(
-                format!("Fig. 18: yaw ψ [mrad], kec and {tables} (timeline distance_mm)"),
-                "/paper/fig18/yaw_mrad",
+            distance_plot(
+                format!("Fig. 18: yaw ψ [mrad], kec and {tables}, along s [m]"),
+                "/paper/fig18/plot_yaw",
+                true,
             ),
             diff("y", "mm", 1.0, largest.map(|l| l.0)),
             diff("yaw", "mrad", 0.5, largest.map(|l| l.1)),
@@ -207,18 +212,29 @@ pub fn kinematics_tab_scaled(tables: &str, largest: Option<(f64, f64)>) -> Item 
     .into()
 }
 
+/// A value to three significant digits (`0.00712`, `0.412`, `12.3`).
+fn significant(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let decimals = (2 - v.abs().log10().floor() as i64).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
 /// Fig. 19: a column per wheelset, the forces above, the differences below.
 pub fn forces_tab(tables: &str, wheelsets: &[String]) -> Item {
     let top = wheelsets.iter().map(|w| {
-        plot(
-            format!("Fig. 19: {w} normal forces [kN], kec and {tables} (timeline distance_mm)"),
-            format!("/paper/fig19/normal_kn/{w}"),
+        distance_plot(
+            format!("Fig. 19: {w} normal forces [kN], kec and {tables}, along s [m]"),
+            format!("/paper/fig19/plot_normal/{w}"),
+            true,
         )
     });
     let bottom = wheelsets.iter().map(|w| {
-        plot(
-            format!("Fig. 19: {w} |ΔN| [kN]"),
-            format!("/paper/fig19/dnormal_kn/{w}"),
+        distance_plot(
+            format!("Fig. 19: {w} |ΔN| [kN] along s [m]"),
+            format!("/paper/fig19/plot_dnormal/{w}"),
+            true,
         )
     });
     Container::grid(
@@ -447,8 +463,45 @@ fn record_irregularities(rec: &RecordingStream, f: &PaperFigures) -> Result<(), 
             &[name],
             vec![Color::from_rgb(color[0], color[1], color[2])],
         )?;
+        let points: Vec<(f64, f64)> = f.irregularities.iter().map(|r| (r.0, r.1[c] * 1e3)).collect();
+        figure(
+            rec,
+            &format!("paper/fig17/plot_{name}"),
+            vec![(
+                name.to_string(),
+                Color::from_rgb(color[0], color[1], color[2]),
+                1.0,
+                points,
+            )],
+        )?;
     }
     Ok(())
+}
+
+/// A figure's series: name, colour, width, points (distance m, value).
+type FigureSeries = (String, Color, f32, Vec<(f64, f64)>);
+
+/// Logs a static x–y figure along the distance ([`super::xyplot`]), with a legend where it has
+/// several series.
+fn figure(rec: &RecordingStream, entity: &str, series: Vec<FigureSeries>) -> Result<(), InspectError> {
+    let drawn: Vec<super::xyplot::Series<'_>> = series
+        .iter()
+        .map(|(name, color, width, points)| super::xyplot::Series {
+            name,
+            color: *color,
+            width: *width,
+            points,
+        })
+        .collect();
+    super::xyplot::log_with(
+        rec,
+        entity,
+        &drawn,
+        super::xyplot::Extras {
+            legend: series.len() > 1,
+            ..Default::default()
+        },
+    )
 }
 
 /// Fig. 18–19.
@@ -473,8 +526,37 @@ fn record_bogie(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectEr
             .flat_map(|(k, t)| [k * scale, t * scale])
             .collect()
     };
+    let along = |v: &[f64], scale: f64| -> Vec<(f64, f64)> {
+        g.distance_m
+            .iter()
+            .zip(v)
+            .map(|(&s, &v)| (s, v * scale))
+            .collect()
+    };
+    // Fig. 18's figures: y, ψ, |Δy|, |Δψ|.
+    let mut fig18: [Vec<FigureSeries>; 4] = Default::default();
     for (k, b) in g.kinematics.iter().enumerate() {
         let c = BODY[k % BODY.len()];
+        for (j, both) in [&b.y, &b.yaw].into_iter().enumerate() {
+            fig18[j].push((
+                format!("{} ({}) kec", b.name, b.role.name()),
+                rgb(c),
+                WIDE,
+                along(&both.kec, 1e3),
+            ));
+            fig18[j].push((
+                format!("{} {tables}", b.name),
+                tint(c),
+                THIN,
+                along(&both.tables, 1e3),
+            ));
+            fig18[2 + j].push((
+                format!("{} ({})", b.name, b.role.name()),
+                rgb(c),
+                1.5,
+                along(&both.abs_difference(), 1e3),
+            ));
+        }
         let names = [
             format!("{} ({}) kec", b.name, b.role.name()),
             format!("{} {tables}", b.name),
@@ -495,6 +577,9 @@ fn record_bogie(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectEr
                 vec![rgb(c)],
             )?;
         }
+    }
+    for (series, what) in fig18.into_iter().zip(["y", "yaw", "dy", "dyaw"]) {
+        figure(rec, &format!("paper/fig18/plot_{what}"), series)?;
     }
     // The paper's bounds on |Δy| and |Δψ| (1 mm, 0.5 mrad) over the run.
     for (quantity, bound) in super::PAPER_BOUNDS {
@@ -537,6 +622,32 @@ fn record_bogie(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectEr
             colors.extend([rgb(c), tint(c)]);
             short.push((x.side.name(), rgb(c)));
         }
+        let mut normal = Vec::new();
+        let mut dnormal = Vec::new();
+        for (k, x) in wheels.iter().enumerate() {
+            normal.push((
+                names[2 * k].clone(),
+                colors[2 * k],
+                WIDE,
+                along(&x.normal.kec, 1e-3),
+            ));
+            normal.push((
+                names[2 * k + 1].clone(),
+                colors[2 * k + 1],
+                THIN,
+                along(&x.normal.tables, 1e-3),
+            ));
+            let d: Vec<f64> = x
+                .normal
+                .kec
+                .iter()
+                .zip(&x.normal.tables)
+                .map(|(a, b)| (a - b).abs())
+                .collect();
+            dnormal.push((short[k].0.to_string(), short[k].1, 1.5, along(&d, 1e-3)));
+        }
+        figure(rec, &format!("paper/fig19/plot_normal/{w}"), normal)?;
+        figure(rec, &format!("paper/fig19/plot_dnormal/{w}"), dnormal)?;
         let entity = format!("paper/fig19/normal_kn/{w}");
         let widths = (0..names.len())
             .map(|k| if k % 2 == 0 { WIDE } else { THIN })

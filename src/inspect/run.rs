@@ -199,21 +199,24 @@ pub fn blueprint_for(wheelsets: &[String]) -> Layout {
     )
 }
 
-/// A time-series view of `plot`, its legend hidden where one line is named by the title.
-fn series_view(plot: Plot, legend: bool) -> Item {
+/// A time-series view of `plot` with a legend of `lines` lines (its y range, set at the end of the
+/// run, makes room for it above the data), hidden where one line is named by the title.
+fn series_view(plot: Plot, lines: usize) -> Item {
     let v = View::time_series(plot.title).origin(plot.origin);
-    if legend {
-        v.into()
+    if lines > 1 {
+        v.legend_rows(lines).into()
     } else {
         v.no_legend().into()
     }
 }
 
-/// Whether the series plotted at `origin` (`/run/NAME/ENTITY`) has more than one line.
-fn has_lines(table: &'static [Quantity], origin: &str) -> bool {
+/// The number of lines of the series plotted at `origin` (`/run/NAME/ENTITY`).
+fn lines(table: &'static [Quantity], origin: &str) -> usize {
     wheelset_series(table)
         .filter(|(_, s)| origin.ends_with(&format!("/{}", s.entity())))
-        .any(|(q, _)| q.value.width() > 1)
+        .map(|(q, _)| q.value.width())
+        .max()
+        .unwrap_or(1)
 }
 
 /// The name of the tab container holding every wheelset's plots of `panel` (the recorder puts the
@@ -232,8 +235,8 @@ fn wheelset_tabs(wheelsets: &[String], panels: &[Panel], name: String) -> Item {
                 Container::horizontal(
                     row.into_iter()
                         .map(|p| {
-                            let legend = has_lines(QUANTITIES, &p.origin);
-                            series_view(p, legend)
+                            let n = lines(QUANTITIES, &p.origin);
+                            series_view(p, n)
                         })
                         .collect::<Vec<_>>(),
                 )
@@ -245,6 +248,11 @@ fn wheelset_tabs(wheelsets: &[String], panels: &[Panel], name: String) -> Item {
     .named(name)
     .into()
 }
+
+/// The track strip's share of a tab's height: ~200 px of a 1000 px window, so that its y axes
+/// carry three labels (the viewer labels at decade steps with room between labels; at ~130 px the
+/// cant strip showed "0" alone).
+const TRACK_STRIP_SHARE: f32 = 1.0;
 
 /// The track under the front wheelset along the same x axis as the histories: its horizontal
 /// curvature and its cant (where on the track a history's feature happens).
@@ -405,7 +413,7 @@ pub fn blueprint_with(
             .into(),
             track_strip(),
         ])
-        .shares([2.2, 1.3, 0.8])
+        .shares([2.0, 1.2, 1.2])
         .into(),
     ])
     .shares([1.5, 1.0])
@@ -418,7 +426,12 @@ pub fn blueprint_with(
             .filter(|p| entities.iter().any(|e| p.origin.ends_with(&format!("/{e}"))))
             .map(|p| {
                 // A line per wheelset: a legend; the vehicle's own, one line: none.
-                series_view(p.clone(), p.title.starts_with("every wheelset:"))
+                let n = if p.title.starts_with("every wheelset:") {
+                    wheelsets.len()
+                } else {
+                    1
+                };
+                series_view(p.clone(), n)
             })
             .collect()
     };
@@ -450,7 +463,7 @@ pub fn blueprint_with(
                 )],
                 2.0,
             ),
-            (vec![track_strip()], 0.7),
+            (vec![track_strip()], TRACK_STRIP_SHARE),
         ],
         "Wheelsets",
     );
@@ -460,6 +473,7 @@ pub fn blueprint_with(
                 vec![
                     View::time_series("running safety: Y/Q, 2 m mean, larger wheel (grey: Nadal's limit)")
                         .origin("/run/safety/y_over_q_2m")
+                        .legend_rows(wheelsets.len() + 1)
                         .into(),
                     // One legend for the row (it hid ΣY's data): the wheelsets keep their colours.
                     View::time_series("ΣY, 2 m mean [kN], colours as left (grey: ± Prud'homme's smallest)")
@@ -491,7 +505,7 @@ pub fn blueprint_with(
                 )],
                 1.0,
             ),
-            (vec![track_strip()], 0.7),
+            (vec![track_strip()], TRACK_STRIP_SHARE),
         ],
         "Forces and safety",
     );
@@ -536,14 +550,16 @@ pub fn blueprint_with(
         let views: Vec<Item> = assessment::COMFORT_SERIES
             .iter()
             .map(|(stem, title)| {
+                // A line per floor point (the MS: seven; more than six take half the plot).
                 View::time_series(format!("every floor point: {title}"))
                     .origin(format!("/run/comfort/{stem}"))
+                    .legend_rows(7)
                     .into()
             })
             .collect();
         tabs.push(
             Container::vertical([Container::grid(2, views).into(), track_strip()])
-                .shares([4.0, 0.7])
+                .shares([4.0, 1.2])
                 .named("Comfort")
                 .into(),
         );
@@ -1376,7 +1392,11 @@ impl RunObserver for LiveRecorder {
         if n > 1 {
             let fs = (n - 1) as f64 / (self.floor_t[n - 1] - self.floor_t[0]);
             for (k, (p, a)) in self.floor_points.iter().zip(&self.floor_acc).enumerate() {
-                assessment::log_floor_series(&self.rec, TIME, p, &self.floor_t, a, fs, palette(k))?;
+                let extents =
+                    assessment::log_floor_series(&self.rec, TIME, p, &self.floor_t, a, fs, palette(k))?;
+                for (origin, values) in extents {
+                    self.widen(&origin, &values);
+                }
             }
         }
         let order = self.log_safety(summary)?;

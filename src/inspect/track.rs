@@ -11,6 +11,7 @@
 //! | `track/geometry/twist_mrad_per_m` | Scalars | ρ_tw, mrad/m |
 //! | `track/geometry/z_m` | Scalars | height of the centreline, m |
 //! | `track/irregularities/{al,vp,gv,cl}_mm` | Scalars | alignment, vertical profile, gauge variation, cross level, mm |
+//! | `track/figures/{geometry,irregularities}/*` | [`super::xyplot`], static | the series above against s in m, as the layout shows them |
 //! | `track/summary` | TextDocument | sections, end-of-track check, irregularity statistics |
 
 use super::{Container, Layout, View};
@@ -37,11 +38,12 @@ pub(crate) const IRREGULARITIES: [(&str, &str, [u8; 3]); 4] = [
 
 /// Layout: plan view and summary on the left, the s-diagrams on the right.
 pub fn blueprint() -> Layout {
-    // One line each, named by the title: no legend.
+    // One line each, named by the title: no legend; static x–y figures, s in m at round ticks.
     let plot = |title: &str, origin: &str| {
-        View::time_series(format!("{title} along s [mm]"))
-            .origin(origin.to_string())
-            .no_legend()
+        let (x, y) = super::xyplot::BOUNDS;
+        View::spatial2d(format!("{title} along s [m]"))
+            .origin(format!("/{}", figure_entity(origin)))
+            .bounds(x, y)
             .into()
     };
     Layout::new(
@@ -78,6 +80,14 @@ pub fn blueprint() -> Layout {
     .play_state(super::layout::PlayState::Paused)
 }
 
+/// The figure drawn from the series at `entity` (`track/X/NAME` → `track/figures/X/NAME`).
+fn figure_entity(entity: &str) -> String {
+    entity
+        .trim_start_matches('/')
+        .replacen("track/", "track/figures/", 1)
+}
+
+/// One series along s: the Scalars on [`TIMELINE`] at `entity` and its figure (s in m).
 fn series(
     rec: &RecordingStream,
     entity: &str,
@@ -86,6 +96,21 @@ fn series(
     name: &str,
     color: [u8; 3],
 ) -> Result<(), InspectError> {
+    let points: Vec<(f64, f64)> = s_mm
+        .iter()
+        .zip(&values)
+        .map(|(&s, &v)| (s as f64 * 1e-3, v))
+        .collect();
+    super::xyplot::log(
+        rec,
+        &figure_entity(entity),
+        &[super::xyplot::Series {
+            name,
+            color: Color::from_rgb(color[0], color[1], color[2]),
+            width: 1.0,
+            points: &points,
+        }],
+    )?;
     log_static(
         rec,
         entity,

@@ -332,11 +332,13 @@ impl World3d {
     /// The 3D view's title (with the exaggeration).
     pub fn title(settings: &World3dSettings) -> String {
         let forces = (1.0 / FORCE_SCALE_M_PER_N / 1e3).round();
+        // The colour key: the contact points and their forces.
+        let key = format!("contacts red (lifted grey), their forces orange, 1 m per {forces} kN");
         if settings.exaggerate == 1.0 {
-            format!("true scale; forces 1 m per {forces} kN")
+            format!("true scale; {key}")
         } else {
             format!(
-                "wheelsets' lateral and yaw × {}, bodies true scale; forces 1 m per {forces} kN",
+                "wheelsets' lateral and yaw × {}, bodies true scale; {key}",
                 settings.exaggerate
             )
         }
@@ -654,7 +656,8 @@ impl World3d {
                 format!("{}/vehicle/{}/contact", self.root, w.name),
                 Points3D::new(rows.iter().flat_map(|r| r.contact[k]))
                     .with_colors(rows.iter().flat_map(colors))
-                    .with_radii(std::iter::repeat_n(Radius::new_scene_units(0.04), 2 * n))
+                    // A fixed size on screen (4 cm showed as ~3 px in the whole-vehicle view).
+                    .with_radii(std::iter::repeat_n(Radius::new_ui_points(5.0), 2 * n))
                     .columns(std::iter::repeat_n(2, n))
                     .map(|c| Box::new(c) as Box<dyn Iterator<Item = _>>),
             )?;

@@ -5,7 +5,10 @@
 //!
 //! The plot is drawn in a box of [`WIDTH`] × [`HEIGHT`] drawing units (y down, as the 2D view's),
 //! the axes at its left and bottom edges with round ticks ([`ticks`]: three labels at least), each
-//! series a line strip named for hovering (the view's title says which is which).
+//! series a line strip named for hovering. Two extras ([`Extras`]): a legend right of the box
+//! (each series' name in its colour, outside the data; without it the view's title says which is
+//! which), and a cursor — a marker on each curve at the time panel's cursor, for a sweep whose
+//! other views (the cross-sections) follow that cursor.
 
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream};
 
@@ -75,9 +78,41 @@ fn label(v: f64, step: f64) -> String {
 /// [`super::View::bounds`].
 pub const BOUNDS: ([f64; 2], [f64; 2]) = ([-90.0, WIDTH + 20.0], [-20.0, HEIGHT + 70.0]);
 
+/// The width of the legend's column right of the box, drawing units (a label of ~20 characters
+/// in a ~450 px wide panel).
+pub const LEGEND_WIDTH: f64 = 380.0;
+
+/// The view's bounds for a plot with its legend right of the box ([`Extras::legend`]).
+pub const BOUNDS_WITH_LEGEND: ([f64; 2], [f64; 2]) =
+    ([-90.0, WIDTH + 20.0 + LEGEND_WIDTH], [-20.0, HEIGHT + 70.0]);
+
+/// What a plot shows besides its axes and curves.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Extras<'a> {
+    /// A legend right of the box, outside the data: each series' name in its colour, one a row
+    /// (`entity/legend`; the view then needs [`BOUNDS_WITH_LEGEND`]).
+    pub legend: bool,
+    /// The legend's entries where they are not the series' names (one a model whose lines are
+    /// its shades); empty: the series'.
+    pub legend_entries: &'a [(&'a str, Color)],
+    /// A marker on each curve at the time panel's cursor (`entity/cursor`): the timeline and the
+    /// time of each point index (the same for every series: `points[i]` at `times[i]`).
+    pub cursor: Option<(&'static str, &'a [i64])>,
+}
+
 /// Logs the plot under `entity` (static): `entity/axes`, `entity/ticks`, `entity/tick_labels`,
 /// `entity/series/K`. The axes' names go into the view's title (the caller's).
 pub fn log(rec: &RecordingStream, entity: &str, series: &[Series<'_>]) -> Result<(), InspectError> {
+    log_with(rec, entity, series, Extras::default())
+}
+
+/// [`log`] with a legend and/or a cursor ([`Extras`]).
+pub fn log_with(
+    rec: &RecordingStream,
+    entity: &str,
+    series: &[Series<'_>],
+    extras: Extras<'_>,
+) -> Result<(), InspectError> {
     let all = series.iter().flat_map(|s| s.points.iter());
     let (mut x0, mut x1, mut y0, mut y1) =
         (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
@@ -167,12 +202,129 @@ pub fn log(rec: &RecordingStream, entity: &str, series: &[Series<'_>]) -> Result
                 .with_show_labels(false),
         )?;
     }
+    if extras.legend {
+        // The names centred in the column right of the box, top down, each in its series' colour
+        // (a label takes its point's colour).
+        let entries: Vec<(&str, Color)> = if extras.legend_entries.is_empty() {
+            series.iter().map(|s| (s.name, s.color)).collect()
+        } else {
+            extras.legend_entries.to_vec()
+        };
+        let row = (HEIGHT / 10.0).min(HEIGHT / entries.len().max(1) as f64);
+        let x = (WIDTH + 20.0 + LEGEND_WIDTH / 2.0) as f32;
+        log_static(
+            rec,
+            &format!("{entity}/legend"),
+            &Points2D::new((0..entries.len()).map(|k| [x, (row * (k as f64 + 0.5)) as f32]))
+                .with_labels(entries.iter().map(|e| e.0))
+                .with_colors(entries.iter().map(|e| e.1))
+                .with_radii([Radius::new_ui_points(0.5)])
+                .with_show_labels(true),
+        )?;
+    }
+    if let Some((timeline, times)) = extras.cursor {
+        let cursor = format!("{entity}/cursor");
+        for (i, &t) in times.iter().enumerate() {
+            let (pts, colors): (Vec<[f32; 2]>, Vec<Color>) = series
+                .iter()
+                .filter_map(|s| s.points.get(i).map(|&p| (p, s.color)))
+                .filter(|((x, y), _)| x.is_finite() && y.is_finite())
+                .map(|((x, y), c)| ([px(x), py(y)], c))
+                .unzip();
+            rec.set_time_sequence(timeline, t);
+            rec.log(
+                cursor.as_str(),
+                &Points2D::new(pts)
+                    .with_colors(colors)
+                    .with_radii([Radius::new_ui_points(4.0)]),
+            )
+            .map_err(|source| InspectError::Log {
+                entity: cursor.clone(),
+                source,
+            })?;
+        }
+    }
     Ok(())
 }
 
 #[cfg(test)]
 mod tests {
-    use super::ticks;
+    use super::{log_with, ticks, Extras, Series, HEIGHT, LEGEND_WIDTH, WIDTH};
+    use rerun::Color;
+
+    /// The legend sits right of the plot box (outside the data), one label per entry in its
+    /// colour; the cursor puts one marker per series at each time, on the curve's point there.
+    #[test]
+    fn the_legend_is_outside_the_box_and_the_cursor_on_the_curves() {
+        let (rec, storage) = rerun::RecordingStreamBuilder::new("kecsim-test")
+            .memory()
+            .unwrap();
+        let a: Vec<(f64, f64)> = (0..5).map(|i| (i as f64, (i * i) as f64)).collect();
+        let b: Vec<(f64, f64)> = (0..5).map(|i| (i as f64, -(i as f64))).collect();
+        let series = [
+            Series {
+                name: "a",
+                color: Color::from_rgb(255, 0, 0),
+                width: 1.0,
+                points: &a,
+            },
+            Series {
+                name: "b",
+                color: Color::from_rgb(0, 0, 255),
+                width: 1.0,
+                points: &b,
+            },
+        ];
+        let times = [10, 20, 30, 40, 50];
+        log_with(
+            &rec,
+            "plot",
+            &series,
+            Extras {
+                legend: true,
+                cursor: Some(("y_um", &times)),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        rec.flush_blocking().unwrap();
+        let chunks = super::super::readback::message_chunks(&storage.take(), "memory").unwrap();
+        let positions = |entity: &str, statics: bool| -> Vec<[f32; 2]> {
+            chunks
+                .iter()
+                .filter(|c| c.entity_path().to_string() == entity && c.is_static() == statics)
+                .flat_map(|c| {
+                    c.iter_slices::<[f32; 2]>(rerun::Points2D::descriptor_positions().component)
+                        .flat_map(|v| v.to_vec())
+                        .collect::<Vec<_>>()
+                })
+                .collect()
+        };
+        let legend = positions("/plot/legend", true);
+        assert_eq!(legend.len(), 2);
+        assert!(legend
+            .iter()
+            .all(|p| (p[0] as f64) > WIDTH && (p[0] as f64) < WIDTH + 20.0 + LEGEND_WIDTH));
+        let cursor = positions("/plot/cursor", false);
+        assert_eq!(cursor.len(), 2 * times.len(), "{cursor:?}");
+        // The first marker of each time at series a's point: x = i / 4 of the box, y from the top.
+        for (i, pair) in cursor.chunks(2).enumerate() {
+            assert!(
+                (pair[0][0] as f64 - i as f64 / 4.0 * WIDTH).abs() < 1e-3,
+                "{pair:?}"
+            );
+            assert!(
+                pair[0][1] as f64 >= 0.0 && pair[0][1] as f64 <= HEIGHT,
+                "{pair:?}"
+            );
+        }
+        // a rises, b falls: the last markers at a's top and below b's start.
+        let last = cursor[cursor.len() - 2..].to_vec();
+        assert!(
+            last[0][1] < cursor[0][1] && last[1][1] > cursor[1][1],
+            "{cursor:?}"
+        );
+    }
 
     /// Three round ticks at least, inside the range, evenly spaced by 1, 2 or 5 × 10^k.
     #[test]
