@@ -317,7 +317,10 @@ fn finish(out: &Path, sink: &Sink) -> Result<()> {
     println!("wrote {}", table.display());
     let markdown = results_markdown(&manifest, &rows);
     let delivered = {
-        let rec = inspect::open_recording("kecsim", sink, || inspect::study::blueprint_for(&manifest))?;
+        let front_y = inspect::study::front_y_extent(out, &rows);
+        let rec = inspect::open_recording("kecsim", sink, || {
+            inspect::study::blueprint_with(&manifest, front_y)
+        })?;
         inspect::study::record(&rec, &manifest, &rows, &markdown, out)?;
         inspect::finish_recording(rec, sink)
     };

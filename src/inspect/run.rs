@@ -420,18 +420,30 @@ pub fn blueprint_with(
     .named("Overview");
 
     let vehicle = vehicle_plots(QUANTITIES, wheelsets);
-    let take = |entities: &[&str]| -> Vec<Item> {
+    // The plots of `entities`. A line per wheelset: one legend in the tab (`legend` names the
+    // view holding it, the first here or one above), the others' titles say their colours are
+    // as there — a legend of six lines covered most of a plot a row high; the vehicle's own, one
+    // line: none.
+    let take = |entities: &[&str], legend: &str| -> Vec<Item> {
+        let mut shown = false;
         vehicle
             .iter()
             .filter(|p| entities.iter().any(|e| p.origin.ends_with(&format!("/{e}"))))
             .map(|p| {
-                // A line per wheelset: a legend; the vehicle's own, one line: none.
-                let n = if p.title.starts_with("every wheelset:") {
-                    wheelsets.len()
-                } else {
-                    1
-                };
-                series_view(p.clone(), n)
+                if !p.title.starts_with("every wheelset:") {
+                    return series_view(p.clone(), 1);
+                }
+                if legend.is_empty() && !shown {
+                    shown = true;
+                    return series_view(p.clone(), wheelsets.len());
+                }
+                let mut p = p.clone();
+                p.title = format!(
+                    "{}, coloured as {}",
+                    p.title,
+                    if legend.is_empty() { "left" } else { legend }
+                );
+                series_view(p, 1)
             })
             .collect()
     };
@@ -454,7 +466,7 @@ pub fn blueprint_with(
     };
     let kinematics = stack(
         vec![
-            (take(&["y_mm", "yaw_mrad"]), 1.0),
+            (take(&["y_mm", "yaw_mrad"], ""), 1.0),
             (
                 vec![wheelset_tabs(
                     wheelsets,
@@ -488,13 +500,16 @@ pub fn blueprint_with(
                 1.2,
             ),
             (
-                take(&[
-                    "min_normal_kn",
-                    "max_abs_y_over_q",
-                    "vehicle_speed_m_s",
-                    "traction_kn",
-                    "traction_power_kw",
-                ]),
+                take(
+                    &[
+                        "min_normal_kn",
+                        "max_abs_y_over_q",
+                        "vehicle_speed_m_s",
+                        "traction_kn",
+                        "traction_power_kw",
+                    ],
+                    "Y/Q's",
+                ),
                 1.0,
             ),
             (

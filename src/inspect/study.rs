@@ -49,6 +49,27 @@ fn slug(name: &str) -> String {
 /// The layout, readable at 1600×1000: the extracts' diagrams in a grid across the top (up to three
 /// a row), every case's front wheelset y and the table below.
 pub fn blueprint_for(manifest: &Manifest) -> Layout {
+    blueprint_with(manifest, None)
+}
+
+/// The smallest and largest front wheelset y (mm) of the cases `rows` of the study in `out` (for
+/// [`blueprint_with`]); None without any.
+pub fn front_y_extent(out: &Path, rows: &[CaseResult]) -> Option<[f64; 2]> {
+    let mut range: Option<[f64; 2]> = None;
+    for r in rows {
+        for (_, y) in front_wheelset_y(out, r) {
+            if y.is_finite() {
+                range = Some(range.map_or([y, y], |[lo, hi]| [lo.min(y), hi.max(y)]));
+            }
+        }
+    }
+    range
+}
+
+/// [`blueprint_for`] with the every-case plot's y extent `front_y` (mm) known: its y range padded
+/// to round labels, with room above the data for its legend (a line per case up to four; more
+/// cases go without one, each line named on hover).
+pub fn blueprint_with(manifest: &Manifest, front_y: Option<[f64; 2]>) -> Layout {
     let against = manifest.axes.first().map_or("case".to_string(), |a| a.clone());
     let views: Vec<Item> = manifest
         .extracts
@@ -60,9 +81,26 @@ pub fn blueprint_for(manifest: &Manifest) -> Layout {
         })
         .collect();
     let below = Container::horizontal([
-        View::time_series("every case: front wheelset y [mm]")
-            .origin("/study/front_y")
-            .into(),
+        {
+            let view = View::time_series(if manifest.cases <= 4 {
+                "every case: front wheelset y [mm]".to_string()
+            } else {
+                format!(
+                    "every case: front wheelset y [mm], a line per case ({}; hover for its case)",
+                    manifest.cases
+                )
+            })
+            .origin("/study/front_y");
+            let view = if manifest.cases <= 4 {
+                view.legend_rows(manifest.cases)
+            } else {
+                view.no_legend()
+            };
+            match front_y.and_then(|[lo, hi]| super::layout::round_range(lo, hi)) {
+                Some([lo, hi]) => view.y_range(lo, hi).into(),
+                None => view.into(),
+            }
+        },
         View::text_document("Results").origin("/study/summary").into(),
     ])
     .into();
