@@ -119,13 +119,15 @@ print(sys.argv[2])" "$WORK/live_run_$k.png" "$OUT/live_run_$k.png"
 compare()      { k compare assets/scenes/ms_vehicle_tab6.toml --contact kec,lookup2,lookup2-paper,online --duration 10 --save "$WORK/cmp.rrd"; shot compare "$WORK/cmp.rrd" 15; }
 paper()        { k paper --duration 10 --save "$WORK/pa.rrd"; shot paper "$WORK/pa.rrd" 15; }
 study()        { k study assets/studies/wheelset_speed_sweep.toml --out "$WORK/sweep"; shot study "$WORK/sweep/study.rrd" 15; }
+# docs/studies.md's picture: the Cooperrider car's critical-speed study (13 cases of 10 s)
+study_cooperrider() { k study assets/studies/cooperrider_critical_speed.toml --out "$WORK/coop"; shot study_cooperrider "$WORK/coop/study.rrd" 15; }
 bench_precision() {
   k bench precision --duration 1.5 --contact kec,lookup --method bdf --rtol 1e-3,1e-4,1e-5 \
     --reference-contact kec --reference-rtol 1e-7 --save "$WORK/bp.rrd"
   shot bench_precision "$WORK/bp.rrd"
 }
 
-ALL=(profiles contact kec design_wheel creep patch track run run_safety run_curve live compare paper study bench_precision)
+ALL=(profiles contact kec design_wheel creep patch track run run_safety run_curve live compare paper study study_cooperrider bench_precision)
 for name in "${@:-${ALL[@]}}"; do
   "$name"
 done

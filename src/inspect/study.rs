@@ -14,7 +14,7 @@
 //! |---|---|---|
 //! | `study/EXTRACT/grid` | LineStrips2D, static | frame and ticks |
 //! | `study/EXTRACT/grid/labels` | Points2D, static | the ticks' values and the first axis's name, placed off the frame so that none overlaps |
-//! | `study/EXTRACT/critical_K` | LineStrips2D, static | a critical-speed study: each critical speed as a labelled vertical line |
+//! | `study/EXTRACT/critical_K`, `…/critical_K/label` | LineStrips2D and Points2D, static | a critical-speed study: each critical speed as a vertical line, its label at a height of its own |
 //! | `study/EXTRACT/group_K` | LineStrips2D, Points2D, static | the cases of one combination of the other varying axes |
 //! | `study/front_y/case_NNNNN` | Scalars on `time` | the case's first wheelset's lateral displacement, mm |
 //! | `study/summary` | TextDocument, static | the results table |
@@ -352,8 +352,19 @@ pub fn record(
                 &format!("{base}/critical_{k}"),
                 &LineStrips2D::new([vec![[x, y0], [x, y1]]])
                     .with_colors([Color::from_rgb(220, 60, 60)])
-                    .with_radii([Radius::new_ui_points(1.0)])
-                    .with_labels([label.clone()]),
+                    .with_radii([Radius::new_ui_points(1.0)]),
+            )?;
+            // Each line's label at a height of its own (two lines a few m/s apart had their
+            // labels drawn over each other at the lines' middles).
+            let at = y1 + (y0 - y1) * (0.12 + 0.22 * (k % 4) as f32);
+            log_static(
+                rec,
+                &format!("{base}/critical_{k}/label"),
+                &Points2D::new([[x, at]])
+                    .with_labels([label.clone()])
+                    .with_colors([Color::from_rgb(220, 60, 60)])
+                    .with_radii([Radius::new_ui_points(0.0)])
+                    .with_show_labels(true),
             )?;
         }
         for (k, g) in groups.iter().enumerate() {
