@@ -119,28 +119,23 @@ pub(crate) fn send_figure(
     colors: &[Color],
 ) -> Result<(), InspectError> {
     let n = names.len().max(1);
-    let points: Vec<Vec<(f64, f64)>> = (0..n)
-        .map(|k| {
-            ys.iter()
-                .zip(values.iter().skip(k).step_by(n))
-                .map(|(&y, &v)| (y as f64 * 1e-3, v))
-                .collect()
-        })
-        .collect();
-    let series: Vec<super::xyplot::Series<'_>> = names
+    let series: Vec<super::xyplot::OwnedSeries> = names
         .iter()
         .zip(colors)
-        .zip(&points)
         .enumerate()
         // The first line wider, so that one lying on another (real under KEC) still shows.
-        .map(|(k, ((&name, &color), points))| super::xyplot::Series {
-            name,
+        .map(|(k, (&name, &color))| super::xyplot::OwnedSeries {
+            name: name.to_string(),
             color,
             width: if k == 0 && n > 1 { 3.0 } else { 1.5 },
-            points,
+            points: ys
+                .iter()
+                .zip(values.iter().skip(k).step_by(n))
+                .map(|(&y, &v)| (y as f64 * 1e-3, v))
+                .collect(),
         })
         .collect();
-    super::xyplot::log_with(
+    super::xyplot::log_owned(
         rec,
         entity,
         &series,

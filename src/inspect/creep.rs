@@ -19,6 +19,7 @@
 use super::{Container, Layout, View};
 use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument};
 
+use super::xyplot::{log_owned, OwnedSeries};
 use super::{log_static, send_scalar_columns, InspectError};
 use crate::contact::forces::fastsim::{distribution, FastsimSettings};
 use crate::contact::forces::sweep::{curve, Curve, SweepSettings};
@@ -85,9 +86,6 @@ fn model_color(name: &str, shade: usize) -> Color {
     Color::from_rgb(c[0], c[1], c[2])
 }
 
-/// A figure's series: name, colour, points (ξ in %, value).
-type FigureSeries = (String, Color, Vec<(f64, f64)>);
-
 /// The spins shown on the lateral curves: 0 and the chosen one (0, 1, 2 1/m when it is 0).
 pub fn spins(spin: f64) -> Vec<f64> {
     if spin == 0.0 {
@@ -113,12 +111,17 @@ pub fn record(
     let err = |e: crate::contact::forces::CreepForceError| InspectError::Model(e.to_string());
     let n0 = patch.normal_force;
     // The figures' series (name, colour, points (ξ %, value)), every model's.
-    let mut figures: [Vec<FigureSeries>; 3] = Default::default();
-    let as_points = |values: &[f64], k: usize, n: usize, scale: f64| -> Vec<(f64, f64)> {
-        xis.iter()
+    let mut figures: [Vec<OwnedSeries>; 3] = Default::default();
+    // Series k of `values` (interleaved by row, n a row) against ξ in %, scaled.
+    let series = |name: &str, color: Color, values: &[f64], k: usize, n: usize, scale: f64| OwnedSeries {
+        name: name.to_string(),
+        color,
+        width: 1.5,
+        points: xis
+            .iter()
             .zip(values.iter().skip(k).step_by(n))
             .map(|(&xi, &v)| (xi * 100.0, v * scale))
-            .collect()
+            .collect(),
     };
     for model in models {
         let name = model.name();
@@ -140,12 +143,8 @@ pub fn record(
             .collect();
         let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
         let colors: Vec<Color> = (0..loads.len()).map(|k| model_color(name, k)).collect();
-        for k in 0..loads.len() {
-            figures[0].push((
-                names[k].clone(),
-                colors[k],
-                as_points(&values, k, loads.len(), 1e-3),
-            ));
+        for (k, (label, &color)) in names.iter().zip(&colors).enumerate() {
+            figures[0].push(series(label, color, &values, k, loads.len(), 1e-3));
         }
         send_scalar_columns(
             rec,
@@ -181,9 +180,9 @@ pub fn record(
         // Spin 0 in the model's colour, the others darker (shade 1).
         let shade = |k: usize| model_color(name, if k == 0 { 0 } else { 1 });
         for (k, label) in names.iter().enumerate() {
-            figures[1].push((label.clone(), shade(k), as_points(&fy, k, spins.len(), 1e-3)));
+            figures[1].push(series(label, shade(k), &fy, k, spins.len(), 1e-3));
             if name != "polach" {
-                figures[2].push((label.clone(), shade(k), as_points(&mz, k, spins.len(), 1.0)));
+                figures[2].push(series(label, shade(k), &mz, k, spins.len(), 1.0));
             }
         }
         send_scalar_columns(
@@ -214,19 +213,10 @@ pub fn record(
         .map(|m| (m.name(), model_color(m.name(), 0)))
         .collect();
     for (figure, entity) in figures.iter().zip(["fx", "fy", "mz"]) {
-        let series: Vec<super::xyplot::Series<'_>> = figure
-            .iter()
-            .map(|(name, color, points)| super::xyplot::Series {
-                name,
-                color: *color,
-                width: 1.5,
-                points,
-            })
-            .collect();
-        super::xyplot::log_with(
+        log_owned(
             rec,
             &format!("creep/figures/{entity}"),
-            &series,
+            figure,
             super::xyplot::Extras {
                 legend: true,
                 legend_entries: &legend,

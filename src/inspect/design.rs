@@ -104,31 +104,18 @@ fn figures(rec: &RecordingStream, pairs: [(&LookupTable1, &str); 2]) -> Result<(
         ("dr_mm", |r| vec![r.delta_r() * 1e3], &["Δr"]),
     ];
     for (quantity, of, wheels) in quantities {
-        let mut names = Vec::new();
-        let mut colors = Vec::new();
-        let mut points = Vec::new();
+        let mut series = Vec::new();
         for (table, pair) in pairs {
             for (k, wheel) in wheels.iter().enumerate() {
-                names.push(format!("{pair} {wheel}"));
-                colors.push(pair_colors(pair)[k]);
-                points.push(
-                    table
-                        .rows
-                        .iter()
-                        .map(|r| (r.y * 1e3, of(r)[k]))
-                        .collect::<Vec<_>>(),
-                );
+                series.push(super::xyplot::OwnedSeries {
+                    name: format!("{pair} {wheel}"),
+                    color: pair_colors(pair)[k],
+                    width: 1.5,
+                    points: table.rows.iter().map(|r| (r.y * 1e3, of(r)[k])).collect(),
+                });
             }
         }
-        let series: Vec<super::xyplot::Series<'_>> = (0..names.len())
-            .map(|k| super::xyplot::Series {
-                name: &names[k],
-                color: colors[k],
-                width: 1.5,
-                points: &points[k],
-            })
-            .collect();
-        super::xyplot::log_with(
+        super::xyplot::log_owned(
             rec,
             &format!("design/figures/{quantity}"),
             &series,

@@ -215,16 +215,19 @@ impl View {
 
     /// A time-series view's y range, raised by [`legend_room`] where the view shows a legend.
     pub fn y_range(self, min: f64, max: f64) -> View {
-        let [min, max] = match self.legend_rows {
-            Some(rows) => legend_room([min, max], rows),
-            None => [min, max],
+        let axis = self.y_axis([min, max]);
+        self.with_property("ScalarAxis", &axis)
+    }
+
+    /// The y axis opening on `range`, raised by [`legend_room`] where the view shows a legend.
+    fn y_axis(&self, range: [f64; 2]) -> ScalarAxis {
+        let [lo, hi] = match self.legend_rows {
+            Some(rows) => legend_room(range, rows),
+            None => range,
         };
-        self.with_property(
-            "ScalarAxis",
-            &ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([
-                min, max,
-            ]))),
-        )
+        ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([
+            lo, hi,
+        ])))
     }
 
     /// The number of lines the view's legend shows (2 unless said): the y ranges set later make
@@ -234,16 +237,6 @@ impl View {
             self.legend_rows = Some(rows);
         }
         self
-    }
-
-    /// A y range as given, no room made for the legend.
-    pub fn y_range_exact(self, min: f64, max: f64) -> View {
-        self.with_property(
-            "ScalarAxis",
-            &ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([
-                min, max,
-            ]))),
-        )
     }
 
     /// A time-series view's legend in `corner`.
@@ -656,19 +649,11 @@ impl SentLayout {
             if v.class != "TimeSeries" {
                 continue;
             }
-            let Some([lo, hi]) = range_of(&v.origin).and_then(|[a, b]| round_range(a, b)) else {
+            let Some(range) = range_of(&v.origin).and_then(|[a, b]| round_range(a, b)) else {
                 continue;
             };
-            let [lo, hi] = match v.legend_rows {
-                Some(rows) => legend_room([lo, hi], rows),
-                None => [lo, hi],
-            };
-            self.bp.log(
-                format!("{}/ScalarAxis", v.blueprint_path()),
-                &ScalarAxis::new().with_range(rerun::external::re_sdk_types::components::Range1D(Range1D([
-                    lo, hi,
-                ]))),
-            )?;
+            self.bp
+                .log(format!("{}/ScalarAxis", v.blueprint_path()), &v.y_axis(range))?;
         }
         Ok(self.forward(rec))
     }

@@ -41,6 +41,7 @@ use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, SeriesLines,
 
 use super::contact::TIMELINE as Y_TIMELINE;
 use super::track::IRREGULARITIES;
+use super::xyplot::OwnedSeries;
 use super::{
     log_static, section_mm, send_scalar_columns, send_scalar_rows, send_scalar_values, InspectError,
 };
@@ -467,7 +468,7 @@ fn record_irregularities(rec: &RecordingStream, f: &PaperFigures) -> Result<(), 
         figure(
             rec,
             &format!("paper/fig17/plot_{name}"),
-            vec![(
+            vec![series(
                 name.to_string(),
                 Color::from_rgb(color[0], color[1], color[2]),
                 1.0,
@@ -479,24 +480,22 @@ fn record_irregularities(rec: &RecordingStream, f: &PaperFigures) -> Result<(), 
 }
 
 /// A figure's series: name, colour, width, points (distance m, value).
-type FigureSeries = (String, Color, f32, Vec<(f64, f64)>);
+fn series(name: String, color: Color, width: f32, points: Vec<(f64, f64)>) -> OwnedSeries {
+    OwnedSeries {
+        name,
+        color,
+        width,
+        points,
+    }
+}
 
 /// Logs a static x–y figure along the distance ([`super::xyplot`]), with a legend where it has
 /// several series.
-fn figure(rec: &RecordingStream, entity: &str, series: Vec<FigureSeries>) -> Result<(), InspectError> {
-    let drawn: Vec<super::xyplot::Series<'_>> = series
-        .iter()
-        .map(|(name, color, width, points)| super::xyplot::Series {
-            name,
-            color: *color,
-            width: *width,
-            points,
-        })
-        .collect();
-    super::xyplot::log_with(
+fn figure(rec: &RecordingStream, entity: &str, series: Vec<OwnedSeries>) -> Result<(), InspectError> {
+    super::xyplot::log_owned(
         rec,
         entity,
-        &drawn,
+        &series,
         super::xyplot::Extras {
             legend: series.len() > 1,
             ..Default::default()
@@ -534,23 +533,23 @@ fn record_bogie(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectEr
             .collect()
     };
     // Fig. 18's figures: y, ψ, |Δy|, |Δψ|.
-    let mut fig18: [Vec<FigureSeries>; 4] = Default::default();
+    let mut fig18: [Vec<OwnedSeries>; 4] = Default::default();
     for (k, b) in g.kinematics.iter().enumerate() {
         let c = BODY[k % BODY.len()];
         for (j, both) in [&b.y, &b.yaw].into_iter().enumerate() {
-            fig18[j].push((
+            fig18[j].push(series(
                 format!("{} ({}) kec", b.name, b.role.name()),
                 rgb(c),
                 WIDE,
                 along(&both.kec, 1e3),
             ));
-            fig18[j].push((
+            fig18[j].push(series(
                 format!("{} {tables}", b.name),
                 tint(c),
                 THIN,
                 along(&both.tables, 1e3),
             ));
-            fig18[2 + j].push((
+            fig18[2 + j].push(series(
                 format!("{} ({})", b.name, b.role.name()),
                 rgb(c),
                 1.5,
@@ -625,13 +624,13 @@ fn record_bogie(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectEr
         let mut normal = Vec::new();
         let mut dnormal = Vec::new();
         for (k, x) in wheels.iter().enumerate() {
-            normal.push((
+            normal.push(series(
                 names[2 * k].clone(),
                 colors[2 * k],
                 WIDE,
                 along(&x.normal.kec, 1e-3),
             ));
-            normal.push((
+            normal.push(series(
                 names[2 * k + 1].clone(),
                 colors[2 * k + 1],
                 THIN,
@@ -644,7 +643,7 @@ fn record_bogie(rec: &RecordingStream, f: &PaperFigures) -> Result<(), InspectEr
                 .zip(&x.normal.tables)
                 .map(|(a, b)| (a - b).abs())
                 .collect();
-            dnormal.push((short[k].0.to_string(), short[k].1, 1.5, along(&d, 1e-3)));
+            dnormal.push(series(short[k].0.to_string(), short[k].1, 1.5, along(&d, 1e-3)));
         }
         figure(rec, &format!("paper/fig19/plot_normal/{w}"), normal)?;
         figure(rec, &format!("paper/fig19/plot_dnormal/{w}"), dnormal)?;

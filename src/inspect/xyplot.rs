@@ -26,6 +26,35 @@ pub struct Series<'a> {
     pub points: &'a [(f64, f64)],
 }
 
+/// A series that owns its name and points: what a recording builds from its data before drawing
+/// it with [`log_owned`].
+#[derive(Debug, Clone)]
+pub struct OwnedSeries {
+    pub name: String,
+    pub color: Color,
+    pub width: f32,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// [`log_with`] for series that own their data.
+pub fn log_owned(
+    rec: &RecordingStream,
+    entity: &str,
+    series: &[OwnedSeries],
+    extras: Extras<'_>,
+) -> Result<(), InspectError> {
+    let borrowed: Vec<Series<'_>> = series
+        .iter()
+        .map(|s| Series {
+            name: &s.name,
+            color: s.color,
+            width: s.width,
+            points: &s.points,
+        })
+        .collect();
+    log_with(rec, entity, &borrowed, extras)
+}
+
 /// Round tick values over `lo..=hi`: steps of 1, 2 or 5 × 10^k, the largest giving three ticks
 /// at least (fewer than 3 only for a degenerate range).
 pub fn ticks(lo: f64, hi: f64) -> Vec<f64> {
