@@ -11,7 +11,9 @@
 //!   (`flock`) while the command runs and holding its pid; a second run on the same output
 //!   refuses, naming the first's pid. The operating system releases the lock when a process ends,
 //!   however it ends, so a lock left by a killed run never blocks the next.
-//! - **The write** ([`AtomicFile`]): into `.NAME.part-PID` in the output's directory, renamed onto
+//! - **The write** ([`AtomicFile`]): into a part file of its own, `.NAME.part-PID-N` (N its writer
+//!   in the process: two writers of one file never share one) in the output's directory (a
+//!   recording: `.NAME.part-PID`, its target locked by the guard), renamed onto
 //!   the output when complete (through a symlink: onto the file it points to). A write that is
 //!   abandoned removes its part file; a process killed mid-write leaves it (it holds what was
 //!   written). Every write's error — the flush and the sync included — is checked before the
@@ -23,7 +25,8 @@
 //! - **Side files** (the lock, the part file, a directory's write probe) are created without
 //!   following a symlink (`O_NOFOLLOW`, the part and the probe exclusively): a link planted at
 //!   their predictable names is refused or replaced, never written through. An output may not
-//!   be named like one of them.
+//!   be named like one of them. A side file's name that would pass 255 bytes (an output's legal
+//!   250-byte name) is shortened with a hash of the whole name.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Read, Seek, Write};
@@ -105,13 +108,31 @@ pub fn resolved(p: &Path) -> PathBuf {
     }
 }
 
-/// A hidden file beside `target`: `.NAME` + `suffix`.
+/// The longest file name most file systems take (ext4, xfs, btrfs, tmpfs: 255 bytes).
+const NAME_MAX: usize = 255;
+
+/// A hidden file beside `target`: `.NAME` + `suffix`. Where that name would be longer than a
+/// file system takes ([`NAME_MAX`]; an output's legal 250-byte name), NAME is shortened to its
+/// start and a hash of the whole name (FNV-1a, 64 bit: the same in every process, so that two
+/// runs on one output still find one lock).
 fn beside(target: &Path, suffix: &str) -> PathBuf {
     let name = target
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    dir_of(target).join(format!(".{name}{suffix}"))
+    let full = format!(".{name}{suffix}");
+    if full.len() <= NAME_MAX {
+        return dir_of(target).join(full);
+    }
+    let hash = name
+        .bytes()
+        .fold(0xcbf2_9ce4_8422_2325_u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+    let tag = format!("~{hash:016x}");
+    let mut keep = NAME_MAX.saturating_sub(1 + tag.len() + suffix.len());
+    while !name.is_char_boundary(keep.min(name.len())) {
+        keep -= 1;
+    }
+    dir_of(target).join(format!(".{}{tag}{suffix}", &name[..keep.min(name.len())]))
 }
 
 /// How an output is written.
@@ -271,8 +292,12 @@ fn side_file_name(name: &str) -> bool {
     if name.ends_with(".kecsim-lock") || name.starts_with(".kecsim-write-check-") {
         return true;
     }
-    name.rsplit_once(".part-")
-        .is_some_and(|(_, pid)| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()))
+    // `.part-PID` (a recording's) or `.part-PID-N` (a file's, N its writer in the process).
+    name.rsplit_once(".part-").is_some_and(|(_, tail)| {
+        let mut parts = tail.splitn(2, '-');
+        let number = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+        parts.next().is_some_and(number) && parts.next().is_none_or(number)
+    })
 }
 
 /// Creates `p` exclusively without following a link: a file (or a link) already at the name is
@@ -626,8 +651,7 @@ impl AtomicFile {
             });
         }
         let target = write_target(target);
-        let part = part_path(&target);
-        let file = create_side_file(&part)?;
+        let (part, file) = create_writer_part(&target)?;
         Ok(AtomicFile {
             target,
             part: Some(part),
@@ -638,6 +662,11 @@ impl AtomicFile {
     /// The file this becomes.
     pub fn target(&self) -> &Path {
         &self.target
+    }
+
+    /// The part file the bytes go to until the commit (None for a stream, written directly).
+    pub fn part(&self) -> Option<&Path> {
+        self.part.as_deref()
     }
 
     /// Flushes the bytes, syncs them to the disk and renames the part file onto the target; any
@@ -702,9 +731,38 @@ pub fn write_target(p: &Path) -> PathBuf {
     }
 }
 
-/// The part file `.NAME.part-PID` beside `target`, where a write goes before its rename.
+/// The part file `.NAME.part-PID` beside `target`, where a recording is written before its
+/// rename (the recording's target is locked by the [`OutputGuard`]: one writer per process; an
+/// [`AtomicFile`] takes a part file of its own instead, [`AtomicFile::part`]).
 pub fn part_path(target: &Path) -> PathBuf {
     beside(target, &format!(".part-{}", std::process::id()))
+}
+
+/// The most part files one process opens for one target at a time ([`create_writer_part`]).
+const MAX_WRITERS: u32 = 1000;
+
+/// A part file of its own for one writer of `target`: `.NAME.part-PID-N` with the first N
+/// (1, 2, …) whose name is free, created exclusively and never through a link. Two writers of
+/// one target in one process (threads of a library user, two outputs of one command that name
+/// one file) each get theirs: neither removes nor renames the other's. Whatever already stands
+/// at a name (a stale part file, a planted link) is left and the next name taken.
+fn create_writer_part(target: &Path) -> io::Result<(PathBuf, File)> {
+    for n in 1..=MAX_WRITERS {
+        let part = beside(target, &format!(".part-{}-{n}", std::process::id()));
+        let mut o = OpenOptions::new();
+        o.write(true).create_new(true);
+        #[cfg(unix)]
+        o.custom_flags(libc::O_NOFOLLOW);
+        match o.open(&part) {
+            Ok(f) => return Ok((part, f)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+    Err(io::Error::other(format!(
+        "{}: {MAX_WRITERS} part files of this process stand beside it; remove the stale ones",
+        target.display()
+    )))
 }
 
 /// A CSV writer onto an [`AtomicFile`] at `path`; [`commit_csv`] puts the file in place.
@@ -804,14 +862,15 @@ mod tests {
         f.write_all(b"new").unwrap();
         f.flush().unwrap();
         assert_eq!(fs::read_to_string(&out).unwrap(), "old");
-        assert_eq!(fs::read_to_string(part_path(&out)).unwrap(), "new");
+        assert_eq!(fs::read_to_string(f.part().unwrap()).unwrap(), "new");
         f.commit().unwrap();
         assert_eq!(fs::read_to_string(&out).unwrap(), "new");
         let mut f = AtomicFile::create(&out).unwrap();
         f.write_all(b"half").unwrap();
+        let part = f.part().unwrap().to_path_buf();
         drop(f);
         assert_eq!(fs::read_to_string(&out).unwrap(), "new");
-        assert!(!part_path(&out).exists());
+        assert!(!part.exists());
         #[cfg(unix)]
         {
             let link = d.join("link.csv");
@@ -820,6 +879,62 @@ mod tests {
             assert!(fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
             assert_eq!(fs::read_to_string(&out).unwrap(), "through");
         }
+        fs::remove_dir_all(&d).ok();
+    }
+
+    /// Two writers of one file in one process (two threads, two outputs naming one file) each
+    /// write their own part file: neither removes or renames the other's, each commit puts its
+    /// whole bytes in place, and nothing is left beside the file. (With one part file per
+    /// process, the second writer removed the first's and the first's commit failed.)
+    #[test]
+    fn two_writers_of_one_file_never_share_a_part_file() {
+        let d = dir("writers");
+        let out = d.join("r.csv");
+        let mut a = AtomicFile::create(&out).unwrap();
+        let mut b = AtomicFile::create(&out).unwrap();
+        assert_ne!(a.part(), b.part());
+        a.write_all(b"first").unwrap();
+        b.write_all(b"second").unwrap();
+        a.commit().unwrap();
+        assert_eq!(fs::read_to_string(&out).unwrap(), "first");
+        b.commit().unwrap();
+        assert_eq!(fs::read_to_string(&out).unwrap(), "second");
+        let left: Vec<_> = fs::read_dir(&d).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left, vec![std::ffi::OsString::from("r.csv")]);
+        // A link planted at the first part name is left alone and never written through.
+        #[cfg(unix)]
+        {
+            let victim = d.join("victim");
+            fs::write(&victim, "keep").unwrap();
+            let first = beside(&out, &format!(".part-{}-1", std::process::id()));
+            std::os::unix::fs::symlink(&victim, &first).unwrap();
+            write_atomic(&out, b"third").unwrap();
+            assert_eq!(fs::read_to_string(&victim).unwrap(), "keep");
+            assert_eq!(fs::read_to_string(&out).unwrap(), "third");
+        }
+        fs::remove_dir_all(&d).ok();
+    }
+
+    /// An output's legal 250-byte name gets its lock and part file (their names would pass the
+    /// file system's 255 bytes: shortened with a hash), the same lock in every process; a second
+    /// guard on it is refused.
+    #[test]
+    fn a_long_output_name_gets_its_lock_and_part_file() {
+        let d = dir("longname");
+        let out = d.join(format!("{}.csv", "n".repeat(246)));
+        assert_eq!(out.file_name().unwrap().len(), 250);
+        let mut g = OutputGuard::new();
+        g.output("--json", &out).unwrap();
+        let lock = beside(&resolved(&out), ".kecsim-lock");
+        assert!(lock.file_name().unwrap().len() <= NAME_MAX && lock.exists(), "{lock:?}");
+        assert!(side_file_name(&lock.file_name().unwrap().to_string_lossy()));
+        let mut again = OutputGuard::new();
+        assert!(matches!(again.output("--json", &out), Err(GuardError::Locked { .. })));
+        write_atomic(&out, b"whole").unwrap();
+        assert_eq!(fs::read_to_string(&out).unwrap(), "whole");
+        let other = d.join(format!("{}.csv", "n".repeat(245) + "m"));
+        assert_ne!(beside(&other, ".kecsim-lock"), lock, "a different name, a different lock");
+        drop(g);
         fs::remove_dir_all(&d).ok();
     }
 }

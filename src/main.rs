@@ -17,6 +17,24 @@ macro_rules! print {
     };
 }
 
+// The same for stderr (`eprintln!`, `eprint!`: warnings, progress lines, the signal handler's
+// line, the final error): a closed or failing stderr (`kecsim run 2>&1 | head -1`) drops the
+// text and the command goes on to its end, writing every file.
+macro_rules! eprintln {
+    () => {
+        $crate::say::write_err(format_args!("\n"))
+    };
+    ($($t:tt)*) => {
+        $crate::say::write_err(format_args!("{}\n", format_args!($($t)*)))
+    };
+}
+#[allow(unused_macros)]
+macro_rules! eprint {
+    ($($t:tt)*) => {
+        $crate::say::write_err(format_args!($($t)*))
+    };
+}
+
 mod cli;
 mod say;
 

@@ -6,6 +6,10 @@
 //!   have been.
 //! - Any other failure (stdout on a full device): the same, then a message on stderr and a
 //!   non-zero exit, since the printed summary was lost.
+//! - Standard error the same (`eprintln!`, `eprint!`, through [`write_err`]): a closed or failing
+//!   stderr (`kecsim run 2>&1 | head -1`) drops the rest of the warnings, progress lines and
+//!   messages; the command runs to its end, writes every file, and its exit status is what it
+//!   would have been (there is nowhere left to say more).
 //! - An output that is the standard output itself (`--save /dev/stdout`): the printed lines go to
 //!   stderr, so that the stream holds only the file.
 
@@ -18,14 +22,15 @@ use std::sync::OnceLock;
 static STOPPED: AtomicBool = AtomicBool::new(false);
 /// The printed lines go to stderr (an output is stdout).
 static TO_STDERR: AtomicBool = AtomicBool::new(false);
+/// Writing to stderr stopped (closed or failed).
+static STDERR_STOPPED: AtomicBool = AtomicBool::new(false);
 /// Why stdout failed, where it was not a closed pipe.
 static FAILED: OnceLock<String> = OnceLock::new();
 
 /// Writes `args` to stdout (or stderr, see [`to_stderr`]); a failure is remembered, not raised.
 pub fn write(args: fmt::Arguments<'_>) {
     if TO_STDERR.load(Ordering::Relaxed) {
-        let mut err = io::stderr().lock();
-        err.write_fmt(args).ok();
+        write_err(args);
         return;
     }
     if STOPPED.load(Ordering::Relaxed) {
@@ -37,6 +42,18 @@ pub fn write(args: fmt::Arguments<'_>) {
         if e.kind() != io::ErrorKind::BrokenPipe {
             FAILED.set(e.to_string()).ok();
         }
+    }
+}
+
+/// Writes `args` to stderr; a failure stops further writes there and is not raised (the
+/// binary's `eprintln!` and `eprint!`).
+pub fn write_err(args: fmt::Arguments<'_>) {
+    if STDERR_STOPPED.load(Ordering::Relaxed) {
+        return;
+    }
+    let mut err = io::stderr().lock();
+    if err.write_fmt(args).and_then(|()| err.flush()).is_err() {
+        STDERR_STOPPED.store(true, Ordering::Relaxed);
     }
 }
 

@@ -544,7 +544,8 @@ fn an_interrupted_run_keeps_everything_recorded() {
     // the run ends), then SIGTERM.
     let t = Instant::now();
     let w1 = csv.join("w1.csv");
-    let part = csv.join(format!(".w1.csv.part-{}", child.id()));
+    // (The first writer's part file: `.NAME.part-PID-1`.)
+    let part = csv.join(format!(".w1.csv.part-{}-1", child.id()));
     while std::fs::read_to_string(&part).map_or(0, |s| s.lines().count()) < 20 {
         assert!(t.elapsed() < Duration::from_secs(120), "no CSV rows after 120 s");
         std::thread::sleep(Duration::from_millis(50));

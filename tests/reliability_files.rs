@@ -27,7 +27,7 @@ fn s(p: &Path) -> &str {
 }
 
 /// Makes a named pipe (FIFO) at `p`.
-fn mkfifo(p: &Path) {
+pub(crate) fn mkfifo(p: &Path) {
     let made = Command::new("mkfifo").arg(p).status().is_ok_and(|s| s.success());
     assert!(made, "mkfifo {}", p.display());
 }
@@ -39,7 +39,7 @@ fn is_link(p: &Path) -> bool {
 
 /// Runs `sh -c script` (with `$K` the kecsim binary, `$D` the test directory) in a private mount
 /// namespace, where it may mount a small tmpfs; None where namespaces are not allowed here.
-fn in_mount_namespace(dir: &Path, script: &str) -> Option<(bool, String, String)> {
+pub(crate) fn in_mount_namespace(dir: &Path, script: &str) -> Option<(bool, String, String)> {
     let probe = Command::new("unshare")
         .args(["-m", "sh", "-c", "mount -t tmpfs -o size=64k none \"$0\"", s(dir)])
         .output();
@@ -405,9 +405,10 @@ fn side_files_are_never_followed() {
         for pid in last + 1..last + 400 {
             for name in [
                 format!(".a.json.part-{pid}"),
+                format!(".a.json.part-{pid}-1"),
                 format!(".r.rrd.part-{pid}"),
                 format!("csv/.kecsim-write-check-{pid}"),
-                format!("csv/.wheelset.csv.part-{pid}"),
+                format!("csv/.wheelset_1.csv.part-{pid}-1"),
             ] {
                 std::os::unix::fs::symlink(&sc, dir.join(name)).ok();
             }

@@ -312,6 +312,13 @@ impl SinkArgs {
     /// back to saving the file (`--save`'s, else `kecsim.rrd`), and says so — before any work, so
     /// that nothing waits on an absent viewer. A viewer with `--save`: both.
     fn sink(&self) -> Sink {
+        self.sink_until(&|| false)
+    }
+
+    /// [`Self::sink`], its wait for a spawned viewer ended by `stop()` (the command's caught
+    /// Ctrl-C or SIGTERM: the recording then goes to the file, and the command stops at its next
+    /// check).
+    fn sink_until(&self, stop: &dyn Fn() -> bool) -> Sink {
         let file = self
             .save
             .clone()
@@ -330,7 +337,7 @@ impl SinkArgs {
         if self.spawn {
             // The viewer is started here, before the outputs are guarded: a `rerun` that cannot
             // run or never listens falls back to the file, which the guard then checks.
-            match inspect::spawn_obstacle().map_or_else(inspect::spawn_viewer, Err) {
+            match inspect::spawn_obstacle().map_or_else(|| inspect::spawn_viewer_until(stop), Err) {
                 Ok(url) => viewer(url),
                 Err(why) => fallback(why),
             }

@@ -52,9 +52,9 @@ pub(super) struct RunArgs {
     /// cross-sections stay true scale; 1 (the default) = true scale.
     #[arg(long, value_name = "FACTOR", default_value_t = kecsim::inspect::world3d::DEFAULT_EXAGGERATION)]
     exaggerate: f64,
-    /// The tab of the recording's layout the viewer opens on.
-    #[arg(long, value_enum, default_value_t = kecsim::inspect::run::RunTab::Overview)]
-    tab: kecsim::inspect::run::RunTab,
+    /// The tab of the recording's layout the viewer opens on (a run's; default: overview).
+    #[arg(long, value_enum)]
+    tab: Option<kecsim::inspect::run::RunTab>,
     /// Print the whole summary (the profiles placed, the settling, what limited the step, every
     /// wheelset's running safety, wear, stress and comfort in full) instead of the short one.
     #[arg(long, short)]
@@ -106,8 +106,9 @@ pub(super) fn run(a: RunArgs) -> Result<()> {
             && a.duration.is_none()
             && a.csv.is_none()
             && a.json.is_none()
-            && a.pace.is_none(),
-        "this scenario has no [simulation]: --contact, --speed, --duration, --csv, --json and --pace need one"
+            && a.pace.is_none()
+            && a.tab.is_none(),
+        "this scenario has no [simulation]: --contact, --speed, --duration, --csv, --json, --pace and --tab need one"
     );
     // The wheelset's contact preprocessing: 1-entry table of the real profiles, then the
     // KEC-equivalent profiles, recorded as `kecsim kec` does.
@@ -160,17 +161,18 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     super::stop_on_signals(&cancel, "stopping at the next step and writing what was recorded");
     // Every output before any work: a run must not be lost to an unwritable path at its end, nor
     // write over a file it reads (the scenario, the profile and irregularity files it names).
-    let sink = a.sink.sink();
+    // A signal while waiting for a spawned viewer ends the wait.
+    let sink = a.sink.sink_until(&|| cancel.requested());
     if let Some(dir) = &a.csv {
         check_output_dir("--csv", dir)?;
     }
-    let csv_files: Vec<PathBuf> = match (&a.csv, &scene.simulation) {
-        (Some(dir), Some((_, vehicle))) => vehicle
-            .wheelset_names()
-            .iter()
-            .map(|n| dir.join(format!("{n}.csv")))
-            .collect(),
-        _ => Vec::new(),
+    let Some((_, vehicle_spec)) = &scene.simulation else {
+        anyhow::bail!("{}: no [simulation] to run", scene.origin);
+    };
+    // Every file `--csv DIR` writes, the carbodies' included.
+    let csv_files: Vec<PathBuf> = match &a.csv {
+        Some(dir) => vehicle_spec.csv_files(dir),
+        None => Vec::new(),
     };
     let mut outputs = vec![("--json", a.json.as_deref())];
     outputs.extend(csv_files.iter().map(|p| ("--csv", Some(p.as_path()))));
@@ -219,7 +221,7 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     let names = built.vehicle.wheelset_names();
     let mut csv = match &a.csv {
         Some(dir) => Some(
-            CsvWriter::create(dir, &names)
+            CsvWriter::create(dir, &names, &vehicle_spec.carbody_names())
                 .with_context(|| format!("cannot write CSV into {}", dir.display()))?,
         ),
         None => None,
@@ -227,7 +229,7 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     let world = kecsim::inspect::world3d::World3dSettings {
         exaggerate: a.exaggerate,
     };
-    let mut recorder = LiveRecorder::open_on(&sink, scene, &names, &world, a.tab)?;
+    let mut recorder = LiveRecorder::open_on(&sink, scene, &names, &world, a.tab.unwrap_or(kecsim::inspect::run::RunTab::Overview))?;
     let mut progress = Progress::new();
     let mut pace = a.pace.map(|x| Pace::new(x, cancel.clone()));
     let out = {
@@ -254,20 +256,43 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
             println!("wrote {}", path.display());
         }
     }
+    // Every output that could not be written, whatever ended the run (a failure, Ctrl-C, a full
+    // disk): each is said, none hidden behind the run's own end.
+    let mut not_written: Vec<String> = Vec::new();
+    let mut missed = |e: String| {
+        if !not_written.contains(&e) {
+            not_written.push(e);
+        }
+    };
+    for e in &out.output_failures {
+        missed(e.clone());
+    }
     if let Some(path) = &a.json {
         let mut summary = summary.clone();
         summary.warnings = scene.warnings.iter().chain(&built.notes).cloned().collect();
-        let text = serde_json::to_string_pretty(&summary)?;
-        kecsim::files::write_atomic(path, text.as_bytes())
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        println!("wrote {}", path.display());
+        let written = serde_json::to_string_pretty(&summary)
+            .map_err(|e| e.to_string())
+            .and_then(|text| kecsim::files::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string()));
+        match written {
+            Ok(()) => println!("wrote {}", path.display()),
+            Err(e) => missed(format!("cannot write {}: {e}", path.display())),
+        }
     }
-    if let Ok(line) = &delivered {
-        println!("{line}");
+    match &delivered {
+        Ok(line) => println!("{line}"),
+        Err(e) => missed(e.clone()),
     }
     if !a.verbose {
         println!("(the whole summary: --verbose; every figure: --json FILE)");
     }
+    let lost = if not_written.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "\nNOT written (the files there before, if any, are kept):\n  {}",
+            not_written.join("\n  ")
+        )
+    };
     if let RunEnd::Failed(e) = &out.end {
         let profiles = if e.in_contact_model() {
             format!(
@@ -278,14 +303,17 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
             String::new()
         };
         anyhow::bail!(
-            "{}: the run stopped at t = {:.4} s: {e}{profiles}",
+            "{}: the run stopped at t = {:.4} s: {e}{profiles}{lost}",
             scene.origin,
             summary.simulated_s
         );
     }
     if let RunEnd::Stopped(Stop::Interrupted { t }) = &out.end {
-        anyhow::bail!("interrupted at t = {t:.4} s; everything recorded up to it is written");
+        if not_written.is_empty() {
+            anyhow::bail!("interrupted at t = {t:.4} s; everything recorded up to it is written");
+        }
+        anyhow::bail!("interrupted at t = {t:.4} s; what was recorded up to it is written, except:{lost}");
     }
-    delivered.map_err(anyhow::Error::msg)?;
+    anyhow::ensure!(not_written.is_empty(), "the run ended; {}", lost.trim_start());
     Ok(())
 }

@@ -487,11 +487,10 @@ fn write_row(w: &mut csv::Writer<AtomicFile>, s: &Sample) -> Result<(), csv::Err
 /// never sees half a file, and what was written is kept if the run stops or fails. The files are
 /// created at the start (a directory that cannot be written fails before any work).
 pub struct CsvWriter {
-    dir: PathBuf,
     writers: Vec<(PathBuf, Option<csv::Writer<AtomicFile>>)>,
-    /// Per carbody with floor points: its CSV ([`CARBODY_CSV_COLUMNS`]) and the indices of its
-    /// floor points in [`OutputSample::floor`].
-    carbodies: Vec<(PathBuf, Option<csv::Writer<AtomicFile>>, Vec<usize>)>,
+    /// Per carbody: its name, its CSV ([`CARBODY_CSV_COLUMNS`]) and the indices of its floor
+    /// points in [`OutputSample::floor`] (from the run's start).
+    carbodies: Vec<(String, PathBuf, Option<csv::Writer<AtomicFile>>, Vec<usize>)>,
     /// The floor points (from the run's start).
     floor_points: Vec<super::system::FloorPoint>,
     /// The files renamed into place at the run's end.
@@ -506,22 +505,29 @@ pub struct CsvWriter {
 pub const CARBODY_CSV_COLUMNS: [&str; 6] = ["t_s", "point", "s_m", "acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2"];
 
 impl CsvWriter {
-    /// Creates `dir` and a CSV with its header for each wheelset.
-    pub fn create(dir: &Path, wheelsets: &[String]) -> Result<CsvWriter, csv::Error> {
+    /// Creates `dir` and a CSV with its header for each wheelset and each carbody
+    /// ([`crate::vehicle::VehicleSpec::wheelset_names`], [`crate::vehicle::VehicleSpec::carbody_names`]):
+    /// every file is opened here, before the run, so that the files a command guards
+    /// ([`crate::vehicle::VehicleSpec::csv_files`]) are all it writes.
+    pub fn create(dir: &Path, wheelsets: &[String], carbodies: &[String]) -> Result<CsvWriter, csv::Error> {
         std::fs::create_dir_all(dir)?;
+        let open = |name: &String, header: &[&str]| -> Result<(PathBuf, Option<csv::Writer<AtomicFile>>), csv::Error> {
+            let path = dir.join(format!("{name}.csv"));
+            let mut w = crate::files::csv_writer(&path)?;
+            w.write_record(header.iter())?;
+            Ok((path, Some(w)))
+        };
         let writers = wheelsets
             .iter()
-            .map(|name| {
-                let path = dir.join(format!("{name}.csv"));
-                let mut w = crate::files::csv_writer(&path)?;
-                w.write_record(CSV_COLUMNS.iter())?;
-                Ok((path, Some(w)))
-            })
+            .map(|name| open(name, &CSV_COLUMNS))
+            .collect::<Result<Vec<_>, csv::Error>>()?;
+        let carbodies = carbodies
+            .iter()
+            .map(|name| open(name, &CARBODY_CSV_COLUMNS).map(|(p, w)| (name.clone(), p, w, Vec::new())))
             .collect::<Result<Vec<_>, csv::Error>>()?;
         Ok(CsvWriter {
-            dir: dir.to_path_buf(),
             writers,
-            carbodies: Vec::new(),
+            carbodies,
             floor_points: Vec::new(),
             committed: Vec::new(),
         })
@@ -533,36 +539,44 @@ impl CsvWriter {
         &self.committed
     }
 
-    /// The files written (the carbodies' once the run has started).
+    /// The files written.
     pub fn paths(&self) -> Vec<PathBuf> {
         self.writers
             .iter()
             .map(|(p, _)| p.clone())
-            .chain(self.carbodies.iter().map(|(p, ..)| p.clone()))
+            .chain(self.carbodies.iter().map(|(_, p, ..)| p.clone()))
             .collect()
     }
 }
 
+/// The carbodies that carry the floor points, each once, in order (a built model's
+/// [`super::system::VehicleModel::floor_points`]: the carbody CSVs [`CsvWriter::create`] opens).
+pub fn floor_carbodies(points: &[super::system::FloorPoint]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for p in points {
+        if !names.contains(&p.carbody) {
+            names.push(p.carbody.clone());
+        }
+    }
+    names
+}
+
 impl RunObserver for CsvWriter {
-    /// A CSV per carbody with floor points, with its header.
+    /// Each floor point to its carbody's CSV; a floor point on a carbody without one (not among
+    /// the names given to [`CsvWriter::create`]) fails the start: its file was not guarded.
     fn start(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
         self.floor_points = run.floor_points.to_vec();
-        let mut names: Vec<&str> = Vec::new();
-        for p in run.floor_points {
-            if !names.contains(&p.carbody.as_str()) {
-                names.push(&p.carbody);
-            }
-        }
-        for name in names {
-            let path = self.dir.join(format!("{name}.csv"));
-            let mut w = crate::files::csv_writer(&path)
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-            w.write_record(CARBODY_CSV_COLUMNS.iter())
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-            let points = (0..run.floor_points.len())
-                .filter(|&k| run.floor_points[k].carbody == name)
-                .collect();
-            self.carbodies.push((path, Some(w), points));
+        for (k, p) in run.floor_points.iter().enumerate() {
+            let Some((.., points)) = self.carbodies.iter_mut().find(|(name, ..)| *name == p.carbody) else {
+                return Err(format!(
+                    "the floor point {} of carbody {} has no CSV (the carbodies announced: {}); a kecsim bug",
+                    p.point,
+                    p.carbody,
+                    self.carbodies.iter().map(|(n, ..)| n.as_str()).collect::<Vec<_>>().join(", ")
+                )
+                .into());
+            };
+            points.push(k);
         }
         Ok(())
     }
@@ -574,7 +588,7 @@ impl RunObserver for CsvWriter {
                 .ok_or_else(|| format!("{}: written after its end", path.display()))?;
             write_row(w, s).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
-        for (path, w, points) in &mut self.carbodies {
+        for (_, path, w, points) in &mut self.carbodies {
             let w = w
                 .as_mut()
                 .ok_or_else(|| format!("{}: written after its end", path.display()))?;
@@ -600,7 +614,7 @@ impl RunObserver for CsvWriter {
     /// Each file renamed into place (all are tried; the first failure is reported).
     fn finish(&mut self, _summary: &RunSummary) -> Result<(), ObserverError> {
         let mut first = None;
-        let carbodies = self.carbodies.iter_mut().map(|(p, w, _)| (&*p, w));
+        let carbodies = self.carbodies.iter_mut().map(|(_, p, w, _)| (&*p, w));
         for (path, w) in self.writers.iter_mut().map(|(p, w)| (&*p, w)).chain(carbodies) {
             if let Some(w) = w.take() {
                 match crate::files::commit_csv(w) {

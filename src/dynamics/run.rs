@@ -195,6 +195,10 @@ pub struct RunOutput {
     /// Per carbody floor point: its accelerations at each sample (x, y, z in the carbody's axes,
     /// less 1 g on z), m/s².
     pub floor: Vec<(FloorPoint, Vec<[f64; 3]>)>,
+    /// Every observer's failure (a file it could not write), whatever ended the run: the one
+    /// that failed it (also in [`Self::end`]) and those at the end, after a failure or a stop
+    /// that [`Self::end`] reports for itself. Empty when every output was written.
+    pub output_failures: Vec<String>,
 }
 
 impl RunOutput {
@@ -624,6 +628,7 @@ fn run_here(
     } = recorder;
     let wall_s = t_run.elapsed().as_secs_f64();
     let state_names = vehicle.state_names();
+    let mut output_failures: Vec<String> = observer_error.iter().map(|e| e.to_string()).collect();
     let end = match (result, observer_error, stop) {
         (_, Some(e), _) => RunEnd::Failed(RunFailure::Observer(e)),
         (
@@ -692,6 +697,7 @@ fn run_here(
     let mut end = end;
     for o in observers.iter_mut() {
         if let Err(e) = o.finish(&summary) {
+            output_failures.push(e.to_string());
             if !matches!(end, RunEnd::Failed(_)) {
                 summary.error = Some(format!("output: {e}"));
                 summary.outcome = "failed";
@@ -707,6 +713,7 @@ fn run_here(
         end,
         landings,
         floor,
+        output_failures,
     }
 }
 

@@ -142,6 +142,16 @@ pub fn viewer_on_path() -> bool {
 /// cannot run, or one that never listens, is then a fallback decided before any output is
 /// guarded, never a wait without end.
 pub fn spawn_viewer() -> Result<String, String> {
+    spawn_viewer_until(&|| false)
+}
+
+/// [`spawn_viewer`], ending its waits as soon as `stop()` (a Ctrl-C or SIGTERM the command
+/// caught) — the error then says so. Every wait is bounded: `rerun --version`, the SDK's start
+/// of the viewer (which asks `rerun --version` again and reads its output to the end, without a
+/// bound: a `rerun` whose background process keeps that output open held a run for minutes; run
+/// on a thread of its own here, let go when the wait is over) and the wait for it to listen.
+pub fn spawn_viewer_until(stop: &dyn Fn() -> bool) -> Result<String, String> {
+    use std::time::Duration;
     let opts = rerun::SpawnOptions {
         // The SDK's own wait (~6 s, not settable) is replaced by ours.
         wait_for_bind: false,
@@ -149,15 +159,41 @@ pub fn spawn_viewer() -> Result<String, String> {
     };
     let wait = crate::files::wait_from_env("KECSIM_VIEWER_WAIT_S", SPAWN_WAIT);
     let start = std::time::Instant::now();
+    let stopped = || "stopped while waiting for the spawned Rerun viewer".to_string();
     // The SDK asks the executable for its version first and waits for the answer without end: a
     // `rerun` that hangs would hang the command. Asked here first, within the wait.
-    viewer_answers(wait)?;
-    let info = rerun::spawn(&opts).map_err(|e| format!("cannot spawn a Rerun viewer ({e})"))?;
+    viewer_answers(wait, stop)?;
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(rerun::spawn(&opts));
+    });
+    let info = loop {
+        match rx.recv_timeout(Duration::from_millis(50)) {
+            Ok(started) => break started.map_err(|e| format!("cannot spawn a Rerun viewer ({e})"))?,
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                if stop() {
+                    return Err(stopped());
+                }
+                if start.elapsed() >= wait {
+                    return Err(format!(
+                        "the Rerun viewer on PATH did not start within {:.0} s (its `rerun --version` keeps its output open)",
+                        wait.as_secs_f64()
+                    ));
+                }
+            }
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                return Err("the Rerun viewer's start failed (the SDK's thread ended without an answer)".into())
+            }
+        }
+    };
     let url = format!("rerun+http://127.0.0.1:{}/proxy", info.port);
     loop {
-        match probe_viewer(&url, std::time::Duration::from_millis(500)) {
+        if stop() {
+            return Err(stopped());
+        }
+        match probe_viewer(&url, Duration::from_millis(500)) {
             Ok(()) => return Ok(url),
-            Err(_) if start.elapsed() < wait => std::thread::sleep(std::time::Duration::from_millis(100)),
+            Err(_) if start.elapsed() < wait => std::thread::sleep(Duration::from_millis(100)),
             Err(_) => {
                 return Err(format!(
                     "the spawned Rerun viewer does not listen at {url} within {:.0} s",
@@ -170,7 +206,7 @@ pub fn spawn_viewer() -> Result<String, String> {
 
 /// Whether `rerun --version` (the `rerun` on PATH) answers within `wait`; one that does not is
 /// killed and the error says so.
-fn viewer_answers(wait: std::time::Duration) -> Result<(), String> {
+fn viewer_answers(wait: std::time::Duration, stop: &dyn Fn() -> bool) -> Result<(), String> {
     use std::process::{Command, Stdio};
     let mut child = Command::new("rerun")
         .arg("--version")
@@ -183,6 +219,11 @@ fn viewer_answers(wait: std::time::Duration) -> Result<(), String> {
     loop {
         match child.try_wait() {
             Ok(Some(_)) => return Ok(()),
+            Ok(None) if stop() => {
+                child.kill().ok();
+                child.wait().ok();
+                return Err("stopped while waiting for the Rerun viewer's `rerun --version`".into());
+            }
             Ok(None) if start.elapsed() < wait => std::thread::sleep(std::time::Duration::from_millis(20)),
             _ => {
                 child.kill().ok();

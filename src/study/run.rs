@@ -339,7 +339,8 @@ pub fn run_case(
             } else {
                 None
             };
-            let mut csv = CsvWriter::create(&dir, &names).map_err(|e| io(&dir, e))?;
+            let carbodies = crate::dynamics::output::floor_carbodies(&built.vehicle.floor_points());
+            let mut csv = CsvWriter::create(&dir, &names, &carbodies).map_err(|e| io(&dir, e))?;
             let output = {
                 let mut observers: Vec<&mut (dyn RunObserver + Send)> = vec![&mut csv];
                 built.run(&mut observers)

@@ -89,6 +89,30 @@ impl VehicleSpec {
         }
     }
 
+    /// The carbodies' names ([`MultibodySpec::carbodies`]; the single wheelset has none): each
+    /// gets a CSV of its floor accelerations in `kecsim run --csv DIR`, known before the model is
+    /// built so that the output guard covers those files too.
+    pub fn carbody_names(&self) -> Vec<String> {
+        match self {
+            VehicleSpec::WheelsetOnFrame(_) => Vec::new(),
+            VehicleSpec::Multibody(m) => m
+                .carbodies()
+                .into_iter()
+                .filter_map(|(i, _)| m.bodies.get(i).map(|b| b.name.clone()))
+                .collect(),
+        }
+    }
+
+    /// Every file `--csv DIR` writes, in `dir`: `NAME.csv` per wheelset
+    /// ([`Self::wheelset_names`]), then per carbody ([`Self::carbody_names`]).
+    pub fn csv_files(&self, dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+        self.wheelset_names()
+            .iter()
+            .chain(&self.carbody_names())
+            .map(|n| dir.join(format!("{n}.csv")))
+            .collect()
+    }
+
     /// The rearmost body's nominal position along the vehicle (≤ 0; the single wheelset: 0), m.
     pub fn rear_offset_m(&self) -> f64 {
         self.extent_m().0
