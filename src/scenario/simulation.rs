@@ -880,6 +880,8 @@ impl Scene {
             &sim.traction,
         )?;
         let mut notes = notes;
+        // The cache files found implausible and rebuilt (which file, why).
+        notes.extend(self.table_cache.iter().flat_map(|c| c.take_notes()));
         let axle_loads: Vec<f64> = match (vehicle.settling(), spec) {
             (Some(st), _) => st.axle_loads.clone(),
             // The carried load and the wheelset's own weight.
