@@ -25,6 +25,7 @@ mod recording;
 mod reference_profiles;
 mod reliability;
 mod reliability_files;
+mod reliability_misc;
 mod speed;
 mod study;
 mod track;

@@ -67,7 +67,10 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
         let room = |(gv, cl): &(f64, f64)| {
             lo.abs().min(hi) - gv.abs() / 2.0 - table.r0 * cl.abs() / (2.0 * table.l_r)
         };
-        let least = cases.iter().map(|c| 1e-3 + (lo.abs().min(hi) - room(c))).fold(f64::INFINITY, f64::min);
+        let least = cases
+            .iter()
+            .map(|c| 1e-3 + (lo.abs().min(hi) - room(c)))
+            .fold(f64::INFINITY, f64::min);
         cases.retain(|c| room(c) >= 1e-3);
         // A range that leaves no case room measures nothing (an empty table with exit 0 was printed).
         anyhow::ensure!(

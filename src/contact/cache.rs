@@ -187,7 +187,10 @@ impl TableCache {
     /// The lines saying which cache files were rebuilt since the last call, and why (each
     /// `contact table cache: FILE rebuilt: WHY`), taken: the caller prints them once.
     pub fn take_notes(&self) -> Vec<String> {
-        self.notes.lock().map(|mut n| std::mem::take(&mut *n)).unwrap_or_default()
+        self.notes
+            .lock()
+            .map(|mut n| std::mem::take(&mut *n))
+            .unwrap_or_default()
     }
 
     /// Notes that `path` is rebuilt because of `why` (a missing file is no news).
@@ -355,7 +358,10 @@ fn decode(w: &[u64]) -> Result<Vec<LookupTable1>, String> {
     let at = std::cell::Cell::new(0usize);
     let next = |what: &str| -> Result<u64, String> {
         let pos = at.get();
-        let v = w.get(pos).copied().ok_or_else(|| format!("truncated: no {what} at word {pos}"))?;
+        let v = w
+            .get(pos)
+            .copied()
+            .ok_or_else(|| format!("truncated: no {what} at word {pos}"))?;
         at.set(pos + 1);
         Ok(v)
     };
@@ -380,7 +386,9 @@ fn decode(w: &[u64]) -> Result<Vec<LookupTable1>, String> {
     let mut tables = Vec::with_capacity(n as usize);
     let fl = f64::from_bits;
     for k in 0..n {
-        let head: Vec<f64> = (0..6).map(|_| next("table head").map(fl)).collect::<Result<_, _>>()?;
+        let head: Vec<f64> = (0..6)
+            .map(|_| next("table head").map(fl))
+            .collect::<Result<_, _>>()?;
         let rows = next("row count")?;
         let left = words_left();
         if rows < 2 || rows > left / ROW_WORDS as u64 {
@@ -391,7 +399,9 @@ fn decode(w: &[u64]) -> Result<Vec<LookupTable1>, String> {
         }
         let mut rs = Vec::with_capacity(rows as usize);
         for _ in 0..rows {
-            let v: Vec<f64> = (0..ROW_WORDS).map(|_| next("row").map(fl)).collect::<Result<_, _>>()?;
+            let v: Vec<f64> = (0..ROW_WORDS)
+                .map(|_| next("row").map(fl))
+                .collect::<Result<_, _>>()?;
             rs.push(row_from(&v));
         }
         let jumps = next("jump count")?;
@@ -404,7 +414,9 @@ fn decode(w: &[u64]) -> Result<Vec<LookupTable1>, String> {
         }
         let mut js = Vec::with_capacity(jumps as usize);
         for _ in 0..jumps {
-            let v: Vec<f64> = (0..JUMP_WORDS).map(|_| next("jump").map(fl)).collect::<Result<_, _>>()?;
+            let v: Vec<f64> = (0..JUMP_WORDS)
+                .map(|_| next("jump").map(fl))
+                .collect::<Result<_, _>>()?;
             js.push(Jump {
                 y: v[0],
                 left: v[1] != 0.0,
@@ -454,27 +466,29 @@ fn implausible(t: &LookupTable1, geom: &ContactGeometry, gv: f64) -> Option<Stri
     }
     let span = |p: &crate::profile::Profile| {
         let (s, _) = p.knots();
-        (s.iter().copied().fold(f64::INFINITY, f64::min), s.iter().copied().fold(f64::NEG_INFINITY, f64::max))
+        (
+            s.iter().copied().fold(f64::INFINITY, f64::min),
+            s.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        )
     };
     let (wheel, rail) = (span(&pair.wheel), span(&pair.rail));
     // Profile coordinates: a margin of 1 mm past the knots (the solver may end on the last one).
     // (Either sign: a side's coordinate may be its mirror's.)
-    let within = |v: f64, (a, b): (f64, f64)| {
-        [v, -v].iter().any(|&v| v >= a - 1e-3 && v <= b + 1e-3)
-    };
+    let within = |v: f64, (a, b): (f64, f64)| [v, -v].iter().any(|&v| v >= a - 1e-3 && v <= b + 1e-3);
     let right_angle = std::f64::consts::FRAC_PI_2;
     let tol = 1e-9;
     for (i, r) in t.rows.iter().enumerate() {
         let bad = |what: String| Some(format!("row {i} (y = {} m): {what}", r.y));
-        let finite = r.x.iter()
-            .chain(&r.dx_dy)
-            .chain(&r.dx_dgv)
-            .chain(&r.contact_angle)
-            .chain(&r.rolling_radius)
-            .chain(&r.curvature)
-            .chain(&r.position)
-            .chain([&r.y, &r.gv])
-            .all(|v| v.is_finite());
+        let finite =
+            r.x.iter()
+                .chain(&r.dx_dy)
+                .chain(&r.dx_dgv)
+                .chain(&r.contact_angle)
+                .chain(&r.rolling_radius)
+                .chain(&r.curvature)
+                .chain(&r.position)
+                .chain([&r.y, &r.gv])
+                .all(|v| v.is_finite());
         if !finite || r.two_point_gap.iter().any(|g| g.is_infinite()) {
             return bad("a value is not finite (NaN or infinite)".into());
         }
@@ -485,9 +499,16 @@ fn implausible(t: &LookupTable1, geom: &ContactGeometry, gv: f64) -> Option<Stri
             return bad(format!("outside the table's flange limits {lo} .. {hi} m"));
         }
         if let Some(a) = r.contact_angle.iter().find(|a| a.abs() >= right_angle) {
-            return bad(format!("contact angle {:.3}°: expected within ±90°", a.to_degrees()));
+            return bad(format!(
+                "contact angle {:.3}°: expected within ±90°",
+                a.to_degrees()
+            ));
         }
-        if let Some(rr) = r.rolling_radius.iter().find(|&&rr| !(rr > 0.5 * r0 && rr < 1.5 * r0)) {
+        if let Some(rr) = r
+            .rolling_radius
+            .iter()
+            .find(|&&rr| !(rr > 0.5 * r0 && rr < 1.5 * r0))
+        {
             return bad(format!(
                 "rolling radius {rr} m: expected within half of r0 = {r0} m"
             ));
@@ -498,14 +519,21 @@ fn implausible(t: &LookupTable1, geom: &ContactGeometry, gv: f64) -> Option<Stri
                 r.x[0], r.x[1]
             ));
         }
-        let coords = [(r.x[2], wheel, "left wheel"), (r.x[3], rail, "left rail"), (r.x[4], wheel, "right wheel"), (r.x[5], rail, "right rail")];
+        let coords = [
+            (r.x[2], wheel, "left wheel"),
+            (r.x[3], rail, "left rail"),
+            (r.x[4], wheel, "right wheel"),
+            (r.x[5], rail, "right rail"),
+        ];
         if let Some((v, (a, b), name)) = coords.iter().find(|(v, range, _)| !within(*v, *range)) {
             return bad(format!(
                 "{name} profile coordinate {v} m: outside the profile's {a} .. {b} m"
             ));
         }
         if let Some(p) = r.position.iter().find(|p| p.abs() > 2.0) {
-            return bad(format!("contact position {p} m: expected within 2 m of the wheelset's centre"));
+            return bad(format!(
+                "contact position {p} m: expected within 2 m of the wheelset's centre"
+            ));
         }
     }
     for (j, jump) in t.jumps.iter().enumerate() {
@@ -535,7 +563,11 @@ fn read(path: &Path, geom: &ContactGeometry, gvs: &[f64]) -> Result<Vec<LookupTa
     }
     for (k, (t, &gv)) in tables.iter().zip(gvs).enumerate() {
         if let Some(why) = implausible(t, geom, gv) {
-            let which = if gvs.len() > 1 { format!("table {k}: ") } else { String::new() };
+            let which = if gvs.len() > 1 {
+                format!("table {k}: ")
+            } else {
+                String::new()
+            };
             return Err(Miss::Bad(format!("{which}{why}")));
         }
     }
@@ -559,7 +591,10 @@ fn read_words(path: &Path) -> Result<Vec<u64>, Miss> {
         Err(e) => return Err(Miss::Bad(format!("cannot be read: {e}"))),
     };
     if bytes.len() % 8 != 0 || bytes.is_empty() {
-        return Err(Miss::Bad(format!("{} bytes: not whole 8-byte words", bytes.len())));
+        return Err(Miss::Bad(format!(
+            "{} bytes: not whole 8-byte words",
+            bytes.len()
+        )));
     }
     let mut w: Vec<u64> = bytes
         .chunks_exact(8)
@@ -567,7 +602,9 @@ fn read_words(path: &Path) -> Result<Vec<u64>, Miss> {
         .collect();
     let sum = w.pop().ok_or(Miss::Absent)?;
     if checksum(&w) != sum {
-        return Err(Miss::Bad("its checksum does not match: the file is damaged".into()));
+        return Err(Miss::Bad(
+            "its checksum does not match: the file is damaged".into(),
+        ));
     }
     Ok(w)
 }
@@ -734,7 +771,10 @@ mod tests {
     /// an accident).
     fn forge(file: &Path, edit: impl Fn(&mut Vec<u64>)) {
         let bytes = std::fs::read(file).unwrap();
-        let mut w: Vec<u64> = bytes.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap())).collect();
+        let mut w: Vec<u64> = bytes
+            .chunks_exact(8)
+            .map(|c| u64::from_le_bytes(c.try_into().unwrap()))
+            .collect();
         w.pop();
         edit(&mut w);
         write_words(file, &w);
@@ -760,7 +800,10 @@ mod tests {
         let row0 = 10;
         let cases: Vec<(&str, Box<dyn Fn(&mut Vec<u64>)>)> = vec![
             ("rows, but the", Box::new(|w: &mut Vec<u64>| w[9] = 1 << 40)),
-            ("tables, but its", Box::new(|w: &mut Vec<u64>| w[2] = u64::MAX / 2)),
+            (
+                "tables, but its",
+                Box::new(|w: &mut Vec<u64>| w[2] = u64::MAX / 2),
+            ),
             (
                 "not finite",
                 Box::new(move |w: &mut Vec<u64>| {
@@ -789,7 +832,9 @@ mod tests {
             let notes = cache.take_notes();
             assert_eq!(notes.len(), 1, "{notes:?}");
             assert!(
-                notes[0].contains(&file.display().to_string()) && notes[0].contains("rebuilt") && notes[0].contains(want),
+                notes[0].contains(&file.display().to_string())
+                    && notes[0].contains("rebuilt")
+                    && notes[0].contains(want),
                 "{want}: {notes:?}"
             );
             assert_eq!(std::fs::read(&file).unwrap(), whole, "replaced by the whole file");
@@ -798,17 +843,26 @@ mod tests {
         // place moved off the flange's largest angle is found out and the angle computed again.
         let (angle, _) = cache.flange_angle(&geom).unwrap();
         let ffile = cache.flange_path(&geom);
-        for (want, at) in [("not a flange contact", 0.0f64), ("left wheel's contact angle", f64::NAN)] {
+        for (want, at) in [
+            ("not a flange contact", 0.0f64),
+            ("left wheel's contact angle", f64::NAN),
+        ] {
             forge(&ffile, |w| {
                 let y = f64::from_bits(w[2]);
-                w[2] = if at.is_nan() { (y - 1.5e-3).to_bits() } else { at.to_bits() };
+                w[2] = if at.is_nan() {
+                    (y - 1.5e-3).to_bits()
+                } else {
+                    at.to_bits()
+                };
             });
             let (again, hit) = cache.flange_angle(&geom).unwrap();
             assert!(!hit, "{want}");
             assert_eq!(again.to_bits(), angle.to_bits());
             let notes = cache.take_notes();
             assert!(
-                notes.len() == 1 && notes[0].contains(&ffile.display().to_string()) && notes[0].contains(want),
+                notes.len() == 1
+                    && notes[0].contains(&ffile.display().to_string())
+                    && notes[0].contains(want),
                 "{want}: {notes:?}"
             );
         }

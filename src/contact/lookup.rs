@@ -460,9 +460,7 @@ pub struct LookupTable1 {
 /// Returns the last y (≥ 0, towards that side) whose angle is within the tolerance of the
 /// largest, the largest sampled angle, whether the scan ended on a falling angle (else the
 /// profile ended), and the sampled y of the largest angle.
-fn flange_scan(
-    angle: &impl Fn(f64) -> Result<f64, TableError>,
-) -> Result<(f64, f64, bool, f64), TableError> {
+fn flange_scan(angle: &impl Fn(f64) -> Result<f64, TableError>) -> Result<(f64, f64, bool, f64), TableError> {
     let step = FLANGE_SCAN_STEP_M;
     let mut prev = angle(0.0)?;
     let mut largest = prev;

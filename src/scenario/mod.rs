@@ -672,7 +672,9 @@ fn resolve_path(spec: &str, base: &Path) -> String {
 /// A drive asked for (`simulation.traction.mode` "hold_speed" or "force") on a vehicle whose
 /// every wheelset is `motored = false`: nothing could transmit it (it drove every wheelset).
 fn undriven(sim: &SimulationSpec, veh: &VehicleSpec) -> Option<String> {
-    let VehicleSpec::Multibody(m) = veh else { return None };
+    let VehicleSpec::Multibody(m) = veh else {
+        return None;
+    };
     let mode = sim.traction.mode;
     if mode == simulation::TractionMode::Coast
         || m.wheelsets.is_empty()

@@ -162,7 +162,7 @@ impl TractionSpec {
             if let Some(h) = self.controller_hz {
                 if !(h.is_finite() && (MIN_BANDWIDTH_HZ..=MAX_BANDWIDTH_HZ).contains(&h)) {
                     p.push(format!(
-                        "simulation.traction.controller_hz = {h}: expected a bandwidth in [{MIN_BANDWIDTH_HZ}, {MAX_BANDWIDTH_HZ}] Hz — below {MIN_BANDWIDTH_HZ} Hz the loop takes minutes to correct the speed, which is then not held at all; above {MAX_BANDWIDTH_HZ} Hz the traction chases the bogies' vibration, then costs steps, and at hundreds of Hz it meets the wheels' spin–creep dynamics and goes unstable; 0.1–1 Hz holds the speed within 0.02 %"
+                        "simulation.traction.controller_hz = {h:?}: expected a bandwidth in [{MIN_BANDWIDTH_HZ}, {MAX_BANDWIDTH_HZ}] Hz — below {MIN_BANDWIDTH_HZ} Hz the loop takes minutes to correct the speed, which is then not held at all; above {MAX_BANDWIDTH_HZ} Hz the traction chases the bogies' vibration, then costs steps, and at hundreds of Hz it meets the wheels' spin–creep dynamics and goes unstable; 0.1–1 Hz holds the speed within 0.02 %"
                     ));
                 }
             }

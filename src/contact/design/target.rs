@@ -113,7 +113,10 @@ pub fn parse_target(text: &str, origin: &str) -> Result<(DesignTarget, Placement
     let mut problems = Vec::new();
     if f.name.is_empty()
         || f.name.starts_with('.')
-        || !f.name.chars().all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+        || !f
+            .name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
     {
         problems.push(format!(
             "line {}: name = {:?}: expected letters, digits, '-', '_' and '.' only, not starting with '.' (it names the profile and its file, NAME.csv)",
@@ -227,13 +230,23 @@ mod tests {
         for bad in ["w\u{1b}[31m", "w\rx", "../w", ".hidden", "a b"] {
             let named = GOOD.replace("name = \"w\"", &format!("name = {bad:?}"));
             let e = parse_target(&named, "t.toml").unwrap_err();
-            assert!(e.contains("t.toml") && e.contains("line 1: name =") && e.contains("letters, digits"), "{bad:?}: {e}");
+            assert!(
+                e.contains("t.toml") && e.contains("line 1: name =") && e.contains("letters, digits"),
+                "{bad:?}: {e}"
+            );
         }
         let ok = GOOD.replace("name = \"w\"", "name = \"my-wheel_2.1\"");
         assert!(parse_target(&ok, "t.toml").is_ok());
-        for (key, v) in [("gauge_mm", "nan"), ("back_to_back_mm", "1e9"), ("nominal_radius_mm", "-inf")] {
+        for (key, v) in [
+            ("gauge_mm", "nan"),
+            ("back_to_back_mm", "1e9"),
+            ("nominal_radius_mm", "-inf"),
+        ] {
             let e = parse_target(&format!("{GOOD}{key} = {v}\n"), "t.toml").unwrap_err();
-            assert!(e.contains("t.toml") && e.contains("line 9:") && e.contains(&format!("{key} = ")), "{key}: {e}");
+            assert!(
+                e.contains("t.toml") && e.contains("line 9:") && e.contains(&format!("{key} = ")),
+                "{key}: {e}"
+            );
         }
     }
 }
