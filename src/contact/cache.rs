@@ -349,6 +349,8 @@ fn row_from(v: &[f64]) -> TableRow {
 
 /// Words of a table's head: gv, r0, L_r, z_r, the two flange limits, the row count.
 const HEAD_WORDS: usize = 7;
+/// The largest |y| of a table's rows and jumps, m (the flange scan stops at 50 mm).
+const Y_SPAN_M: f64 = 0.06;
 /// Words of a stored jump.
 const JUMP_WORDS: usize = 4;
 
@@ -476,7 +478,6 @@ fn implausible(t: &LookupTable1, geom: &ContactGeometry, gv: f64) -> Option<Stri
     // (Either sign: a side's coordinate may be its mirror's.)
     let within = |v: f64, (a, b): (f64, f64)| [v, -v].iter().any(|&v| v >= a - 1e-3 && v <= b + 1e-3);
     let right_angle = std::f64::consts::FRAC_PI_2;
-    let tol = 1e-9;
     for (i, r) in t.rows.iter().enumerate() {
         let bad = |what: String| Some(format!("row {i} (y = {} m): {what}", r.y));
         let finite =
@@ -495,8 +496,9 @@ fn implausible(t: &LookupTable1, geom: &ContactGeometry, gv: f64) -> Option<Stri
         if r.gv.to_bits() != gv.to_bits() {
             return bad(format!("gauge variation {} m, the table's {gv} m", r.gv));
         }
-        if r.y < lo - tol || r.y > hi + tol {
-            return bad(format!("outside the table's flange limits {lo} .. {hi} m"));
+        // (A 2-entry table's columns span the common grid, wider than a column's own limits.)
+        if r.y.abs() > Y_SPAN_M {
+            return bad(format!("beyond ±{Y_SPAN_M} m of the centred position"));
         }
         if let Some(a) = r.contact_angle.iter().find(|a| a.abs() >= right_angle) {
             return bad(format!(
@@ -537,12 +539,12 @@ fn implausible(t: &LookupTable1, geom: &ContactGeometry, gv: f64) -> Option<Stri
         }
     }
     for (j, jump) in t.jumps.iter().enumerate() {
-        if !(jump.y >= lo - tol && jump.y <= hi + tol)
+        if !(jump.y.abs() <= Y_SPAN_M)
             || !within(jump.s_wheel_before, wheel)
             || !within(jump.s_wheel_after, wheel)
         {
             return Some(format!(
-                "jump {j} at y = {} m: outside the flange limits or the wheel profile",
+                "jump {j} at y = {} m: beyond ±{Y_SPAN_M} m or off the wheel profile",
                 jump.y
             ));
         }

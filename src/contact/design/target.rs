@@ -227,8 +227,9 @@ mod tests {
         let no_zero = GOOD.replace("{ y_mm = 0.0, angle_deg = 3.0 },\n", "");
         let e = parse_target(&no_zero, "t.toml").unwrap_err();
         assert!(e.contains("t.toml") && e.contains("no point at y_mm = 0"), "{e}");
-        for bad in ["w\u{1b}[31m", "w\rx", "../w", ".hidden", "a b"] {
-            let named = GOOD.replace("name = \"w\"", &format!("name = {bad:?}"));
+        // (As written in TOML: ESC and CR escaped.)
+        for bad in ["w\\u001b[31m", "w\\rx", "../w", ".hidden", "a b"] {
+            let named = GOOD.replace("name = \"w\"", &format!("name = \"{bad}\""));
             let e = parse_target(&named, "t.toml").unwrap_err();
             assert!(
                 e.contains("t.toml") && e.contains("line 1: name =") && e.contains("letters, digits"),
