@@ -427,7 +427,12 @@ fn decode(w: &[u64]) -> Result<Vec<LookupTable1>, String> {
             });
         }
         // The rows' order is checked before the slopes are built from them.
-        if let Some(i) = (1..rs.len()).find(|&i| !(rs[i].y >= rs[i - 1].y)) {
+        if let Some(i) = (1..rs.len()).find(|&i| {
+            !matches!(
+                rs[i].y.partial_cmp(&rs[i - 1].y),
+                Some(std::cmp::Ordering::Greater | std::cmp::Ordering::Equal)
+            )
+        }) {
             return Err(format!(
                 "table {k}: row {i}: y = {} m after {} m (the rows must rise in y)",
                 rs[i].y,
@@ -539,7 +544,8 @@ fn implausible(t: &LookupTable1, geom: &ContactGeometry, gv: f64) -> Option<Stri
         }
     }
     for (j, jump) in t.jumps.iter().enumerate() {
-        if !(jump.y.abs() <= Y_SPAN_M)
+        if jump.y.is_nan()
+            || jump.y.abs() > Y_SPAN_M
             || !within(jump.s_wheel_before, wheel)
             || !within(jump.s_wheel_after, wheel)
         {
@@ -800,7 +806,8 @@ mod tests {
         let whole = std::fs::read(&file).unwrap();
         // Word 9 is table 0's row count (magic, version, count, six head words).
         let row0 = 10;
-        let cases: Vec<(&str, Box<dyn Fn(&mut Vec<u64>)>)> = vec![
+        type Edit = Box<dyn Fn(&mut Vec<u64>)>;
+        let cases: Vec<(&str, Edit)> = vec![
             ("rows, but the", Box::new(|w: &mut Vec<u64>| w[9] = 1 << 40)),
             (
                 "tables, but its",
