@@ -26,6 +26,7 @@ mod reference_profiles;
 mod reliability;
 mod reliability_files;
 mod reliability_four;
+mod reliability_misc;
 mod speed;
 mod study;
 mod track;

@@ -67,7 +67,20 @@ pub(super) fn run(a: KecArgs) -> Result<()> {
         let room = |(gv, cl): &(f64, f64)| {
             lo.abs().min(hi) - gv.abs() / 2.0 - table.r0 * cl.abs() / (2.0 * table.l_r)
         };
+        let least = cases
+            .iter()
+            .map(|c| 1e-3 + (lo.abs().min(hi) - room(c)))
+            .fold(f64::INFINITY, f64::min);
         cases.retain(|c| room(c) >= 1e-3);
+        // A range that leaves no case room measures nothing (an empty table with exit 0 was printed).
+        anyhow::ensure!(
+            !cases.is_empty(),
+            "--accuracy: the table spans {:.3} .. {:.3} mm, which leaves none of the accuracy cases 1 mm of room before its ends; the least needs ±{:.3} mm: give --y-max ≥ {:.3} (or omit it)",
+            lo * 1e3,
+            hi * 1e3,
+            least * 1e3,
+            (least * 1e3 * 1000.0).ceil() / 1000.0
+        );
         // The columns just cover the cases' gauge variations.
         let reach = cases.iter().map(|c| c.0.abs()).fold(0.0, f64::max);
         let columns = |step: f64| -> Vec<f64> {

@@ -56,6 +56,9 @@ pub(super) struct PatchArgs {
     sink: SinkArgs,
 }
 
+/// The largest yaw a patch is computed at, mrad (0.05 rad).
+const MAX_PATCH_YAW_MRAD: f64 = 50.0;
+
 pub(super) fn run(a: PatchArgs) -> Result<()> {
     let PatchArgs {
         pair,
@@ -97,6 +100,13 @@ pub(super) fn run(a: PatchArgs) -> Result<()> {
     );
     for &y in &y_mm {
         anyhow::ensure!(y.is_finite(), "--y-mm {y}: expected a finite shift in mm");
+        // The yaw the shift is given (a wheelset in a curve: a few mrad; flange to flange at the
+        // Manchester benchmark's 2.4 mrad/mm: 24 mrad).
+        let yaw = y * yaw_per_mm;
+        anyhow::ensure!(
+            yaw.abs() <= MAX_PATCH_YAW_MRAD,
+            "--y-mm {y} with --yaw-per-mm {yaw_per_mm}: a yaw of {yaw} mrad; expected |yaw| ≤ {MAX_PATCH_YAW_MRAD} mrad (0.05 rad: beyond it the wheel is across its rail, no contact patch a wheelset meets)"
+        );
     }
     let pair = pair.pair()?;
     let geometry = ContactGeometry::with_defaults(pair.clone());
@@ -134,12 +144,30 @@ pub(super) fn run(a: PatchArgs) -> Result<()> {
     } else {
         vec![PatchModel::by_name(&model).with_context(|| format!("unknown patch model {model}"))?]
     };
+    // A point whose contact cannot be solved is reported and left out; the rest of the sweep is
+    // kept (one point at the flange's edge lost the whole sweep).
     let mut shifts = Vec::new();
+    let mut failed = Vec::new();
     for &y in &y_mm {
         for &m in &models {
-            shifts.push(sweep::patches_at(&pair, &geometry, y * 1e-3, m, &settings)?);
+            match sweep::patches_at(&pair, &geometry, y * 1e-3, m, &settings) {
+                Ok(s) => shifts.push(s),
+                Err(e) => {
+                    eprintln!(
+                        "kecsim: warning: --y-mm {y} ({} patches): failed, left out of the table{}: {e}",
+                        m.name(),
+                        if csv.is_some() { " and the CSV" } else { "" }
+                    );
+                    failed.push(format!("{y} ({})", m.name()));
+                }
+            }
         }
     }
+    anyhow::ensure!(
+        !shifts.is_empty(),
+        "--y-mm: every point failed ({}); see the warnings above",
+        failed.join(", ")
+    );
     let summary = sweep::summary_markdown(&title("patch", &pair), &shifts, &settings);
     let delivered = {
         let rec = inspect::open_recording("kecsim", &sink, inspect::patch::blueprint)?;

@@ -458,24 +458,28 @@ pub struct LookupTable1 {
 /// [`flange_angle`]: the contact angles of one side, past 45°, until they fall
 /// [`FLANGE_FLANK_TOLERANCE_RAD`] below the largest so far (or the wheel leaves the profile).
 /// Returns the last y (≥ 0, towards that side) whose angle is within the tolerance of the
-/// largest, the largest sampled angle, and whether the scan ended on a falling angle (else the
-/// profile ended).
-fn flange_scan(angle: &impl Fn(f64) -> Result<f64, TableError>) -> Result<(f64, f64, bool), TableError> {
+/// largest, the largest sampled angle, whether the scan ended on a falling angle (else the
+/// profile ended), and the sampled y of the largest angle.
+fn flange_scan(angle: &impl Fn(f64) -> Result<f64, TableError>) -> Result<(f64, f64, bool, f64), TableError> {
     let step = FLANGE_SCAN_STEP_M;
     let mut prev = angle(0.0)?;
     let mut largest = prev;
+    let mut at = 0.0;
     let mut y = 0.0;
     loop {
         let next_y = y + step;
         let a = match angle(next_y) {
             Ok(a) => a,
-            Err(_) if prev > 45f64.to_radians() => return Ok((y, largest, false)),
+            Err(_) if prev > 45f64.to_radians() => return Ok((y, largest, false, at)),
             Err(e) => return Err(e),
         };
         if prev > 45f64.to_radians() && a < largest - FLANGE_FLANK_TOLERANCE_RAD {
-            return Ok((y, largest, true));
+            return Ok((y, largest, true, at));
         }
-        largest = largest.max(a);
+        if a > largest {
+            largest = a;
+            at = next_y;
+        }
         if next_y > 0.05 {
             return Err(TableError::Invalid(
                 "no flange contact found within 50 mm of the centred position".into(),
@@ -518,7 +522,7 @@ pub fn flange_contact_limit(
     left: bool,
 ) -> Result<f64, TableError> {
     let angle = side_angle(geom, *off, left);
-    let (y, largest, falls) = flange_scan(&angle)?;
+    let (y, largest, falls, _) = flange_scan(&angle)?;
     if !falls {
         return Ok(y);
     }
@@ -556,10 +560,71 @@ pub const FLANGE_FLANK_TOLERANCE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// 0.1 mm scan up the flange that [`flange_contact_limit`] also uses (near its maximum the angle
 /// is flat: the sampled one is within hundredths of a degree of the true one), rad.
 pub fn flange_angle(geom: &ContactGeometry) -> Result<f64, TableError> {
+    flange_angle_found(geom).map(|f| f.angle_rad)
+}
+
+/// Where [`flange_angle`] found each side's largest sampled contact angle, and that angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlangeAngleScan {
+    /// The flange angle: the larger of both sides' largest sampled contact angles, rad.
+    pub angle_rad: f64,
+    /// The sampled |y| of the left wheel's and of the right wheel's largest angle, m.
+    pub at_m: [f64; 2],
+}
+
+/// [`flange_angle`] with where each side's largest angle was sampled.
+pub fn flange_angle_found(geom: &ContactGeometry) -> Result<FlangeAngleScan, TableError> {
     let off = RailOffsets::default();
-    let side = |left: bool| flange_scan(&side_angle(geom, off, left)).map(|(_, a, _)| a);
+    let side = |left: bool| flange_scan(&side_angle(geom, off, left)).map(|(_, a, _, at)| (a, at));
     let (l, r) = rayon::join(|| side(true), || side(false));
-    Ok(l?.max(r?))
+    let ((al, yl), (ar, yr)) = (l?, r?);
+    Ok(FlangeAngleScan {
+        angle_rad: al.max(ar),
+        at_m: [yl, yr],
+    })
+}
+
+/// The flange angle from the places `at_m` ([`FlangeAngleScan::at_m`]) where a scan found each
+/// side's largest angle (a cached scan), checked: each must be a sampled largest — above 45° and
+/// no smaller than the angles one scan step either side of it — else an error saying which side
+/// and what was found. The angle is computed from the geometry at those places (six contact
+/// solutions instead of the scan's hundreds), bit for bit the scan's.
+pub fn flange_angle_at(geom: &ContactGeometry, at_m: [f64; 2]) -> Result<f64, String> {
+    let off = RailOffsets::default();
+    let mut largest = f64::NEG_INFINITY;
+    for (k, (left, name)) in [(true, "left"), (false, "right")].into_iter().enumerate() {
+        let y = at_m[k];
+        if !(y.is_finite() && (0.0..=0.05).contains(&y)) {
+            return Err(format!(
+                "the {name} flange's largest contact angle at |y| = {y} m: expected 0 ..= 0.05 m"
+            ));
+        }
+        let angle = side_angle(geom, off, left);
+        let a = angle(y).map_err(|e| format!("the {name} wheel at |y| = {:.4} mm: {e}", y * 1e3))?;
+        if !(a > 45f64.to_radians() && a < std::f64::consts::FRAC_PI_2) {
+            return Err(format!(
+                "the {name} wheel's contact angle at |y| = {:.4} mm is {:.3}°: not a flange contact (expected 45° .. 90°)",
+                y * 1e3,
+                a.to_degrees()
+            ));
+        }
+        for n in [y - FLANGE_SCAN_STEP_M, y + FLANGE_SCAN_STEP_M] {
+            if let Ok(b) = angle(n) {
+                // (1e-9 rad: the scan's neighbour below is summed in another order.)
+                if b > a + 1e-9 {
+                    return Err(format!(
+                        "the {name} wheel's contact angle at |y| = {:.4} mm, {:.3}°, is not the flange's largest ({:.3}° at {:.4} mm)",
+                        y * 1e3,
+                        a.to_degrees(),
+                        b.to_degrees(),
+                        n * 1e3
+                    ));
+                }
+            }
+        }
+        largest = largest.max(a);
+    }
+    Ok(largest)
 }
 
 /// One grid interval of a table being built: its solutions after the left node (up to and

@@ -314,15 +314,18 @@ impl Multibody {
         12 * i
     }
 
-    /// The driven wheelsets ([`Drive::driven`]): those marked `motored`, else all; each with the
-    /// first body an element joins it to.
+    /// The driven wheelsets ([`Drive::driven`]): those marked `motored = true`, else every one
+    /// not marked `motored = false` (`motored = false` on one wheelset made every wheelset
+    /// motored); each with the first body an element joins it to.
     fn driven_wheelsets(&self, spec: &MultibodySpec) -> Vec<(usize, Option<usize>)> {
         let nb = self.bodies.len();
         let marked: Vec<usize> = (0..self.wheelsets.len())
-            .filter(|&j| spec.wheelsets.get(j).is_some_and(|w| w.motored))
+            .filter(|&j| spec.wheelsets.get(j).is_some_and(|w| w.motored == Some(true)))
             .collect();
         let driven = if marked.is_empty() {
-            (0..self.wheelsets.len()).collect()
+            (0..self.wheelsets.len())
+                .filter(|&j| spec.wheelsets.get(j).is_none_or(|w| w.motored != Some(false)))
+                .collect()
         } else {
             marked
         };
@@ -412,6 +415,24 @@ impl Multibody {
     /// Sets the traction law. A vehicle tied to the track frame ([`Self::ties`]) keeps its tie's
     /// speed: it takes [`TractionLaw::Tied`] for a held speed and refuses coasting or a given
     /// force; a free vehicle cannot be [`TractionLaw::Tied`].
+    /// The settled load on the driven wheelsets, N, and their names: μ times it is the most
+    /// their wheels can transmit along the rails (adhesion).
+    pub fn driven_load(&self) -> (f64, Vec<String>) {
+        let load = self
+            .drive
+            .driven
+            .iter()
+            .filter_map(|&(j, _)| self.settling.axle_loads.get(j))
+            .sum();
+        let names = self
+            .drive
+            .driven
+            .iter()
+            .map(|&(j, _)| self.wheelsets[j].name.clone())
+            .collect();
+        (load, names)
+    }
+
     pub fn set_traction(&mut self, law: TractionLaw) -> Result<(), DriveError> {
         let ties = &self.drive.ties;
         let names = || {

@@ -67,6 +67,14 @@ pub fn parse_profile(
     let p = origin.to_string();
     // A byte-order mark (editors on Windows write one) is not part of the first number.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    // Line endings of classic Mac OS (CR alone): lines all the same (issue 66: "empty file").
+    let unix;
+    let text = if text.contains('\r') && !text.contains('\n') {
+        unix = text.replace('\r', "\n");
+        unix.as_str()
+    } else {
+        text
+    };
     let (points, mut notes) = match ext {
         "prw" | "prr" => read_simpack(&p, text, expected)?,
         "csv" => (read_csv(&p, text)?, Vec::new()),
@@ -591,7 +599,19 @@ pub fn write_csv(profile: &Profile, path: &Path) -> std::io::Result<()> {
 
 /// [`write_csv`] with more `#` lines after the source (a designed profile's target and result).
 pub fn write_csv_with_header(profile: &Profile, path: &Path, header: &[String]) -> std::io::Result<()> {
-    let mut f = crate::files::AtomicFile::create(path)?;
+    let f = crate::files::AtomicFile::create(path)?;
+    crate::files::commit_csv(csv_into(f, profile, header)?)
+}
+
+/// The bytes [`write_csv`] writes for `profile` (to compare a file with what it would become).
+pub fn csv_bytes(profile: &Profile) -> std::io::Result<Vec<u8>> {
+    csv_into(Vec::new(), profile, &[])?
+        .into_inner()
+        .map_err(|e| std::io::Error::other(e.to_string()))
+}
+
+/// The profile's CSV written into `f` (the writer returned, to be flushed by the caller).
+fn csv_into<W: Write>(mut f: W, profile: &Profile, header: &[String]) -> std::io::Result<csv::Writer<W>> {
     writeln!(f, "# kecsim {} profile '{}'", profile.kind, profile.name)?;
     writeln!(f, "# source: {}", profile.source)?;
     for line in header {
@@ -613,7 +633,7 @@ pub fn write_csv_with_header(profile: &Profile, path: &Path, header: &[String]) 
     for (a, b) in s.iter().zip(z) {
         w.write_record([format!("{:.9}", a * 1e3), format!("{:.9}", b * 1e3)])?;
     }
-    crate::files::commit_csv(w)
+    Ok(w)
 }
 
 #[cfg(test)]

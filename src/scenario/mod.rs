@@ -309,6 +309,9 @@ impl Scenario {
         let simulation = match (&self.simulation, &self.vehicle) {
             (Some(sim), Some(veh)) => {
                 problems.extend(sim.problems().iter().map(|p| locate_key(origin, &self.source, p)));
+                if let Some(p) = undriven(sim, veh) {
+                    problems.push(locate(origin, &self.source, &p));
+                }
                 warnings.extend(sim.doubtful().iter().map(|p| locate_key(origin, &self.source, p)));
                 // Counts read from the file, held to the limits before anything is built.
                 let counts = veh.table_counts();
@@ -664,6 +667,26 @@ fn resolve_path(spec: &str, base: &Path) -> String {
     }
     let p: PathBuf = base.join(spec);
     p.display().to_string()
+}
+
+/// A drive asked for (`simulation.traction.mode` "hold_speed" or "force") on a vehicle whose
+/// every wheelset is `motored = false`: nothing could transmit it (it drove every wheelset).
+fn undriven(sim: &SimulationSpec, veh: &VehicleSpec) -> Option<String> {
+    let VehicleSpec::Multibody(m) = veh else {
+        return None;
+    };
+    let mode = sim.traction.mode;
+    if mode == simulation::TractionMode::Coast
+        || m.wheelsets.is_empty()
+        || !m.wheelsets.iter().all(|w| w.motored == Some(false))
+    {
+        return None;
+    }
+    Some(format!(
+        "vehicle.wheelsets: motored = false on every wheelset ({}), yet simulation.traction.mode = \"{}\" needs a driven wheel: mark the motored ones motored = true, or set mode = \"coast\"",
+        m.wheelsets.iter().map(|w| w.name.as_str()).collect::<Vec<_>>().join(", "),
+        mode.name()
+    ))
 }
 
 #[cfg(test)]

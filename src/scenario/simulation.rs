@@ -81,7 +81,7 @@ pub struct SimulationSpec {
 /// ```toml
 /// [simulation.traction]
 /// mode = "hold_speed"   # default: a speed loop on the motored wheels holds V(t); or "coast", "force"
-/// controller_hz = 0.2   # hold_speed: the loop's bandwidth (0 < f ≤ 2 Hz; default 0.2)
+/// controller_hz = 0.2   # hold_speed: the loop's bandwidth (0.01 ≤ f ≤ 2 Hz; default 0.2)
 /// max_force_n = 20e3    # hold_speed: the drive's limit (a demand beyond it ends the run)
 /// # force_n = -5e3      # force: the given traction (> 0) or braking (< 0) force, N
 /// ```
@@ -160,9 +160,9 @@ impl TractionSpec {
                 }
             }
             if let Some(h) = self.controller_hz {
-                if !(h.is_finite() && h > 0.0 && h <= MAX_BANDWIDTH_HZ) {
+                if !(h.is_finite() && (MIN_BANDWIDTH_HZ..=MAX_BANDWIDTH_HZ).contains(&h)) {
                     p.push(format!(
-                        "simulation.traction.controller_hz = {h}: expected a bandwidth in (0, {MAX_BANDWIDTH_HZ}] Hz — a speed loop is slow against the vehicle: above it the traction chases the bogies' vibration, then costs steps, and at hundreds of Hz it meets the wheels' spin–creep dynamics and goes unstable; 0.1–1 Hz holds the speed within 0.02 %"
+                        "simulation.traction.controller_hz = {h:?}: expected a bandwidth in [{MIN_BANDWIDTH_HZ}, {MAX_BANDWIDTH_HZ}] Hz — below {MIN_BANDWIDTH_HZ} Hz the loop takes minutes to correct the speed, which is then not held at all; above {MAX_BANDWIDTH_HZ} Hz the traction chases the bogies' vibration, then costs steps, and at hundreds of Hz it meets the wheels' spin–creep dynamics and goes unstable; 0.1–1 Hz holds the speed within 0.02 %"
                     ));
                 }
             }
@@ -381,7 +381,7 @@ impl SimulationSpec {
                 ));
             }
         };
-        check("speed_m_s", self.speed_m_s, 0.0, 200.0);
+        check("speed_m_s", self.speed_m_s, 0.0, MAX_SPEED_M_S);
         check("speed_ramp_m_s2", self.speed_ramp_m_s2, -20.0, 20.0);
         check("duration_s", self.duration_s, 1e-6, 1e5);
         // 10 kHz: samples 2 mm apart at 20 m/s; 1e5 Hz made the recording the run's cost (0.05× real time).
@@ -440,6 +440,17 @@ impl SimulationSpec {
             Err(e) => p.push(e.to_string()),
         }
         p.extend(self.traction.problems());
+        // The ramp's end: the same limit as the speed's.
+        let end = self.speed_m_s + self.speed_ramp_m_s2 * self.duration_s;
+        if self.speed_ramp_m_s2 > 0.0 && end.is_finite() && end > MAX_SPEED_M_S {
+            p.push(format!(
+                "simulation.speed_ramp_m_s2 = {}: from speed_m_s = {} over duration_s = {} the speed reaches {end} m/s, beyond the {MAX_SPEED_M_S} m/s limit of speed_m_s: at most {} m/s² over this duration",
+                self.speed_ramp_m_s2,
+                self.speed_m_s,
+                self.duration_s,
+                (MAX_SPEED_M_S - self.speed_m_s) / self.duration_s
+            ));
+        }
         if self.speed_ramp_m_s2 != 0.0 && self.traction.mode != TractionMode::HoldSpeed {
             p.push(format!(
                 "simulation.speed_ramp_m_s2 = {} with simulation.traction.mode = \"{}\": only a held speed follows a ramp (mode = \"hold_speed\"); a vehicle that coasts or is driven by a given force goes at its own speed",
@@ -657,6 +668,24 @@ pub fn build_vehicle(
             sys.set_traction(law).map_err(|e| BuildError::Traction {
                 problem: format!("simulation.traction.mode = \"{}\": {e}", traction.mode.name()),
             })?;
+            // A given force beyond adhesion cannot reach the rails: the wheels spin or slide (1e7 N
+            // ran into a 5 mm wheel lift reported as a derailment).
+            if let (TractionMode::Force, Some(f)) = (traction.mode, traction.force_n) {
+                let (load, names) = sys.driven_load();
+                let limit = forces.friction * load;
+                if load > 0.0 && f.abs() > limit {
+                    return Err(BuildError::Traction {
+                        problem: format!(
+                            "simulation.traction.force_n = {f} N: beyond what adhesion can transmit, μ × the settled load on the driven wheelsets ({}) = {} × {:.1} kN = {:.1} kN; the wheels would spin or slide: expected |force_n| ≤ {:.0} N",
+                            names.join(", "),
+                            forces.friction,
+                            load * 1e-3,
+                            limit * 1e-3,
+                            limit.floor()
+                        ),
+                    });
+                }
+            }
             Box::new(sys)
         }
     })
@@ -687,6 +716,12 @@ pub fn reference(
         frame_model: sim.track_frame,
     }
 }
+
+/// The highest speed of a run, m/s (`speed_m_s`, and the end of a speed ramp).
+pub const MAX_SPEED_M_S: f64 = 200.0;
+
+/// The lowest bandwidth of the speed loop, Hz (`controller_hz`): a time constant of 16 s.
+pub const MIN_BANDWIDTH_HZ: f64 = 0.01;
 
 /// The lowest held speed of a run, m/s (1 cm/s; a start from standstill is speed 0 with a
 /// positive ramp): below it the vehicle does not roll over the run (1e-9 m/s was accepted while
@@ -880,6 +915,8 @@ impl Scene {
             &sim.traction,
         )?;
         let mut notes = notes;
+        // The cache files found implausible and rebuilt (which file, why).
+        notes.extend(self.table_cache.iter().flat_map(|c| c.take_notes()));
         let axle_loads: Vec<f64> = match (vehicle.settling(), spec) {
             (Some(st), _) => st.axle_loads.clone(),
             // The carried load and the wheelset's own weight.

@@ -414,9 +414,11 @@ pub struct WheelsetBodySpec {
     #[serde(default)]
     pub independent_wheels: Option<IrwSpec>,
     /// Its wheels are motored: the drive that holds the speed ([`crate::dynamics::traction`])
-    /// acts through the motored wheels, or through every wheel where no wheelset is marked.
+    /// acts through the wheelsets marked `true`; where none is, through every wheelset not
+    /// marked `false` (none marked at all: every one). Every wheelset `false` drives none, which
+    /// a scene with a drive refuses.
     #[serde(default)]
-    pub motored: bool,
+    pub motored: Option<bool>,
 }
 
 /// `independent_wheels = { wheel_spin_inertia_kg_m2 = … }`.

@@ -111,11 +111,46 @@ pub fn parse_target(text: &str, origin: &str) -> Result<(DesignTarget, Placement
         output_step_m: f.output_step_mm * 1e-3,
     };
     let mut problems = Vec::new();
-    if f.name.trim().is_empty() || f.name.contains(['/', '\\', '\n']) {
+    if f.name.is_empty()
+        || f.name.starts_with('.')
+        || !f
+            .name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+    {
         problems.push(format!(
-            "name = {:?}: expected a plain name (it names the profile and its file)",
+            "line {}: name = {:?}: expected letters, digits, '-', '_' and '.' only, not starting with '.' (it names the profile and its file, NAME.csv)",
+            line_of(text, text.find("name").unwrap_or(0)),
             f.name
         ));
+    }
+    if !f.contact_angle.iter().any(|p| p.get_ref().y_mm == 0.0) {
+        problems.push(format!(
+            "contact_angle: no point at y_mm = 0 (of {} points): the centred position's contact angle anchors the design (the taping line); give it",
+            f.contact_angle.len()
+        ));
+    }
+    // Where the wheel will run: each value given in its range (a NaN was reported as the
+    // command line's "--gauge NaN").
+    use crate::profile::placement::{GAUGE_RANGE_M, NOMINAL_RADIUS_RANGE_M};
+    for (key, v, (lo, hi)) in [
+        ("gauge_mm", f.gauge_mm, GAUGE_RANGE_M),
+        ("back_to_back_mm", f.back_to_back_mm, (0.4, 2.0)),
+        ("nominal_radius_mm", f.nominal_radius_mm, NOMINAL_RADIUS_RANGE_M),
+    ] {
+        let Some(v) = v else { continue };
+        if !(v.is_finite() && v >= lo * 1e3 && v <= hi * 1e3) {
+            let line = text
+                .find(&format!("{key} "))
+                .or_else(|| text.find(&format!("{key}=")))
+                .map(|o| format!("line {}: ", line_of(text, o)))
+                .unwrap_or_default();
+            problems.push(format!(
+                "{line}{key} = {v}: expected {} ..= {} mm",
+                lo * 1e3,
+                hi * 1e3
+            ));
+        }
     }
     for p in target.problems() {
         // "contact_angle point K ..." / "points K and L ...": the line of point K.
@@ -183,5 +218,36 @@ mod tests {
             .replace("y_mm = 0.0", "y_mm = 1.0");
         let e = parse_target(&no_centre, "t.toml").unwrap_err();
         assert!(e.contains("must include the centred position"), "{e}");
+    }
+
+    /// Issue 66, class 13/14: a target spanning y = 0 without a point there, a name that is no
+    /// file name (ESC, CR), a NaN placement value — each refused naming the file and the key.
+    #[test]
+    fn absurd_targets_are_refused_naming_the_key() {
+        let no_zero = GOOD.replace("{ y_mm = 0.0, angle_deg = 3.0 },\n", "");
+        let e = parse_target(&no_zero, "t.toml").unwrap_err();
+        assert!(e.contains("t.toml") && e.contains("no point at y_mm = 0"), "{e}");
+        // (As written in TOML: ESC and CR escaped.)
+        for bad in ["w\\u001b[31m", "w\\rx", "../w", ".hidden", "a b"] {
+            let named = GOOD.replace("name = \"w\"", &format!("name = \"{bad}\""));
+            let e = parse_target(&named, "t.toml").unwrap_err();
+            assert!(
+                e.contains("t.toml") && e.contains("line 1: name =") && e.contains("letters, digits"),
+                "{bad:?}: {e}"
+            );
+        }
+        let ok = GOOD.replace("name = \"w\"", "name = \"my-wheel_2.1\"");
+        assert!(parse_target(&ok, "t.toml").is_ok());
+        for (key, v) in [
+            ("gauge_mm", "nan"),
+            ("back_to_back_mm", "1e9"),
+            ("nominal_radius_mm", "-inf"),
+        ] {
+            let e = parse_target(&format!("{GOOD}{key} = {v}\n"), "t.toml").unwrap_err();
+            assert!(
+                e.contains("t.toml") && e.contains("line 9:") && e.contains(&format!("{key} = ")),
+                "{key}: {e}"
+            );
+        }
     }
 }

@@ -202,6 +202,11 @@ impl CreepModel {
     }
 }
 
+/// The smallest coefficient of friction but 0 (no creep forces): below it the creep forces
+/// vanish against the wheelsets' other forces and their equations become singular (1e-300 was
+/// accepted, then failed as "singular wheelset equations").
+pub const MIN_FRICTION: f64 = 0.01;
+
 /// What a scene needs to compute contact forces: the creep-force model, friction and the
 /// material of wheel and rail (both the same steel).
 #[derive(Debug, Clone)]
@@ -249,9 +254,9 @@ impl ContactForceSettings {
     /// Validated settings; every problem is listed.
     pub fn new(model: CreepModel, friction: f64, material: Material) -> Result<Self, Vec<String>> {
         let mut p = model.problems();
-        if !(friction.is_finite() && (0.0..=1.5).contains(&friction)) {
+        if !(friction.is_finite() && (friction == 0.0 || (MIN_FRICTION..=1.5).contains(&friction))) {
             p.push(format!(
-                "friction = {friction}: expected 0 ..= 1.5 (0: no creep forces)"
+                "friction = {friction:?}: expected 0 (no creep forces) or {MIN_FRICTION} ..= 1.5 (wet or leaf-covered rails: ≈ 0.05; a smaller μ leaves the creep forces too small against the wheelsets' equations, which become singular)"
             ));
         }
         if !(material.young_pa.is_finite() && material.young_pa > 1e9 && material.young_pa <= 1e12) {
