@@ -812,7 +812,14 @@ fn finished_grid(d: &Path) -> PathBuf {
     let path = grid_study(d);
     let out = d.join("out");
     kecsim_ok(
-        &["study", path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "2"],
+        &[
+            "study",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--jobs",
+            "2",
+        ],
         d,
     );
     out
@@ -919,7 +926,11 @@ fn a_tampered_case_result_is_named_and_never_printed_raw() {
         &["study", "merge", o],
         &d,
         30,
-        &[&path, "\"status\" = \"won\\u{1b}[31m\"", "completed, stopped, derailed, failed"],
+        &[
+            &path,
+            "\"status\" = \"won\\u{1b}[31m\"",
+            "completed, stopped, derailed, failed",
+        ],
     );
     assert!(!e.stderr.contains('\u{1b}'), "{}", e.stderr);
     // Escapes in the strings a merge prints: shown, not obeyed.
@@ -933,7 +944,8 @@ fn a_tampered_case_result_is_named_and_never_printed_raw() {
         "{merged:?}"
     );
     assert!(
-        merged.contains("\\u{1b}[2J\\u{1b}[31mcleared\\r\\u{7}") && merged.contains("0.3\\u{1b}]0;title\\u{7}"),
+        merged.contains("\\u{1b}[2J\\u{1b}[31mcleared\\r\\u{7}")
+            && merged.contains("0.3\\u{1b}]0;title\\u{7}"),
         "{merged}"
     );
     // A rerun prints the skipped case's values from its result.json: escaped too.
@@ -962,7 +974,14 @@ fn a_seeds_study_writes_statistics_csv_as_documented() {
     );
     let out = d.join("out");
     let printed = kecsim_ok(
-        &["study", study.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "2"],
+        &[
+            "study",
+            study.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--jobs",
+            "2",
+        ],
         &d,
     );
     assert!(printed.contains("statistics.csv"), "{printed}");
@@ -976,7 +995,16 @@ fn a_seeds_study_writes_statistics_csv_as_documented() {
     let stats = read("statistics.csv");
     assert_eq!(
         stats[0],
-        ["simulation.speed_m_s", "extract", "n", "mean", "std", "min", "max", "mean_plus_3std"]
+        [
+            "simulation.speed_m_s",
+            "extract",
+            "n",
+            "mean",
+            "std",
+            "min",
+            "max",
+            "mean_plus_3std"
+        ]
     );
     let extracts = ["max_abs_y_mm", "rms(*.y_mm)", "max_abs_yaw_mrad"];
     assert_eq!(stats.len(), 1 + 2 * extracts.len(), "{stats:?}");
@@ -996,10 +1024,17 @@ fn a_seeds_study_writes_statistics_csv_as_documented() {
             let min = v.iter().copied().fold(f64::MAX, f64::min);
             let max = v.iter().copied().fold(f64::MIN, f64::max);
             let s = &stats[row];
-            assert_eq!((s[0].as_str(), s[1].as_str(), s[2].as_str()), (speed, x, "3"), "{s:?}");
+            assert_eq!(
+                (s[0].as_str(), s[1].as_str(), s[2].as_str()),
+                (speed, x, "3"),
+                "{s:?}"
+            );
             let got: Vec<f64> = s[3..].iter().map(|c| c.parse().unwrap()).collect();
             for (g, want) in got.iter().zip([mean, std, min, max, mean + 3.0 * std]) {
-                assert!((g - want).abs() <= 1e-9 * want.abs().max(1.0), "{x} at {speed}: {s:?} vs {want}");
+                assert!(
+                    (g - want).abs() <= 1e-9 * want.abs().max(1.0),
+                    "{x} at {speed}: {s:?} vs {want}"
+                );
             }
             row += 1;
         }
@@ -1049,7 +1084,10 @@ fn the_slurm_script_runs_no_part_of_a_hostile_out_name() {
     let ran = std::process::Command::new("bash")
         .arg(&script)
         .current_dir(&d)
-        .env("PATH", format!("{}:{}", bin.display(), std::env::var("PATH").unwrap()))
+        .env(
+            "PATH",
+            format!("{}:{}", bin.display(), std::env::var("PATH").unwrap()),
+        )
         .env("SLURM_ARRAY_TASK_ID", "0")
         .env("SLURM_ARRAY_TASK_COUNT", "1")
         .env("SLURM_ARRAY_JOB_ID", "7")
@@ -1063,7 +1101,10 @@ fn the_slurm_script_runs_no_part_of_a_hostile_out_name() {
     );
     assert!(ran.status.success(), "{said}");
     assert!(said.contains("shard 0/1"), "{said}");
-    assert!(out.join("results.csv").is_file(), "no merge into the hostile directory: {said}");
+    assert!(
+        out.join("results.csv").is_file(),
+        "no merge into the hostile directory: {said}"
+    );
     assert_eq!(table(&out).lines().count(), 5);
     for planted in ["PWNED", "PWNED2"] {
         assert!(!d.join(planted).exists(), "a part of --out ran: {said}");

@@ -105,9 +105,7 @@ pub const MAX_WHEELSETS: usize = 1000;
 pub fn check_name(name: &str) -> Result<(), String> {
     let n = name.chars().count();
     if n == 0 || n > MAX_NAME_CHARS {
-        return Err(format!(
-            "{n} characters: expected 1 ..= {MAX_NAME_CHARS}"
-        ));
+        return Err(format!("{n} characters: expected 1 ..= {MAX_NAME_CHARS}"));
     }
     if name.starts_with('.') {
         return Err("starts with '.' (a hidden file, or `..`: outside the case's folder)".into());
@@ -195,14 +193,13 @@ pub fn check_result(r: &CaseResult, manifest: &Manifest) -> Result<(), String> {
         ));
     }
     for (k, w) in r.wheelsets.iter().enumerate() {
-        check_name(w).map_err(|m| {
-            format!(
-                "\"wheelsets\"[{k}] = {}: not a wheelset name: {m}",
-                shown(w)
-            )
-        })?;
+        check_name(w).map_err(|m| format!("\"wheelsets\"[{k}] = {}: not a wheelset name: {m}", shown(w)))?;
     }
-    for (key, v) in [("wall_s", r.wall_s), ("run_wall_s", r.run_wall_s), ("simulated_s", r.simulated_s)] {
+    for (key, v) in [
+        ("wall_s", r.wall_s),
+        ("run_wall_s", r.run_wall_s),
+        ("simulated_s", r.simulated_s),
+    ] {
         if !(v.is_finite() && v >= 0.0) {
             return Err(format!("\"{key}\" = {v}: expected a finite time ≥ 0 s"));
         }
@@ -270,8 +267,14 @@ mod tests {
     /// and symbols included, is kept as it is.
     #[test]
     fn printable_escapes_every_control_character() {
-        assert!(matches!(printable("speed = 19 m/s, μ 0.3 ≤ 1"), std::borrow::Cow::Borrowed(_)));
-        assert_eq!(printable("a\u{1b}[2Jb\r\n\t\0\u{7f}\u{9b}"), "a\\u{1b}[2Jb\\r\\n\\t\\u{0}\\u{7f}\\u{9b}");
+        assert!(matches!(
+            printable("speed = 19 m/s, μ 0.3 ≤ 1"),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        assert_eq!(
+            printable("a\u{1b}[2Jb\r\n\t\0\u{7f}\u{9b}"),
+            "a\\u{1b}[2Jb\\r\\n\\t\\u{0}\\u{7f}\\u{9b}"
+        );
         assert_eq!(printable("x\u{202e}y"), "x\\u{202e}y");
         for c in (0u32..0x2070).filter_map(char::from_u32) {
             let p = printable(&c.to_string()).into_owned();

@@ -487,7 +487,11 @@ pub fn merge(out: &Path) -> Result<(Manifest, Vec<CaseResult>, PathBuf), StudyEr
 
 /// The files of [`merge`] from the rows [`collect`] read (the files written, `results.csv`
 /// first).
-pub fn write_merged(out: &Path, manifest: &Manifest, rows: &[CaseResult]) -> Result<Vec<PathBuf>, StudyError> {
+pub fn write_merged(
+    out: &Path,
+    manifest: &Manifest,
+    rows: &[CaseResult],
+) -> Result<Vec<PathBuf>, StudyError> {
     let path = out.join("results.csv");
     write_atomic(&path, &results_csv(manifest, rows)?)?;
     let mut written = vec![path];
@@ -523,7 +527,11 @@ pub fn front_wheelset_y(out: &Path, r: &CaseResult) -> Result<Vec<(f64, f64)>, S
     check_name(name).map_err(|m| {
         io(
             &dir.join("result.json"),
-            format!("case {}: \"wheelsets\"[0] = {}: not a wheelset name: {m}", r.case, shown(name)),
+            format!(
+                "case {}: \"wheelsets\"[0] = {}: not a wheelset name: {m}",
+                r.case,
+                shown(name)
+            ),
         )
     })?;
     let path = dir.join(format!("{name}.csv"));
@@ -557,9 +565,9 @@ pub fn front_wheelset_y(out: &Path, r: &CaseResult) -> Result<Vec<(f64, f64)>, S
         let line = rec.position().map_or(0, |p| p.line());
         let cell = |k: usize, c: &str| -> Result<f64, StudyError> {
             let v = rec.get(k).unwrap_or("");
-            v.trim().parse().map_err(|_| {
-                io(&path, format!("line {line}: {c} = {}: not a number", shown(v)))
-            })
+            v.trim()
+                .parse()
+                .map_err(|_| io(&path, format!("line {line}: {c} = {}: not a number", shown(v))))
         };
         points.push((cell(t, "t_s")?, cell(y, "y_mm")?));
     }

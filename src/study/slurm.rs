@@ -99,9 +99,7 @@ pub fn sbatch_script(job: &SlurmJob) -> Result<String, StudyError> {
         )));
     }
     if job.cpus_per_task == 0 {
-        return Err(refuse(
-            "--cpus-per-task 0: expected at least 1".to_string(),
-        ));
+        return Err(refuse("--cpus-per-task 0: expected at least 1".to_string()));
     }
     if !slurm_time(job.time) {
         return Err(refuse(format!(
@@ -185,9 +183,45 @@ mod tests {
     /// Every character a POSIX shell or bash gives a meaning to, alone and together.
     fn hostile() -> Vec<String> {
         let mut v: Vec<String> = [
-            "\"", "`", "'", ";", "|", "&", "<", ">", "*", "?", "\n", "\\", "$", " ", "!", "#", "~",
-            "(", ")", "{", "}", "[", "]", "=", "%", "^", "\t", "''", "'\\''", "\\'", "$(touch PWNED)",
-            "`touch PWNED`", "${HOME}", "$HOME", "~root", "a b\tc", "-n", "--", "",
+            "\"",
+            "`",
+            "'",
+            ";",
+            "|",
+            "&",
+            "<",
+            ">",
+            "*",
+            "?",
+            "\n",
+            "\\",
+            "$",
+            " ",
+            "!",
+            "#",
+            "~",
+            "(",
+            ")",
+            "{",
+            "}",
+            "[",
+            "]",
+            "=",
+            "%",
+            "^",
+            "\t",
+            "''",
+            "'\\''",
+            "\\'",
+            "$(touch PWNED)",
+            "`touch PWNED`",
+            "${HOME}",
+            "$HOME",
+            "~root",
+            "a b\tc",
+            "-n",
+            "--",
+            "",
         ]
         .iter()
         .map(|s| s.to_string())
@@ -211,7 +245,11 @@ mod tests {
             .current_dir(cwd)
             .output()
             .unwrap();
-        assert!(o.status.success(), "{line}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            o.status.success(),
+            "{line}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
         let mut w: Vec<String> = String::from_utf8(o.stdout)
             .unwrap()
             .split('\0')
@@ -301,14 +339,21 @@ mod tests {
             .arg("-c")
             .arg(&script)
             .current_dir(&d)
-            .env("PATH", format!("{}:{}", bin.display(), std::env::var("PATH").unwrap()))
+            .env(
+                "PATH",
+                format!("{}:{}", bin.display(), std::env::var("PATH").unwrap()),
+            )
             .env("KLOG", &log)
             .env("SLURM_ARRAY_TASK_ID", "0")
             .env("SLURM_ARRAY_JOB_ID", "7")
             .env("SLURM_CPUS_PER_TASK", "1")
             .output()
             .unwrap();
-        assert!(ran.status.success(), "{}\n{script}", String::from_utf8_lossy(&ran.stderr));
+        assert!(
+            ran.status.success(),
+            "{}\n{script}",
+            String::from_utf8_lossy(&ran.stderr)
+        );
         let logged = std::fs::read_to_string(&log).unwrap();
         let calls: Vec<Vec<&str>> = logged
             .split("END\0")
@@ -359,12 +404,48 @@ mod tests {
         };
         let nl = Path::new("/a\nb");
         for (j, want) in [
-            (SlurmJob { out: nl, ..job.clone() }, "--out"),
-            (SlurmJob { out: Path::new("/a\\b"), ..job.clone() }, "a backslash"),
-            (SlurmJob { study: nl, ..job.clone() }, "the study file"),
-            (SlurmJob { time: "1:2:3:4", ..job.clone() }, "--time"),
-            (SlurmJob { partition: Some("a;b"), ..job.clone() }, "--partition"),
-            (SlurmJob { shards: 0, ..job.clone() }, "--shards"),
+            (
+                SlurmJob {
+                    out: nl,
+                    ..job.clone()
+                },
+                "--out",
+            ),
+            (
+                SlurmJob {
+                    out: Path::new("/a\\b"),
+                    ..job.clone()
+                },
+                "a backslash",
+            ),
+            (
+                SlurmJob {
+                    study: nl,
+                    ..job.clone()
+                },
+                "the study file",
+            ),
+            (
+                SlurmJob {
+                    time: "1:2:3:4",
+                    ..job.clone()
+                },
+                "--time",
+            ),
+            (
+                SlurmJob {
+                    partition: Some("a;b"),
+                    ..job.clone()
+                },
+                "--partition",
+            ),
+            (
+                SlurmJob {
+                    shards: 0,
+                    ..job.clone()
+                },
+                "--shards",
+            ),
         ] {
             let e = sbatch_script(&j).unwrap_err().to_string();
             assert!(e.contains(want), "{e}");
