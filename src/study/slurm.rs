@@ -119,9 +119,10 @@ pub fn sbatch_script(job: &SlurmJob) -> Result<String, StudyError> {
     let out = path_text("--out", job.out)?;
     if out.contains('\\') {
         return Err(refuse(format!(
-            "--out {out:?}: a backslash in the output directory cannot go into the job's log file \
+            "--out {}: a backslash in the output directory cannot go into the job's log file \
              names: Slurm reads a backslash there as \"no % patterns\" (the shards' logs, \
-             shard-%a.log, would not be told apart); choose a directory without one"
+             shard-%a.log, would not be told apart); choose a directory without one",
+            super::printable(out)
         )));
     }
     let study = path_text("the study file", job.study)?;
