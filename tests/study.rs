@@ -806,3 +806,308 @@ fn the_cooperrider_car_linearised_with_kec_and_with_online_contact_agrees() {
         );
     }
 }
+
+/// A finished 4-case grid study in `DIR/out` (its path).
+fn finished_grid(d: &Path) -> PathBuf {
+    let path = grid_study(d);
+    let out = d.join("out");
+    kecsim_ok(
+        &[
+            "study",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--jobs",
+            "2",
+        ],
+        d,
+    );
+    out
+}
+
+/// `study merge` reads the cases' files bounded (issue 66): a FIFO at a case's wheelset CSV is
+/// an error naming it within seconds (before: a hang), a link to `/dev/zero` an error (before: a
+/// 2 GB allocation and an abort), and a wheelset name `../../evil` in a `result.json` is refused
+/// naming the file, the case and the name (before: read as the path `../../evil.csv`, outside
+/// the study).
+#[test]
+fn study_merge_reads_case_files_bounded_and_names_never_as_paths() {
+    use crate::reliability::rejects;
+    let d = tmpdir("study-merge-bounded");
+    let out = finished_grid(&d);
+    let o = out.to_str().unwrap();
+    let csv = out.join("cases/00001/wheelset_1.csv");
+    let saved = std::fs::read(&csv).unwrap();
+    let csv_name = csv.display().to_string();
+    // A FIFO nobody writes.
+    std::fs::remove_file(&csv).unwrap();
+    let made = std::process::Command::new("mkfifo").arg(&csv).status().unwrap();
+    assert!(made.success());
+    let t = std::time::Instant::now();
+    rejects(&["study", "merge", o], &d, 30, &[&csv_name, "not a regular file"]);
+    assert!(t.elapsed().as_secs() < 30, "{:?}", t.elapsed());
+    // A link to /dev/zero.
+    std::fs::remove_file(&csv).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", &csv).unwrap();
+    rejects(&["study", "merge", o], &d, 30, &[&csv_name, "symlink"]);
+    std::fs::remove_file(&csv).unwrap();
+    std::fs::write(&csv, &saved).unwrap();
+    kecsim_ok(&["study", "merge", o], &d);
+    // A wheelset name that is a path: a file planted where it points is never read.
+    let result = out.join("cases/00002/result.json");
+    let text = std::fs::read_to_string(&result).unwrap();
+    assert!(text.contains("\"wheelset_1\""), "{text}");
+    std::fs::write(d.join("evil.csv"), "t_s,y_mm\n0,1e9\n").unwrap();
+    for (name, why) in [
+        ("../../evil", "starts with '.'"),
+        ("a/../../../evil", "holds \"/\""),
+        ("a\u{1b}[2Jb", "holds \"\\u{1b}\""),
+        ("", "0 characters"),
+    ] {
+        let json = serde_json::to_string(name).unwrap();
+        std::fs::write(&result, text.replace("\"wheelset_1\"", &json)).unwrap();
+        let shown = name.replace('\u{1b}', "\\u{1b}");
+        let e = rejects(
+            &["study", "merge", o],
+            &d,
+            30,
+            &[
+                &result.display().to_string(),
+                "case 2",
+                &format!("\"wheelsets\"[0] = \"{shown}\": not a wheelset name"),
+                why,
+            ],
+        );
+        assert!(!e.stderr.contains('\u{1b}'), "{}", e.stderr);
+    }
+    std::fs::write(&result, &text).unwrap();
+    kecsim_ok(&["study", "merge", o], &d);
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// A tampered `result.json` (issue 66): a value too many, an extract too few or an unknown status
+/// is an error naming the file, the case and the key (before: "results.csv: CSV error"); control
+/// characters in its strings (ESC sequences that would clear the screen or recolour text) are
+/// printed as visible escapes, never raw, by `study merge` and by a rerun that skips the case.
+#[test]
+fn a_tampered_case_result_is_named_and_never_printed_raw() {
+    use crate::reliability::rejects;
+    let d = tmpdir("study-tampered-result");
+    let out = finished_grid(&d);
+    let o = out.to_str().unwrap();
+    let result = out.join("cases/00003/result.json");
+    let text = std::fs::read_to_string(&result).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let path = result.display().to_string();
+    let tamper = |edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut j = json.clone();
+        edit(&mut j);
+        std::fs::write(&result, serde_json::to_string_pretty(&j).unwrap()).unwrap();
+    };
+    tamper(&|j| j["values"].as_array_mut().unwrap().push("9".into()));
+    let e = rejects(
+        &["study", "merge", o],
+        &d,
+        30,
+        &[&path, "case 3", "\"values\" has 4 entries", "3 axes"],
+    );
+    assert!(!e.stderr.contains("CSV error"), "{}", e.stderr);
+    tamper(&|j| {
+        j["extracts"].as_array_mut().unwrap().pop();
+    });
+    rejects(
+        &["study", "merge", o],
+        &d,
+        30,
+        &[&path, "\"extracts\" has 4 entries", "5 extracts"],
+    );
+    tamper(&|j| j["status"] = "won\u{1b}[31m".into());
+    let e = rejects(
+        &["study", "merge", o],
+        &d,
+        30,
+        &[
+            &path,
+            "\"status\" = \"won\\u{1b}[31m\"",
+            "completed, stopped, derailed, failed",
+        ],
+    );
+    assert!(!e.stderr.contains('\u{1b}'), "{}", e.stderr);
+    // Escapes in the strings a merge prints: shown, not obeyed.
+    tamper(&|j| {
+        j["diagnosis"] = "\u{1b}[2J\u{1b}[31mcleared\r\u{7}".into();
+        j["values"][1] = "0.3\u{1b}]0;title\u{7}".into();
+    });
+    let merged = kecsim_ok(&["study", "merge", o], &d);
+    assert!(
+        !merged.contains('\u{1b}') && !merged.contains('\r') && !merged.contains('\u{7}'),
+        "{merged:?}"
+    );
+    assert!(
+        merged.contains("\\u{1b}[2J\\u{1b}[31mcleared\\r\\u{7}")
+            && merged.contains("0.3\\u{1b}]0;title\\u{7}"),
+        "{merged}"
+    );
+    // A rerun prints the skipped case's values from its result.json: escaped too.
+    let study = d.join("grid.toml");
+    let rerun = kecsim_ok(&["study", study.to_str().unwrap(), "--out", o, "--jobs", "1"], &d);
+    assert!(!rerun.contains('\u{1b}') && !rerun.contains('\u{7}'), "{rerun:?}");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// `statistics.csv` (issue 66: documented, never written): a study with a `seeds` axis writes it
+/// beside `results.csv`, one row per speed and extract over the three realisations; its n, mean,
+/// sample standard deviation, min, max and mean + 3 std equal the figures recomputed here from
+/// the cases' rows of `results.csv`.
+#[test]
+fn a_seeds_study_writes_statistics_csv_as_documented() {
+    let d = tmpdir("study-statistics");
+    crate::reliability::scenario(&d, "irr.toml", &[("duration_s = 0.5", "duration_s = 0.3")]);
+    let study = write_study(
+        &d,
+        "seeds.toml",
+        "schema_version = 1\nname = \"seeds\"\nscenario = \"irr.toml\"\nseed = 5\n\
+         extract = [\"max_abs_y_mm\", \"rms(*.y_mm)\", \"max_abs_yaw_mrad\"]\n\
+         [[axis]]\nkey = \"simulation.speed_m_s\"\nvalues = [15.0, 25.0]\n\
+         [[axis]]\nkey = \"track.irregularities.seed\"\nseeds = 3\n"
+            .to_string(),
+    );
+    let out = d.join("out");
+    let printed = kecsim_ok(
+        &[
+            "study",
+            study.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--jobs",
+            "2",
+        ],
+        &d,
+    );
+    assert!(printed.contains("statistics.csv"), "{printed}");
+    let read = |f: &str| -> Vec<Vec<String>> {
+        let mut r = csv::Reader::from_path(out.join(f)).unwrap();
+        let mut rows = vec![r.headers().unwrap().iter().map(String::from).collect()];
+        rows.extend(r.records().map(|x| x.unwrap().iter().map(String::from).collect()));
+        rows
+    };
+    let results = read("results.csv");
+    let stats = read("statistics.csv");
+    assert_eq!(
+        stats[0],
+        [
+            "simulation.speed_m_s",
+            "extract",
+            "n",
+            "mean",
+            "std",
+            "min",
+            "max",
+            "mean_plus_3std"
+        ]
+    );
+    let extracts = ["max_abs_y_mm", "rms(*.y_mm)", "max_abs_yaw_mrad"];
+    assert_eq!(stats.len(), 1 + 2 * extracts.len(), "{stats:?}");
+    let col = |name: &str| results[0].iter().position(|h| h == name).unwrap();
+    let mut row = 1;
+    for speed in ["15", "25"] {
+        let cases: Vec<&Vec<String>> = results[1..]
+            .iter()
+            .filter(|r| r[col("simulation.speed_m_s")] == speed)
+            .collect();
+        assert_eq!(cases.len(), 3);
+        for x in extracts {
+            let v: Vec<f64> = cases.iter().map(|r| r[col(x)].parse().unwrap()).collect();
+            let n = v.len() as f64;
+            let mean = v.iter().sum::<f64>() / n;
+            let std = (v.iter().map(|a| (a - mean) * (a - mean)).sum::<f64>() / (n - 1.0)).sqrt();
+            let min = v.iter().copied().fold(f64::MAX, f64::min);
+            let max = v.iter().copied().fold(f64::MIN, f64::max);
+            let s = &stats[row];
+            assert_eq!(
+                (s[0].as_str(), s[1].as_str(), s[2].as_str()),
+                (speed, x, "3"),
+                "{s:?}"
+            );
+            let got: Vec<f64> = s[3..].iter().map(|c| c.parse().unwrap()).collect();
+            for (g, want) in got.iter().zip([mean, std, min, max, mean + 3.0 * std]) {
+                assert!(
+                    (g - want).abs() <= 1e-9 * want.abs().max(1.0),
+                    "{x} at {speed}: {s:?} vs {want}"
+                );
+            }
+            row += 1;
+        }
+        // Three realisations that differ: a scatter to summarise.
+        let y: Vec<&String> = cases.iter().map(|r| &r[col("max_abs_y_mm")]).collect();
+        assert!(y[0] != y[1] || y[1] != y[2], "{y:?}");
+    }
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// `study slurm` with an output directory holding every shell metacharacter (issue 66: the merge
+/// job's `--wrap` command was built in the script from the expanded variables and re-parsed by
+/// `sh`, so `$(touch PWNED)` in --out ran): the script run as task 0 of a one-task array, with an
+/// `sbatch` stub that runs `--wrap` through `sh -c` as sbatch's wrapper does, runs the real study
+/// into that very directory and merges it; nothing in the name runs.
+#[test]
+fn the_slurm_script_runs_no_part_of_a_hostile_out_name() {
+    let d = tmpdir("study-slurm-wrap");
+    let path = grid_study(&d);
+    let out = d.join("o$(touch PWNED) `touch PWNED2` \"q\" 'x' ;|&<>*?$!#~ %a");
+    let script = d.join("job.sh");
+    kecsim_ok(
+        &[
+            "study",
+            "slurm",
+            path.to_str().unwrap(),
+            "--shards",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+            "--script",
+            script.to_str().unwrap(),
+        ],
+        &d,
+    );
+    let bin = d.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let stub = bin.join("sbatch");
+    std::fs::write(
+        &stub,
+        "#!/bin/sh\nwhile [ $# -gt 0 ]; do\n  if [ \"$1\" = --wrap ]; then exec sh -c \"$2\"; fi\n  shift\ndone\nexit 3\n",
+    )
+    .unwrap();
+    let mut perm = std::fs::metadata(&stub).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut perm, 0o755);
+    std::fs::set_permissions(&stub, perm).unwrap();
+    let ran = std::process::Command::new("bash")
+        .arg(&script)
+        .current_dir(&d)
+        .env(
+            "PATH",
+            format!("{}:{}", bin.display(), std::env::var("PATH").unwrap()),
+        )
+        .env("SLURM_ARRAY_TASK_ID", "0")
+        .env("SLURM_ARRAY_TASK_COUNT", "1")
+        .env("SLURM_ARRAY_JOB_ID", "7")
+        .env("SLURM_CPUS_PER_TASK", "2")
+        .output()
+        .unwrap();
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&ran.stdout),
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    assert!(ran.status.success(), "{said}");
+    assert!(said.contains("shard 0/1"), "{said}");
+    assert!(
+        out.join("results.csv").is_file(),
+        "no merge into the hostile directory: {said}"
+    );
+    assert_eq!(table(&out).lines().count(), 5);
+    for planted in ["PWNED", "PWNED2"] {
+        assert!(!d.join(planted).exists(), "a part of --out ran: {said}");
+    }
+    std::fs::remove_dir_all(&d).ok();
+}

@@ -12,8 +12,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use kecsim::dynamics::CancelToken;
 use kecsim::inspect::{self, Sink};
-use kecsim::study::run::results_markdown;
-use kecsim::study::{merge, run_study, CaseResult, Study, StudyOptions};
+use kecsim::study::run::{collect, results_markdown, write_merged};
+use kecsim::study::slurm::{sbatch_script, SlurmJob};
+use kecsim::study::{run_study, CaseResult, Study, StudyOptions};
 
 use super::SinkArgs;
 
@@ -250,6 +251,8 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
                 format!(": {}", r.diagnosis)
             }
         );
+        // (A skipped case's values and status come from its result.json: made printable.)
+        let line = kecsim::study::printable(&line);
         if bar.is_hidden() {
             println!("{line}");
         } else {
@@ -313,11 +316,14 @@ fn run_file(path: &Path, a: RunStudyArgs) -> Result<()> {
 
 /// Writes the table and the recording of a finished study.
 fn finish(out: &Path, sink: &Sink) -> Result<()> {
-    let (manifest, rows, table) = merge(out)?;
-    println!("wrote {}", table.display());
+    let (manifest, rows) = collect(out)?;
+    // The cases' CSVs read (bounded, each a regular file) before anything is written.
+    let front_y = inspect::study::front_y_extent(out, &rows)?;
+    for p in write_merged(out, &manifest, &rows)? {
+        println!("wrote {}", p.display());
+    }
     let markdown = results_markdown(&manifest, &rows);
     let delivered = {
-        let front_y = inspect::study::front_y_extent(out, &rows);
         let rec = inspect::open_recording("kecsim", sink, || {
             inspect::study::blueprint_with(&manifest, front_y)
         })?;
@@ -331,8 +337,12 @@ fn finish(out: &Path, sink: &Sink) -> Result<()> {
 
 /// The files a merge writes in the study's directory (the sink's apart), guarded against the
 /// inputs and the sink's file (`--save DIR/results.csv` would replace the table).
-fn merge_outputs(dir: &Path) -> [PathBuf; 2] {
-    [dir.join("results.csv"), dir.join("critical_speeds.csv")]
+fn merge_outputs(dir: &Path) -> [PathBuf; 3] {
+    [
+        dir.join("results.csv"),
+        dir.join("statistics.csv"),
+        dir.join("critical_speeds.csv"),
+    ]
 }
 
 /// [`merge_outputs`] as the guard takes them.
@@ -365,20 +375,9 @@ fn merge_dir(dir: &Path, sink: &SinkArgs) -> Result<()> {
     finish(dir, &sink)
 }
 
-/// Whether `t` is one of Slurm's `--time` formats: `M`, `M:S`, `H:M:S`, `D-H`, `D-H:M`,
-/// `D-H:M:S` (digits only).
-fn slurm_time(t: &str) -> bool {
-    let digits = |f: &str| !f.is_empty() && f.bytes().all(|b| b.is_ascii_digit());
-    let (days, rest) = match t.split_once('-') {
-        Some((d, r)) => (Some(d), r),
-        None => (None, t),
-    };
-    let fields: Vec<&str> = rest.split(':').collect();
-    days.is_none_or(digits) && (1..=3).contains(&fields.len()) && fields.iter().all(|f| digits(f))
-}
-
 /// The sbatch script: a job array of `shards` tasks, each `kecsim study` on its slice (the shard
-/// from SLURM_ARRAY_TASK_ID/COUNT), and a merge job that runs once every task has ended well.
+/// from SLURM_ARRAY_TASK_ID/COUNT), and a merge job that runs once every task has ended well
+/// ([`kecsim::study::slurm::sbatch_script`]: every value checked and quoted there).
 fn slurm(
     study: &Path,
     shards: usize,
@@ -388,23 +387,21 @@ fn slurm(
     partition: Option<&str>,
     script: Option<PathBuf>,
 ) -> Result<()> {
-    anyhow::ensure!(
-        (1..=10_000).contains(&shards),
-        "--shards {shards}: expected 1 ..= 10000"
-    );
-    anyhow::ensure!(cpus >= 1, "--cpus-per-task {cpus}: expected at least 1");
-    anyhow::ensure!(
-        slurm_time(time),
-        "--time {time:?}: expected a Slurm time (minutes, minutes:seconds, hours:minutes:seconds, \
-         days-hours, days-hours:minutes or days-hours:minutes:seconds)"
-    );
-    if let Some(p) = partition {
-        anyhow::ensure!(
-            !p.is_empty() && p.chars().all(|c| c.is_ascii_alphanumeric() || "_.,-".contains(c)),
-            "--partition {p:?}: expected a Slurm partition name (letters, digits, `_`, `.`, `-`; \
-             several separated by `,`)"
-        );
-    }
+    // The options checked before the study is read (the same checks again in the script's
+    // builder, with the paths).
+    let check = |job: SlurmJob| sbatch_script(&job).map(|_| ());
+    let here = Path::new("/");
+    check(SlurmJob {
+        name: "",
+        cases: shards,
+        shards,
+        cpus_per_task: cpus,
+        time,
+        partition,
+        exe: here,
+        study: here,
+        out: here,
+    })?;
     // Checked now: a study that does not read must not reach the queue.
     let s = Study::read(study)?;
     anyhow::ensure!(
@@ -416,59 +413,17 @@ fn slurm(
     let out = abs(&out.unwrap_or_else(|| default_out(study)));
     let exe = abs(&std::env::current_exe().context("cannot find the kecsim binary's path")?);
     let study = abs(study);
-    for (what, p) in [
-        ("--out", &out),
-        ("the study file", &study),
-        ("the kecsim binary", &exe),
-    ] {
-        anyhow::ensure!(
-            !p.to_string_lossy().contains(['\n', '\r']),
-            "{what} {p:?}: a path with a newline cannot go into a job script"
-        );
-    }
-    // The shell's quoting: single quotes, each ' as '\''.
-    let q = |p: &Path| format!("'{}'", p.display().to_string().replace('\'', r"'\''"));
-    // A Slurm file name: % doubled (its patterns start with %).
-    let slurm_file = |p: &Path| PathBuf::from(p.display().to_string().replace('%', "%%"));
-    // An #SBATCH directive's value: sbatch reads it with double quotes and backslash escapes.
-    let directive = |p: &Path| {
-        format!(
-            "\"{}\"",
-            p.display().to_string().replace('\\', "\\\\").replace('"', "\\\"")
-        )
-    };
-    let partition = partition.map_or(String::new(), |p| format!("#SBATCH --partition={p}\n"));
-    let text = format!(
-        "#!/bin/bash\n\
-         # kecsim study {name}: {cases} cases in {shards} shards (a Slurm job array), then merged.\n\
-         # Submit with: sbatch THIS_SCRIPT  (it submits the merge job itself, after the array).\n\
-         #SBATCH --job-name=kecsim-study\n\
-         #SBATCH --array=0-{last}\n\
-         #SBATCH --cpus-per-task={cpus}\n\
-         #SBATCH --time={time}\n\
-         {partition}\
-         #SBATCH --output={shard_log}\n\
-         set -euo pipefail\n\
-         KECSIM={exe}\n\
-         STUDY={study}\n\
-         OUT={outq}\n\
-         # Each task runs the cases k with k mod SLURM_ARRAY_TASK_COUNT = SLURM_ARRAY_TASK_ID.\n\
-         \"$KECSIM\" study \"$STUDY\" --out \"$OUT\" --jobs \"${{SLURM_CPUS_PER_TASK:-1}}\"\n\
-         # The last task to finish submits nothing: the merge runs as its own job once every\n\
-         # task has ended well (submitted by task 0, dependent on the whole array).\n\
-         if [ \"${{SLURM_ARRAY_TASK_ID}}\" = 0 ]; then\n\
-         \x20 sbatch --dependency=afterok:${{SLURM_ARRAY_JOB_ID}} --job-name=kecsim-merge \\\n\
-         \x20   --output={merge_log} --wrap \"\\\"$KECSIM\\\" study merge \\\"$OUT\\\"\"\n\
-         fi\n",
-        name = s.name.replace(['\n', '\r'], " "),
-        cases = s.cases.len(),
-        last = shards - 1,
-        shard_log = directive(&slurm_file(&out).join("shard-%a.log")),
-        merge_log = q(&slurm_file(&out).join("merge.log")),
-        exe = q(&exe),
-        study = q(&study),
-        outq = q(&out),
-    );
+    let text = sbatch_script(&SlurmJob {
+        name: &s.name,
+        cases: s.cases.len(),
+        shards,
+        cpus_per_task: cpus,
+        time,
+        partition,
+        exe: &exe,
+        study: &study,
+        out: &out,
+    })?;
     let inputs = s.input_files();
     inputs_outside_cases(&inputs, &out)?;
     let cases = out.join("cases");

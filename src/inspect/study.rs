@@ -26,7 +26,7 @@ use rerun::{Color, LineStrips2D, Points2D, Radius, RecordingStream, TextDocument
 
 use super::{log_static, send_scalar_rows, InspectError};
 use crate::study::run::front_wheelset_y;
-use crate::study::{first_appearances, CaseResult, Manifest};
+use crate::study::{first_appearances, CaseResult, Manifest, StudyError};
 
 /// The simulated-time timeline.
 pub const TIME: &str = "time";
@@ -53,17 +53,18 @@ pub fn blueprint_for(manifest: &Manifest) -> Layout {
 }
 
 /// The smallest and largest front wheelset y (mm) of the cases `rows` of the study in `out` (for
-/// [`blueprint_with`]); None without any.
-pub fn front_y_extent(out: &Path, rows: &[CaseResult]) -> Option<[f64; 2]> {
+/// [`blueprint_with`]); None without any. A case CSV that cannot be read (a FIFO, a device, a
+/// link, a file past its bound, a row that does not read) is an error naming it.
+pub fn front_y_extent(out: &Path, rows: &[CaseResult]) -> Result<Option<[f64; 2]>, StudyError> {
     let mut range: Option<[f64; 2]> = None;
     for r in rows {
-        for (_, y) in front_wheelset_y(out, r) {
+        for (_, y) in front_wheelset_y(out, r)? {
             if y.is_finite() {
                 range = Some(range.map_or([y, y], |[lo, hi]| [lo.min(y), hi.max(y)]));
             }
         }
     }
-    range
+    Ok(range)
 }
 
 /// [`blueprint_for`] with the every-case plot's y extent `front_y` (mm) known: its y range padded
@@ -403,7 +404,7 @@ pub fn record(
         }
     }
     for r in rows {
-        let y = front_wheelset_y(out, r);
+        let y = front_wheelset_y(out, r).map_err(|e| InspectError::Model(e.to_string()))?;
         if y.is_empty() {
             continue;
         }

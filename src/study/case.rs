@@ -87,3 +87,200 @@ pub fn first_appearances<T: PartialEq>(items: impl IntoIterator<Item = T>) -> Ve
     }
     out
 }
+
+/// The outcomes a case's `status` may be (a run's, [`crate::dynamics::run`]).
+pub const STATUSES: [&str; 4] = ["completed", "stopped", "derailed", "failed"];
+
+/// Longest wheelset name read from a case's `result.json`, in characters (its CSV is `NAME.csv`
+/// in the case's folder: a file name, at most 255 bytes on common file systems).
+pub const MAX_NAME_CHARS: usize = 200;
+
+/// Most wheelsets a case's `result.json` may name.
+pub const MAX_WHEELSETS: usize = 1000;
+
+/// Checks `name`, read from a file, as a wheelset name before it becomes a file name (`NAME.csv`
+/// in a case's folder): the vehicle's own rule for body names — ASCII letters, digits, `_`, `-`
+/// and `.`, not `.` first, so no `/`, no `..` part, no NUL or control character — and 1 to
+/// [`MAX_NAME_CHARS`] characters. The error says what is wrong with it.
+pub fn check_name(name: &str) -> Result<(), String> {
+    let n = name.chars().count();
+    if n == 0 || n > MAX_NAME_CHARS {
+        return Err(format!("{n} characters: expected 1 ..= {MAX_NAME_CHARS}"));
+    }
+    if name.starts_with('.') {
+        return Err("starts with '.' (a hidden file, or `..`: outside the case's folder)".into());
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
+    {
+        return Err(format!(
+            "holds {}: expected ASCII letters, digits, '_', '-' or '.' (a name, never a path)",
+            shown(&c.to_string())
+        ));
+    }
+    Ok(())
+}
+
+/// `s` as it may be printed to a terminal or a report: every control character (ESC, CR,
+/// newline, NUL, …) and every bidirectional override written as a visible escape (`\u{1b}`,
+/// `\r`, `\n`), the rest as it is. A string read from a file goes through this before it is
+/// printed, so that a tampered `result.json` cannot move the cursor, recolour or hide text.
+pub fn printable(s: &str) -> std::borrow::Cow<'_, str> {
+    let hidden = |c: char| {
+        c.is_control()
+            || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+    };
+    if !s.chars().any(hidden) {
+        return std::borrow::Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if hidden(c) {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
+/// Most characters of a value from a file an error message quotes.
+const SHOWN_CHARS: usize = 80;
+
+/// `s` quoted for an error message: [`printable`], in double quotes, cut after
+/// [`SHOWN_CHARS`] characters (`…` and the full length).
+pub fn shown(s: &str) -> String {
+    let n = s.chars().count();
+    if n <= SHOWN_CHARS {
+        format!("\"{}\"", printable(s))
+    } else {
+        let head: String = s.chars().take(SHOWN_CHARS).collect();
+        format!("\"{}…\" ({n} characters)", printable(&head))
+    }
+}
+
+/// Checks a case's row read from its `result.json` against the study's manifest before any of
+/// it is tabulated or used: one value per axis, one extract per extract column, a known status,
+/// its wheelset names names ([`check_name`]). The error names the key, the value and what was
+/// expected.
+pub fn check_result(r: &CaseResult, manifest: &Manifest) -> Result<(), String> {
+    if r.values.len() != manifest.axes.len() {
+        return Err(format!(
+            "\"values\" has {} entries, but the study (study.json) has {} axes: one value per axis",
+            r.values.len(),
+            manifest.axes.len()
+        ));
+    }
+    if r.extracts.len() != manifest.extracts.len() {
+        return Err(format!(
+            "\"extracts\" has {} entries, but the study (study.json) has {} extracts: one per extract",
+            r.extracts.len(),
+            manifest.extracts.len()
+        ));
+    }
+    if !STATUSES.contains(&r.status.as_str()) {
+        return Err(format!(
+            "\"status\" = {}: expected one of {}",
+            shown(&r.status),
+            STATUSES.join(", ")
+        ));
+    }
+    if r.wheelsets.len() > MAX_WHEELSETS {
+        return Err(format!(
+            "\"wheelsets\" has {} names: expected at most {MAX_WHEELSETS}",
+            r.wheelsets.len()
+        ));
+    }
+    for (k, w) in r.wheelsets.iter().enumerate() {
+        check_name(w).map_err(|m| format!("\"wheelsets\"[{k}] = {}: not a wheelset name: {m}", shown(w)))?;
+    }
+    for (key, v) in [
+        ("wall_s", r.wall_s),
+        ("run_wall_s", r.run_wall_s),
+        ("simulated_s", r.simulated_s),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(format!("\"{key}\" = {v}: expected a finite time ≥ 0 s"));
+        }
+    }
+    Ok(())
+}
+
+/// Copies of a study's manifest and rows with every string [`printable`] (names, values,
+/// statuses, diagnoses): what a report or the terminal shows of files a user can edit.
+pub fn printable_copies(manifest: &Manifest, rows: &[CaseResult]) -> (Manifest, Vec<CaseResult>) {
+    let p = |s: &String| printable(s).into_owned();
+    let all = |v: &[String]| v.iter().map(p).collect::<Vec<_>>();
+    let m = Manifest {
+        id: p(&manifest.id),
+        name: p(&manifest.name),
+        axes: all(&manifest.axes),
+        extracts: all(&manifest.extracts),
+        ..manifest.clone()
+    };
+    let rows = rows
+        .iter()
+        .map(|r| CaseResult {
+            study_id: p(&r.study_id),
+            scenario_hash: p(&r.scenario_hash),
+            values: all(&r.values),
+            status: p(&r.status),
+            diagnosis: p(&r.diagnosis),
+            wheelsets: all(&r.wheelsets),
+            ..r.clone()
+        })
+        .collect();
+    (m, rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Names from a file are names: anything that would make `NAME.csv` a path elsewhere, a hidden
+    /// file or a terminal's control sequence is refused, saying why.
+    #[test]
+    fn names_read_from_files_are_never_paths() {
+        for ok in ["wheelset_1", "w1", "front-axle.2", "A"] {
+            assert_eq!(check_name(ok), Ok(()), "{ok}");
+        }
+        let long = "a".repeat(MAX_NAME_CHARS + 1);
+        for (bad, why) in [
+            ("../../evil", "starts with '.'"),
+            ("..", "starts with '.'"),
+            (".hidden", "starts with '.'"),
+            ("a/b", "holds \"/\""),
+            ("a\\b", "holds \"\\\""),
+            ("a\0b", "holds \"\\u{0}\""),
+            ("a\u{1b}b", "holds \"\\u{1b}\""),
+            ("a b", "holds \" \""),
+            ("", "0 characters"),
+            (long.as_str(), "201 characters"),
+        ] {
+            let e = check_name(bad).unwrap_err();
+            assert!(e.contains(why), "{bad:?}: {e}");
+        }
+    }
+
+    /// Control characters and bidirectional overrides become visible escapes; other text, accents
+    /// and symbols included, is kept as it is.
+    #[test]
+    fn printable_escapes_every_control_character() {
+        assert!(matches!(
+            printable("speed = 19 m/s, μ 0.3 ≤ 1"),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        assert_eq!(
+            printable("a\u{1b}[2Jb\r\n\t\0\u{7f}\u{9b}"),
+            "a\\u{1b}[2Jb\\r\\n\\t\\u{0}\\u{7f}\\u{9b}"
+        );
+        assert_eq!(printable("x\u{202e}y"), "x\\u{202e}y");
+        for c in (0u32..0x2070).filter_map(char::from_u32) {
+            let p = printable(&c.to_string()).into_owned();
+            assert!(!p.chars().any(|c| c.is_control()), "{c:?} → {p:?}");
+        }
+        let long = "é".repeat(100);
+        assert!(shown(&long).ends_with("…\" (100 characters)"), "{}", shown(&long));
+    }
+}

@@ -11,12 +11,13 @@ pub(crate) mod case;
 pub(crate) mod critical;
 pub mod extract;
 pub mod run;
+pub mod slurm;
 pub mod spec;
 pub(crate) mod statistics;
 
 use thiserror::Error;
 
-pub use case::{first_appearances, CaseResult, Manifest};
+pub use case::{first_appearances, printable, CaseResult, Manifest};
 pub use extract::Extract;
 pub use run::{merge, run_study, StudyOptions, StudyRunReport};
 pub use spec::{Axis, AxisValues, Case, Sampling, Study};
@@ -35,6 +36,9 @@ pub enum StudyError {
     },
     #[error("{0}")]
     Shard(String),
+    /// A value `kecsim study slurm` cannot put into a job script (see [`slurm`]).
+    #[error("{0}")]
+    Slurm(String),
     #[error("{dir} belongs to another study: {found}, not {this} (use another --out, or remove it)")]
     OtherStudy {
         dir: String,

@@ -23,7 +23,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::case::{CaseResult, Manifest};
+use super::case::{check_name, check_result, printable, shown, CaseResult, Manifest};
 use super::spec::{value_text, Case, Fnv, Study, MAX_CASES};
 use super::StudyError;
 use crate::dynamics::output::CsvWriter;
@@ -146,10 +146,15 @@ fn check_manifest(m: &Manifest) -> Result<(), String> {
 const MAX_MANIFEST_NAMES: usize = 10_000;
 
 /// The finished result of case `k` in `out`, where there is one for this study and scenario.
-fn finished(out: &Path, study_id: &str, case: &Case) -> Option<CaseResult> {
+/// (A row that does not pass [`check_result`] is not finished: the case runs again.)
+fn finished(out: &Path, manifest: &Manifest, case: &Case) -> Option<CaseResult> {
     let text = read_study_file(&case_dir(out, case.index).join("result.json")).ok()?;
     let r: CaseResult = serde_json::from_str(&text).ok()?;
-    (r.study_id == study_id && r.scenario_hash == scenario_hash(&case.scenario)).then_some(r)
+    (r.study_id == manifest.id
+        && r.case == case.index
+        && r.scenario_hash == scenario_hash(&case.scenario)
+        && check_result(&r, manifest).is_ok())
+    .then_some(r)
 }
 
 /// Runs the study's cases (of its shard) that are not finished yet, `jobs` at a time; `done`
@@ -174,7 +179,7 @@ pub fn run_study(
         Some(m) if m.id != manifest.id => {
             return Err(StudyError::OtherStudy {
                 dir: out.display().to_string(),
-                found: format!("{} ({})", m.name, m.id),
+                found: format!("{} ({})", printable(&m.name), printable(&m.id)),
                 this: format!("{} ({})", manifest.name, manifest.id),
             })
         }
@@ -195,7 +200,7 @@ pub fn run_study(
     };
     let mut pending = Vec::new();
     for c in mine {
-        match finished(out, &study.id, c) {
+        match finished(out, &manifest, c) {
             Some(r) => {
                 report.skipped += 1;
                 done(&r, true);
@@ -404,15 +409,22 @@ pub fn collect(out: &Path) -> Result<(Manifest, Vec<CaseResult>), StudyError> {
             }
             Err(e) => return Err(io(&path, e)),
         };
-        let r: CaseResult =
-            serde_json::from_str(&text).map_err(|e| io(&path, format!("not a case result: {e}")))?;
+        let r: CaseResult = serde_json::from_str(&text)
+            .map_err(|e| io(&path, format!("not a case result: {}", printable(&e.to_string()))))?;
         if r.study_id != manifest.id || r.case != k {
             return Err(StudyError::OtherStudy {
                 dir: path.display().to_string(),
-                found: format!("case {} of study {}", r.case, r.study_id),
-                this: format!("case {k} of study {} ({})", manifest.name, manifest.id),
+                found: format!("case {} of study {}", r.case, shown(&r.study_id)),
+                this: format!(
+                    "case {k} of study {} ({})",
+                    printable(&manifest.name),
+                    printable(&manifest.id)
+                ),
             });
         }
+        // (A tampered row — a value too many, an unknown status — said so here, naming the key:
+        // before, it surfaced as "results.csv: CSV error".)
+        check_result(&r, &manifest).map_err(|m| io(&path, format!("case {k}: {m}")))?;
         rows.push(r);
     }
     if !missing.is_empty() {
@@ -464,42 +476,110 @@ pub fn results_csv(manifest: &Manifest, rows: &[CaseResult]) -> Result<String, S
     String::from_utf8(bytes).map_err(|x| io(Path::new("results.csv"), x))
 }
 
-/// Joins the results of `out` into `out/results.csv` (every case must be finished) and, for a
-/// critical-speed study, `out/critical_speeds.csv`.
+/// Joins the results of `out` into `out/results.csv` (every case must be finished), for a study
+/// with a `seeds` axis `out/statistics.csv` (each extract over the realisations), and for a
+/// critical-speed study `out/critical_speeds.csv`; each written whole or not at all. Returns the
+/// path of `results.csv` ([`write_merged`] returns every file written).
 pub fn merge(out: &Path) -> Result<(Manifest, Vec<CaseResult>, PathBuf), StudyError> {
     let (manifest, rows) = collect(out)?;
+    write_merged(out, &manifest, &rows)?;
+    Ok((manifest, rows, out.join("results.csv")))
+}
+
+/// The files of [`merge`] from the rows [`collect`] read (the files written, `results.csv`
+/// first).
+pub fn write_merged(
+    out: &Path,
+    manifest: &Manifest,
+    rows: &[CaseResult],
+) -> Result<Vec<PathBuf>, StudyError> {
     let path = out.join("results.csv");
-    write_atomic(&path, &results_csv(&manifest, &rows)?)?;
-    if let Some(threshold) = manifest.critical_speed_threshold_mm {
-        let list = super::critical::critical_speeds(&manifest, &rows, threshold);
-        write_atomic(
-            &out.join("critical_speeds.csv"),
-            &super::critical::critical_csv(&list),
-        )?;
+    write_atomic(&path, &results_csv(manifest, rows)?)?;
+    let mut written = vec![path];
+    if !manifest.seed_axes.is_empty() {
+        let list = super::statistics::over_realisations(manifest, rows);
+        let path = out.join("statistics.csv");
+        write_atomic(&path, &super::statistics::statistics_csv(manifest, &list)?)?;
+        written.push(path);
     }
-    Ok((manifest, rows, path))
+    if let Some(threshold) = manifest.critical_speed_threshold_mm {
+        let list = super::critical::critical_speeds(manifest, rows, threshold);
+        let path = out.join("critical_speeds.csv");
+        write_atomic(&path, &super::critical::critical_csv(&list))?;
+        written.push(path);
+    }
+    Ok(written)
 }
 
-/// A case's first wheelset's (t, y): s and mm, from its CSV (empty where it has none).
-pub fn front_wheelset_y(out: &Path, r: &CaseResult) -> Vec<(f64, f64)> {
+/// Largest wheelset CSV of a case a merge reads, bytes (an hour simulated at 100 Hz is ~0.2 GB).
+pub const MAX_CASE_CSV_BYTES: u64 = 4 << 30;
+
+/// A case's first wheelset's (t, y): s and mm, from its CSV (empty where the case has no
+/// wheelset or its CSV was removed). The CSV is read as a study file is: its name checked as a
+/// name ([`check_name`]: never a path out of the case's folder), a regular file only (a FIFO, a
+/// device or a link at it is an error naming it, never a hang), at most
+/// [`MAX_CASE_CSV_BYTES`]; a row that does not read is an error naming the file, the line and
+/// the value.
+pub fn front_wheelset_y(out: &Path, r: &CaseResult) -> Result<Vec<(f64, f64)>, StudyError> {
     let Some(name) = r.wheelsets.first() else {
-        return Vec::new();
+        return Ok(Vec::new());
     };
-    let Ok(mut rd) = csv::Reader::from_path(case_dir(out, r.case).join(format!("{name}.csv"))) else {
-        return Vec::new();
+    let dir = case_dir(out, r.case);
+    check_name(name).map_err(|m| {
+        io(
+            &dir.join("result.json"),
+            format!(
+                "case {}: \"wheelsets\"[0] = {}: not a wheelset name: {m}",
+                r.case,
+                shown(name)
+            ),
+        )
+    })?;
+    let path = dir.join(format!("{name}.csv"));
+    let file = match crate::files::open_regular(&path, true) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(io(&path, e)),
     };
-    let y = crate::dynamics::output::CSV_COLUMNS
-        .iter()
-        .position(|&c| c == "y_mm")
-        .unwrap_or(3);
-    rd.records()
-        .map_while(Result::ok)
-        .filter_map(|rec| Some((rec.get(0)?.parse().ok()?, rec.get(y)?.parse().ok()?)))
-        .collect()
+    let len = file.metadata().map_err(|e| io(&path, e))?.len();
+    if len > MAX_CASE_CSV_BYTES {
+        return Err(io(
+            &path,
+            format!("{len} bytes, more than the {MAX_CASE_CSV_BYTES} bytes a case's CSV may have"),
+        ));
+    }
+    use std::io::Read;
+    let mut rd = csv::Reader::from_reader(std::io::BufReader::new(file.take(MAX_CASE_CSV_BYTES)));
+    let header = rd.headers().map_err(|e| io(&path, e))?.clone();
+    let column = |c: &str| {
+        header.iter().position(|h| h == c).ok_or_else(|| {
+            io(
+                &path,
+                format!("line 1: no column `{c}` (not a wheelset CSV of `kecsim run --csv`)"),
+            )
+        })
+    };
+    let (t, y) = (column("t_s")?, column("y_mm")?);
+    let mut points = Vec::new();
+    for rec in rd.records() {
+        let rec = rec.map_err(|e| io(&path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let cell = |k: usize, c: &str| -> Result<f64, StudyError> {
+            let v = rec.get(k).unwrap_or("");
+            v.trim()
+                .parse()
+                .map_err(|_| io(&path, format!("line {line}: {c} = {}: not a number", shown(v))))
+        };
+        points.push((cell(t, "t_s")?, cell(y, "y_mm")?));
+    }
+    Ok(points)
 }
 
-/// The results table in Markdown (the recording's report), with the study's name above it.
+/// The results table in Markdown (the recording's report, printed by the command), with the
+/// study's name above it; every string from the study's files [`printable`].
 pub fn results_markdown(manifest: &Manifest, rows: &[CaseResult]) -> String {
+    // (What the files say, every control character made visible: the report is printed.)
+    let (manifest, rows) = &super::case::printable_copies(manifest, rows);
     let mut header = vec!["case".to_string(), "status".to_string()];
     header.extend(manifest.axes.iter().cloned());
     header.extend(manifest.extracts.iter().cloned());

@@ -78,10 +78,8 @@ fn group_axes(manifest: &Manifest) -> Vec<String> {
         .collect()
 }
 
-/// `statistics.csv`: `AXIS…, extract, n, mean, std, min, max, mean_plus_3std`.
-// (No command writes it yet: `kecsim study` records the statistics and prints them; kept, with
-// its test, for the file a study could write.)
-#[allow(dead_code)]
+/// `statistics.csv` (written by [`super::run::merge`]): `AXIS…, extract, n, mean, std, min, max,
+/// mean_plus_3std`.
 pub fn statistics_csv(manifest: &Manifest, list: &[Summary]) -> Result<String, StudyError> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let e = |e: csv::Error| StudyError::Io {
