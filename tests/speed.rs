@@ -373,7 +373,7 @@ fn a_speed_law_that_cannot_hold_is_reported() {
         "[simulation.traction]\ncontroller_hz = 5.0\n\n[simulation.contact]",
         traction,
         ms,
-        "simulation.traction.controller_hz = 5: expected a bandwidth in (0, 2] Hz",
+        "simulation.traction.controller_hz = 5.0: expected a bandwidth in [0.01, 2] Hz",
     );
     refused(
         "force",
