@@ -42,7 +42,7 @@ use crate::dynamics::output::{csv_row, ObserverError, OutputSample, RunStart, CS
 use crate::dynamics::{CancelToken, RunEnd, RunObserver, RunSummary, Stop, Threads};
 use crate::profile::Profile;
 use crate::scenario::{BuildError, RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
-use crate::study::spec::{check_key, clipped, set_key};
+use crate::study::spec::{check_key, check_key_path, check_value, clipped, drop_flat, set_key};
 
 /// Most overrides of one scene ([`SceneInput::set`]; each is checked against the scenario with all
 /// before it).
@@ -190,6 +190,12 @@ impl SceneInput {
     /// [`crate::study::spec::check_value`], [`MAX_OVERRIDES`]).
     pub fn set(&mut self, key: &str, value: impl Into<Value>) -> Result<&mut SceneInput, Error> {
         let value = value.into();
+        // Bounded before the value is cloned or shown (both recurse through it).
+        if let Err(problem) = check_key_path(key).and_then(|()| check_value(&value)) {
+            let e = self.refused(key, &value, problem);
+            drop_flat(value);
+            return Err(e);
+        }
         if self.overrides.len() >= MAX_OVERRIDES {
             return Err(self.refused(
                 key,
@@ -244,11 +250,16 @@ impl SceneInput {
     /// An override refused: its key, value and problem clipped (each may be megabytes); a value
     /// that cannot be shown bounded (nested too deep, too many entries) is described.
     fn refused(&self, key: &str, value: &Value, problem: String) -> Error {
-        let value = match crate::study::spec::check_value(value) {
-            Ok(()) => clipped(&value.to_string(), SHOWN_CHARS).into_owned(),
-            Err(_) => {
+        let value = match (check_value(value), value) {
+            (Ok(()), _) => clipped(&value.to_string(), SHOWN_CHARS).into_owned(),
+            (Err(_), Value::String(s)) => format!("\"{}\"", clipped(s, SHOWN_CHARS)),
+            (Err(_), _) => {
                 let kind = value.type_str();
-                let article = if kind.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" };
+                let article = if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                    "an"
+                } else {
+                    "a"
+                };
                 format!("({article} {kind} too large to show)")
             }
         };
@@ -632,21 +643,30 @@ mod tests {
         for _ in 0..100_000 {
             deep = Value::Array(vec![deep]);
         }
-        let e = input.set(SHORT, deep.clone()).unwrap_err().to_string();
-        assert!(e.contains("deeper than 32 levels") && e.contains("= (an array too large to show)") && e.len() < 800, "{e}");
-        while let Value::Array(mut a) = deep {
-            deep = a.pop().unwrap_or(Value::Float(0.0));
-        }
+        // (Refused before it is cloned or shown, and dropped without recursion.)
+        let e = input.set(SHORT, deep).unwrap_err().to_string();
+        assert!(
+            e.contains("deeper than 32 levels")
+                && e.contains("= (an array too large to show)")
+                && e.len() < 800,
+            "{e}"
+        );
         let huge = Value::Array(vec![Value::Float(0.5); 1_000_000]);
         let e = input.set(SHORT, huge).unwrap_err().to_string();
         assert!(e.contains("more than 100000 entries") && e.len() < 800, "{e}");
         let e = input.set(SHORT, "x".repeat(10_000_000)).unwrap_err().to_string();
-        assert!(e.contains(SHORT) && e.contains("characters)") && e.len() < 1200, "{e}");
+        assert!(
+            e.contains(SHORT) && e.contains("characters)") && e.len() < 1200,
+            "{e}"
+        );
         let e = input
             .set(SHORT, Value::Array(vec![Value::Float(0.5); 50_000]))
             .unwrap_err()
             .to_string();
-        assert!(e.contains("the scenario does not take it") && e.len() < 1200, "{e}");
+        assert!(
+            e.contains("the scenario does not take it") && e.len() < 1200,
+            "{e}"
+        );
         assert!(input.overrides().is_empty());
         for _ in 0..MAX_OVERRIDES {
             input.set("name", "n").unwrap();
@@ -669,7 +689,10 @@ mod tests {
         let files = input.files_read(&input.compile().unwrap());
         assert_eq!(files, vec![dir.join("wheel.csv"), dir.join("scene.toml")]);
         let input = SceneInput::toml(text, &dir).unwrap();
-        assert_eq!(input.files_read(&input.compile().unwrap()), vec![dir.join("wheel.csv")]);
+        assert_eq!(
+            input.files_read(&input.compile().unwrap()),
+            vec![dir.join("wheel.csv")]
+        );
         std::fs::remove_dir_all(&dir).ok();
     }
 
@@ -688,7 +711,12 @@ mod tests {
         assert!(e.contains("y_max_mm 40.000 mm: beyond the flange climb"), "{e}");
         let sweep = contact_sweep(&scene, &sweep_settings(Some(0.25), Some(3.0)).unwrap()).unwrap();
         let y = sweep.table.column("y_mm").unwrap();
-        assert!(y[0] >= -3.25 && y[y.len() - 1] <= 3.25, "{} .. {}", y[0], y[y.len() - 1]);
+        assert!(
+            y[0] >= -3.25 && y[y.len() - 1] <= 3.25,
+            "{} .. {}",
+            y[0],
+            y[y.len() - 1]
+        );
     }
 
     /// A scenario error in TOML text names `<string>` and the line.

@@ -171,7 +171,9 @@ fn toml_value(v: &Bound<'_, PyAny>, depth: usize, used: &mut Used) -> Result<Val
             .map_or_else(|_| "object".to_string(), |n| n.to_string());
         return Err(Unconvertible {
             kind: "OverrideTypeError",
-            problem: format!("a {kind} has no TOML form: expected a number, a string, a bool or a list of them"),
+            problem: format!(
+                "a {kind} has no TOML form: expected a number, a string, a bool or a list of them"
+            ),
         });
     };
     let Some(items) = items else {

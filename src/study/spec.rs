@@ -754,16 +754,16 @@ pub const MAX_VALUE_CHARS: usize = 1_000_000;
 /// itself not repeated: the caller names it, [`clipped`]). Counted without splitting the key, so a
 /// key of a million parts costs nothing.
 pub fn check_key_path(key: &str) -> Result<(), String> {
+    let parts = key.matches('.').count() + 1;
+    if parts > MAX_KEY_PARTS {
+        return Err(format!(
+            "a key path of {parts} parts: at most {MAX_KEY_PARTS} parts (dot-separated, `simulation.integrator.rtol`) and {MAX_KEY_CHARS} characters"
+        ));
+    }
     let chars = key.chars().count();
     if chars > MAX_KEY_CHARS {
         return Err(format!(
             "a key path of {chars} characters: at most {MAX_KEY_CHARS} characters and {MAX_KEY_PARTS} parts (`simulation.integrator.rtol`)"
-        ));
-    }
-    let parts = key.matches('.').count() + 1;
-    if parts > MAX_KEY_PARTS {
-        return Err(format!(
-            "a key path of {parts} parts: at most {MAX_KEY_PARTS} parts (dot-separated, `simulation.integrator.rtol`)"
         ));
     }
     Ok(())
@@ -775,9 +775,7 @@ pub fn check_key_path(key: &str) -> Result<(), String> {
 pub fn check_value(value: &Value) -> Result<(), String> {
     fn text(chars: &mut usize, n: usize) -> Result<(), String> {
         if n > MAX_STRING_CHARS {
-            return Err(format!(
-                "a string of {n} characters: at most {MAX_STRING_CHARS}"
-            ));
+            return Err(format!("a string of {n} characters: at most {MAX_STRING_CHARS}"));
         }
         *chars += n;
         if *chars > MAX_VALUE_CHARS {
@@ -815,6 +813,19 @@ pub fn check_value(value: &Value) -> Result<(), String> {
         }
     }
     walk(value, 1, &mut 0, &mut 0)
+}
+
+/// Drops `value` level by level, without recursion: a value nested deeper than the stack allows
+/// (one [`check_value`] refused) is taken apart here instead of overflowing the stack.
+pub fn drop_flat(value: Value) {
+    let mut pending = vec![value];
+    while let Some(v) = pending.pop() {
+        match v {
+            Value::Array(a) => pending.extend(a),
+            Value::Table(t) => pending.extend(t.into_iter().map(|(_, v)| v)),
+            _ => {}
+        }
+    }
 }
 
 /// `text` for a message: whole up to `max` characters, else its first `max` and how long it is
@@ -981,10 +992,8 @@ mod key_limit_tests {
         }
         let e = check_value(&deep).unwrap_err();
         assert!(e.contains("deeper than 32 levels"), "{e}");
-        // (Dropping it recurses 1e5 levels: taken apart level by level instead.)
-        while let Value::Array(mut a) = deep {
-            deep = a.pop().unwrap_or(Value::Float(0.0));
-        }
+        // (Dropping it would recurse 1e5 levels.)
+        drop_flat(deep);
         let mut ok = Value::Float(1.0);
         for _ in 0..31 {
             ok = Value::Array(vec![ok]);
@@ -1002,9 +1011,12 @@ mod key_limit_tests {
         assert!(e.contains("a string of 4097 characters: at most 4096"), "{e}");
         let mut table = Table::new();
         assert!(set_key(&mut table, "a.b", huge).is_err() && table.is_empty());
-        let e = study_with_axis("simulation.speed_m_s", &format!("[{}]", "[".repeat(40) + &"]".repeat(40)))
-            .unwrap_err()
-            .to_string();
+        let e = study_with_axis(
+            "simulation.speed_m_s",
+            &format!("[{}]", "[".repeat(40) + &"]".repeat(40)),
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.len() < 600, "{e}");
     }
 
