@@ -322,7 +322,7 @@ fn run_result(py: Python<'_>, r: api::RunResult) -> PyResult<PyRunResult> {
 /// (answered on the channel that comes with it: go on or stop), or the run's end.
 enum Message {
     Progress(Progress, mpsc::SyncSender<bool>),
-    Done(Result<api::RunResult, RunFailed>),
+    Done(Box<Result<api::RunResult, RunFailed>>),
 }
 
 /// What stops a run from the waiting thread's side, the first of them kept.
@@ -434,11 +434,11 @@ fn run(
                     .compile()
                     .map_err(RunFailed::from)
                     .and_then(|scene| run_scene(input, &scene, config, save.as_deref()));
-                let _ = tx.send(Message::Done(result));
+                let _ = tx.send(Message::Done(Box::new(result)));
             });
             loop {
                 match rx.recv_timeout(SIGNAL_POLL) {
-                    Ok(Message::Done(result)) => break result,
+                    Ok(Message::Done(result)) => break *result,
                     Ok(Message::Progress(p, answer)) => {
                         let go = match &progress {
                             Some(callback) => Python::attach(|py| stops_here.progress(py, callback, &p)),

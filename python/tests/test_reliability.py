@@ -302,6 +302,8 @@ def test_a_callback_that_raised_is_never_called_again():
 
     def progress(t, duration):
         calls.append(t)
+        # (Slow first: the run computes samples meanwhile, which must not reach it after.)
+        time.sleep(0.3)
         raise RuntimeError("from the callback")
 
     with pytest.raises(RuntimeError, match="from the callback"):
