@@ -42,7 +42,13 @@ use crate::dynamics::output::{csv_row, ObserverError, OutputSample, RunStart, CS
 use crate::dynamics::{CancelToken, RunEnd, RunObserver, RunSummary, Stop, Threads};
 use crate::profile::Profile;
 use crate::scenario::{BuildError, RunOptions, Scenario, Scene, DEFAULT_SCENARIO};
-use crate::study::spec::{check_key, set_key};
+use crate::study::spec::{check_key, check_key_path, check_value, clipped, drop_flat, set_key};
+
+/// Most overrides of one scene ([`SceneInput::set`]; each is checked against the scenario with all
+/// before it).
+pub const MAX_OVERRIDES: usize = 1000;
+/// Characters of an override's key, value and problem kept in an error (each may be megabytes).
+const SHOWN_CHARS: usize = 120;
 
 /// A value given to a key ([`SceneInput::set`]): a TOML value (`15.0`, `3`, `"kec"`, `true`).
 pub use toml::Value;
@@ -78,7 +84,7 @@ pub enum Error {
         #[source]
         source: Box<TableError>,
     },
-    /// A run option out of range (the threads).
+    /// A run or sweep option out of range (the threads; the sweep's step and half-range).
     #[error("{0}")]
     Option(String),
 }
@@ -90,6 +96,8 @@ pub struct SceneInput {
     text: String,
     origin: String,
     base: PathBuf,
+    /// The scenario file, where it came from one.
+    file: Option<PathBuf>,
     overrides: Vec<(String, Value)>,
 }
 
@@ -102,6 +110,7 @@ impl SceneInput {
             text: Scenario::read(path)?.source,
             origin: path.display().to_string(),
             base: path.parent().unwrap_or(Path::new(".")).to_path_buf(),
+            file: Some(path.to_path_buf()),
             overrides: Vec::new(),
         })
     }
@@ -115,6 +124,7 @@ impl SceneInput {
             text: text.to_string(),
             origin,
             base: base.as_ref().to_path_buf(),
+            file: None,
             overrides: Vec::new(),
         })
     }
@@ -126,6 +136,7 @@ impl SceneInput {
             text: DEFAULT_SCENARIO.to_string(),
             origin: "<embedded default scenario>".to_string(),
             base: PathBuf::from("."),
+            file: None,
             overrides: Vec::new(),
         }
     }
@@ -152,6 +163,14 @@ impl SceneInput {
         &self.origin
     }
 
+    /// Every file the scene reads — the scenario file (where it came from one) and the files its
+    /// compiled `scene` names (profiles, track, irregularities: [`Scene::inputs`]) — which a
+    /// writer must never overwrite ([`crate::files::OutputGuard::inputs`]), as `kecsim run` guards
+    /// them.
+    pub fn files_read(&self, scene: &Scene) -> Vec<PathBuf> {
+        scene.inputs.iter().cloned().chain(self.file.clone()).collect()
+    }
+
     /// The scenario's TOML text with the overrides applied (what [`Self::compile`] compiles;
     /// the text itself where there are none).
     pub fn text(&self) -> Result<String, Error> {
@@ -166,9 +185,24 @@ impl SceneInput {
 
     /// Sets `key` (a dot-separated path, array entries by index: `simulation.speed_m_s`,
     /// `vehicle.wheelsets.0.name`) to `value`, as a study's axis does. The key is checked at
-    /// once: an error names it and what the scenario expects there.
+    /// once: an error names it and what the scenario expects there. The key, the value and the
+    /// number of overrides are bounded ([`crate::study::spec::check_key_path`],
+    /// [`crate::study::spec::check_value`], [`MAX_OVERRIDES`]).
     pub fn set(&mut self, key: &str, value: impl Into<Value>) -> Result<&mut SceneInput, Error> {
         let value = value.into();
+        // Bounded before the value is cloned or shown (both recurse through it).
+        if let Err(problem) = check_key_path(key).and_then(|()| check_value(&value)) {
+            let e = self.refused(key, &value, problem);
+            drop_flat(value);
+            return Err(e);
+        }
+        if self.overrides.len() >= MAX_OVERRIDES {
+            return Err(self.refused(
+                key,
+                &value,
+                format!("more than {MAX_OVERRIDES} overrides: at most {MAX_OVERRIDES}"),
+            ));
+        }
         check_key(&self.with_overrides()?, key, value.clone(), &self.origin).map_err(|problem| {
             // The TOML parser's excerpt is of the text made with the override, not of the file:
             // its last line (what is wrong) is kept.
@@ -213,12 +247,27 @@ impl SceneInput {
         Ok(table)
     }
 
+    /// An override refused: its key, value and problem clipped (each may be megabytes); a value
+    /// that cannot be shown bounded (nested too deep, too many entries) is described.
     fn refused(&self, key: &str, value: &Value, problem: String) -> Error {
+        let value = match (check_value(value), value) {
+            (Ok(()), _) => clipped(&value.to_string(), SHOWN_CHARS).into_owned(),
+            (Err(_), Value::String(s)) => format!("\"{}\"", clipped(s, SHOWN_CHARS)),
+            (Err(_), _) => {
+                let kind = value.type_str();
+                let article = if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                    "an"
+                } else {
+                    "a"
+                };
+                format!("({article} {kind} too large to show)")
+            }
+        };
         Error::Override {
             origin: self.origin.clone(),
-            key: key.to_string(),
-            value: value.to_string(),
-            problem,
+            key: clipped(key, SHOWN_CHARS).into_owned(),
+            value,
+            problem: clipped(&problem, 4 * SHOWN_CHARS).into_owned(),
         }
     }
 }
@@ -455,8 +504,19 @@ pub struct ContactSweep {
     pub report: String,
 }
 
+/// A contact sweep's settings from a grid step and a largest |y|, both mm (None: the defaults, as
+/// `kecsim contact` without `--step`, `--y-max`), checked as `kecsim contact` checks them
+/// ([`TableSettings::from_mm`]: the step positive and at most
+/// [`lookup::MAX_STEP_MM`], the half-range positive); the errors name them `step_mm`, `y_max_mm`.
+pub fn sweep_settings(step_mm: Option<f64>, y_max_mm: Option<f64>) -> Result<TableSettings, Error> {
+    let step = step_mm.unwrap_or(TableSettings::default().step_m * 1e3);
+    TableSettings::from_mm(("step_mm", step), y_max_mm.map(|v| ("y_max_mm", v))).map_err(Error::Option)
+}
+
 /// The scene's contact sweep ([`ContactSweep`]) with the table settings given (the defaults:
-/// `TableSettings::default()`, as `kecsim contact` without options).
+/// `TableSettings::default()`, as `kecsim contact` without options). A half-range
+/// ([`TableSettings::y_max_m`]) beyond the pair's flange climb is refused as `kecsim contact
+/// --y-max` refuses it ([`TableSettings::check_y_max`]; an [`Error::Option`] naming it `y_max_mm`).
 ///
 /// ```
 /// use kecsim::api::{contact_sweep, SceneInput};
@@ -475,10 +535,15 @@ pub struct ContactSweep {
 /// ```
 pub fn contact_sweep(scene: &Scene, settings: &TableSettings) -> Result<ContactSweep, Error> {
     let geom = ContactGeometry::with_defaults(scene.pair.clone());
-    let report = ContactReport::new(&geom, settings).map_err(|source| Error::Sweep {
+    let failed = |source| Error::Sweep {
         origin: scene.origin.clone(),
         source: Box::new(source),
+    };
+    settings.check_y_max(&geom, "y_max_mm").map_err(|e| match e {
+        TableError::Invalid(m) => Error::Option(format!("{}: {m}", scene.origin)),
+        other => failed(other),
     })?;
+    let report = ContactReport::new(&geom, settings).map_err(failed)?;
     let t = &report.table;
     let table = Columns::from_rows(
         &lookup::CSV_COLUMNS,
@@ -563,6 +628,95 @@ mod tests {
         assert!(input.overrides().is_empty());
         input.set(SHORT, 0.05).unwrap();
         assert_eq!(input.overrides().len(), 1);
+    }
+
+    /// Hostile overrides (issue 66): a key of 50 000 parts, a value nested 1e5 deep or of 1e6
+    /// entries, a string of 1e7 characters — each refused at once with its limit, the message a
+    /// few hundred characters, never the value in full; and no more than [`MAX_OVERRIDES`].
+    #[test]
+    fn hostile_overrides_are_refused_with_short_messages() {
+        let mut input = SceneInput::embedded_default();
+        let many = vec!["simulation"; 50_000].join(".");
+        let e = input.set(&many, 1.0).unwrap_err().to_string();
+        assert!(e.contains("50000 parts: at most 16") && e.len() < 800, "{e}");
+        let mut deep = Value::Float(1.0);
+        for _ in 0..100_000 {
+            deep = Value::Array(vec![deep]);
+        }
+        // (Refused before it is cloned or shown, and dropped without recursion.)
+        let e = input.set(SHORT, deep).unwrap_err().to_string();
+        assert!(
+            e.contains("deeper than 32 levels")
+                && e.contains("= (an array too large to show)")
+                && e.len() < 800,
+            "{e}"
+        );
+        let huge = Value::Array(vec![Value::Float(0.5); 1_000_000]);
+        let e = input.set(SHORT, huge).unwrap_err().to_string();
+        assert!(e.contains("more than 100000 entries") && e.len() < 800, "{e}");
+        let e = input.set(SHORT, "x".repeat(10_000_000)).unwrap_err().to_string();
+        assert!(
+            e.contains(SHORT) && e.contains("characters)") && e.len() < 1200,
+            "{e}"
+        );
+        let e = input
+            .set(SHORT, Value::Array(vec![Value::Float(0.5); 50_000]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("the scenario does not take it") && e.len() < 1200,
+            "{e}"
+        );
+        assert!(input.overrides().is_empty());
+        for _ in 0..MAX_OVERRIDES {
+            input.set("name", "n").unwrap();
+        }
+        let e = input.set("name", "n").unwrap_err().to_string();
+        assert!(e.contains("more than 1000 overrides"), "{e}");
+    }
+
+    /// The files a scene reads: the scenario file and the profile it names; TOML text, the
+    /// profiles it names only.
+    #[test]
+    fn the_files_read_are_the_scenario_and_the_files_it_names() {
+        let dir = std::env::temp_dir().join(format!("kecsim-api-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        std::fs::copy(root.join("profiles/s1002.csv"), dir.join("wheel.csv")).unwrap();
+        let text = "schema_version = 1\nname = \"x\"\n[profiles]\nwheel = \"wheel.csv\"\nrail = \"60e1\"\ninclination = \"1:40\"\n";
+        std::fs::write(dir.join("scene.toml"), text).unwrap();
+        let input = SceneInput::file(dir.join("scene.toml")).unwrap();
+        let files = input.files_read(&input.compile().unwrap());
+        assert_eq!(files, vec![dir.join("wheel.csv"), dir.join("scene.toml")]);
+        let input = SceneInput::toml(text, &dir).unwrap();
+        assert_eq!(
+            input.files_read(&input.compile().unwrap()),
+            vec![dir.join("wheel.csv")]
+        );
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// The sweep's options checked as `kecsim contact` checks them, named as the facade names them.
+    #[test]
+    fn sweep_settings_are_checked_and_the_half_range_against_the_flange_climb() {
+        assert_eq!(sweep_settings(None, None).unwrap(), TableSettings::default());
+        let e = sweep_settings(Some(5.0), None).unwrap_err().to_string();
+        assert!(e.contains("step_mm 5 mm: a grid coarser than 0.25 mm"), "{e}");
+        let e = sweep_settings(None, Some(-1.0)).unwrap_err().to_string();
+        assert!(e.contains("y_max_mm -1: expected a positive length"), "{e}");
+        let scene = SceneInput::embedded_default().compile().unwrap();
+        let e = contact_sweep(&scene, &sweep_settings(None, Some(40.0)).unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("y_max_mm 40.000 mm: beyond the flange climb"), "{e}");
+        let sweep = contact_sweep(&scene, &sweep_settings(Some(0.25), Some(3.0)).unwrap()).unwrap();
+        let y = sweep.table.column("y_mm").unwrap();
+        assert!(
+            y[0] >= -3.25 && y[y.len() - 1] <= 3.25,
+            "{} .. {}",
+            y[0],
+            y[y.len() - 1]
+        );
     }
 
     /// A scenario error in TOML text names `<string>` and the line.

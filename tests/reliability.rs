@@ -196,6 +196,20 @@ fn bad_values_are_named_with_their_option() {
         20,
         &["--step 0.5", "contact jumps"],
     );
+    // (The library's check, shared with the Python package's contact_sweep: an infinite step
+    // is not a coarse one; `kec` takes the same options.)
+    rejects(
+        &["contact", "--step", "inf"],
+        &dir,
+        20,
+        &["--step inf", "positive length"],
+    );
+    rejects(
+        &["kec", "--step", "0.3"],
+        &dir,
+        20,
+        &["--step 0.3", "coarser than 0.25 mm"],
+    );
     rejects(&["run", "--speed", "-5"], &dir, 20, &["--speed -5"]);
 }
 

@@ -15,6 +15,7 @@ Array = npt.NDArray[np.float64]
 class KecsimError(Exception): ...
 class ScenarioError(KecsimError, ValueError): ...
 class BuildError(KecsimError): ...
+class OutputError(KecsimError, ValueError): ...
 
 class Interrupted(KeyboardInterrupt):
     result: Optional["RunResult"]
@@ -41,7 +42,7 @@ def run(
     *,
     contact: Optional[str] = None,
     threads: Optional[int] = None,
-    progress: Optional[Callable[[float, float], Optional[bool]]] = None,
+    progress: Optional[Callable[[float, float], Any]] = None,
     save: Optional[Union[str, "os.PathLike[str]"]] = None,
 ) -> RunResult:
     """Runs a scene as ``kecsim run`` does (see the package's docstring)."""
@@ -53,7 +54,9 @@ def contact_sweep(
     step_mm: Optional[float] = None,
     y_max_mm: Optional[float] = None,
 ) -> Dict[str, Any]:
-    """The contact geometry sweep over y of the scene's wheel–rail pair.
+    """The contact geometry sweep over y of the scene's wheel–rail pair, its options checked as
+    ``kecsim contact --step --y-max`` checks them (``step_mm`` in (0, 0.25], ``y_max_mm``
+    positive and within the flange climb; ValueError otherwise).
 
     ``{"table": {column: array}`` (the columns of ``kecsim contact --csv``; NaN where the CSV
     has an empty cell), ``"conicity": {"amplitude_mm", "annex_b", "regression"}`` (EN 15302,

@@ -217,10 +217,6 @@ impl PairArgs {
     }
 }
 
-/// Coarsest grid step of a contact table, mm: at 0.5 mm the sweep of S1002 on 60E1 misses one of
-/// its six contact jumps.
-const MAX_TABLE_STEP_MM: f64 = 0.25;
-
 /// Range and grid of the 1-entry lookup table.
 #[derive(Args)]
 struct TableArgs {
@@ -233,17 +229,11 @@ struct TableArgs {
 }
 
 impl TableArgs {
+    /// The settings, checked as the library checks them for every caller
+    /// ([`TableSettings::from_mm`]).
     fn settings(&self) -> Result<TableSettings> {
-        anyhow::ensure!(
-            self.step.is_nan() || self.step <= MAX_TABLE_STEP_MM,
-            "--step {} mm: a grid coarser than {MAX_TABLE_STEP_MM} mm can step over contact jumps (they are found between grid nodes); default 0.1",
-            self.step
-        );
-        Ok(TableSettings {
-            step_m: positive_mm("--step", self.step)?,
-            y_max_m: self.y_max.map(|v| positive_mm("--y-max", v)).transpose()?,
-            ..TableSettings::default()
-        })
+        TableSettings::from_mm(("--step", self.step), self.y_max.map(|v| ("--y-max", v)))
+            .map_err(anyhow::Error::msg)
     }
 }
 
@@ -265,25 +255,12 @@ fn read_scenario(path: Option<&Path>) -> Result<(kecsim::scenario::Scenario, Str
     })
 }
 
-/// `--y-max` checked against the pair's flange climb: a table asked beyond it would tabulate a
-/// wheel climbing over its flange tip (a derailment), which no contact model uses.
+/// `--y-max` checked against the pair's flange climb ([`TableSettings::check_y_max`]).
 fn check_table_range(
     geom: &kecsim::contact::geometry::ContactGeometry,
     settings: &TableSettings,
 ) -> Result<()> {
-    if let Some(m) = settings.y_max_m {
-        let (lo, hi) = kecsim::contact::lookup::flange_limits(geom, 0.0)?;
-        let limit = (-lo).max(hi);
-        anyhow::ensure!(
-            m <= limit + 1e-9,
-            "--y-max {:.3} mm: beyond the flange climb at {:.3} / {:.3} mm (where the contact leaves the flange's steepest flank towards its tip); a table past it would tabulate a wheel climbing over its flange — give at most {:.3} mm, or leave --y-max out for flange contact to flange contact",
-            m * 1e3,
-            lo * 1e3,
-            hi * 1e3,
-            limit * 1e3
-        );
-    }
-    Ok(())
+    Ok(settings.check_y_max(geom, "--y-max")?)
 }
 
 /// Where the recording goes (default: `--save kecsim.rrd`).

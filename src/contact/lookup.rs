@@ -418,6 +418,60 @@ impl Default for TableSettings {
     }
 }
 
+/// The coarsest grid step of a contact sweep asked for by a user, mm: coarser, the grid can step
+/// over contact jumps (they are found between grid nodes): at 0.5 mm the sweep of S1002 on 60E1
+/// misses one of its six.
+pub const MAX_STEP_MM: f64 = 0.25;
+
+impl TableSettings {
+    /// The settings of a sweep asked for with a grid step and, optionally, a largest |y|, both in
+    /// mm as `kecsim contact --step --y-max` and the Python package's `contact_sweep(step_mm=,
+    /// y_max_mm=)` take them (`step.0` and `y_max.0` name the options in the errors): the step
+    /// positive and at most [`MAX_STEP_MM`], the half-range positive. The half-range is checked
+    /// against the pair by [`TableSettings::check_y_max`].
+    pub fn from_mm(step: (&str, f64), y_max: Option<(&str, f64)>) -> Result<TableSettings, String> {
+        let (name, v) = step;
+        if v.is_finite() && v > MAX_STEP_MM {
+            return Err(format!(
+                "{name} {v} mm: a grid coarser than {MAX_STEP_MM} mm can step over contact jumps (they are found between grid nodes); default 0.1"
+            ));
+        }
+        let positive = |(name, v): (&str, f64)| {
+            if v.is_finite() && v > 0.0 {
+                Ok(v * 1e-3)
+            } else {
+                Err(format!("{name} {v}: expected a positive length in mm"))
+            }
+        };
+        Ok(TableSettings {
+            step_m: positive(step)?,
+            y_max_m: y_max.map(positive).transpose()?,
+            ..TableSettings::default()
+        })
+    }
+
+    /// The half-range ([`TableSettings::y_max_m`], named `name` in the error) checked against the
+    /// pair's flange climb ([`flange_limits`]): a table asked beyond it would tabulate a wheel
+    /// climbing over its flange tip (a derailment), which no contact model uses.
+    pub fn check_y_max(&self, geom: &ContactGeometry, name: &str) -> Result<(), TableError> {
+        let Some(m) = self.y_max_m else {
+            return Ok(());
+        };
+        let (lo, hi) = flange_limits(geom, 0.0)?;
+        let limit = (-lo).max(hi);
+        if m <= limit + 1e-9 {
+            return Ok(());
+        }
+        Err(TableError::Invalid(format!(
+            "{name} {:.3} mm: beyond the flange climb at {:.3} / {:.3} mm (where the contact leaves the flange's steepest flank towards its tip); a table past it would tabulate a wheel climbing over its flange — give at most {:.3} mm, or leave {name} out for flange contact to flange contact",
+            m * 1e3,
+            lo * 1e3,
+            hi * 1e3,
+            limit * 1e3
+        )))
+    }
+}
+
 /// Surface parameters that differ by more than this at a located jump make it a real jump, m.
 const JUMP_MIN_STEP_M: f64 = 1e-5;
 
@@ -1674,6 +1728,30 @@ mod tests {
         let pair =
             WheelRailPair::standard(StandardProfile::S1002, StandardProfile::Rail60E1, "1:40").unwrap();
         ContactGeometry::with_defaults(pair)
+    }
+
+    /// The sweep's options as the command line and the Python package take them, checked in one
+    /// place: the step in (0, 0.25] mm, the half-range positive and within the flange climb.
+    #[test]
+    fn sweep_options_are_checked_for_every_caller() {
+        let s = TableSettings::from_mm(("--step", 0.25), Some(("--y-max", 3.0))).unwrap();
+        assert_eq!((s.step_m, s.y_max_m), (0.25e-3, Some(3e-3)));
+        let e = TableSettings::from_mm(("step_mm", 5.0), None).unwrap_err();
+        assert!(e.starts_with("step_mm 5 mm: a grid coarser than 0.25 mm"), "{e}");
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let e = TableSettings::from_mm(("--step", bad), None).unwrap_err();
+            assert!(e.contains("expected a positive length in mm"), "{bad}: {e}");
+            let e = TableSettings::from_mm(("--step", 0.1), Some(("y_max_mm", bad))).unwrap_err();
+            assert!(e.starts_with("y_max_mm ") && e.contains("positive"), "{bad}: {e}");
+        }
+        let g = geometry();
+        s.check_y_max(&g, "--y-max").unwrap();
+        let far = TableSettings::from_mm(("step_mm", 0.1), Some(("y_max_mm", 40.0))).unwrap();
+        let e = far.check_y_max(&g, "y_max_mm").unwrap_err().to_string();
+        assert!(
+            e.starts_with("y_max_mm 40.000 mm: beyond the flange climb") && e.contains("leave y_max_mm out"),
+            "{e}"
+        );
     }
 
     #[test]

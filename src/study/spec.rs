@@ -377,7 +377,8 @@ impl Study {
             let here = |message: String| StudyError::Input {
                 path: origin.clone(),
                 line: line_of(text, a.key.span().start),
-                message: format!("axis `{key}`: {message}"),
+                // (A key may be a hostile megabyte: named by its beginning.)
+                message: format!("axis `{}`: {message}", clipped(&key, 80)),
             };
             if axes.iter().any(|b: &Axis| b.key == key) {
                 return Err(here("named twice".into()));
@@ -732,8 +733,115 @@ fn range_values(r: &RangeToml) -> Result<Vec<Value>, String> {
     }
 }
 
+/// Longest key path a study's axis or an override ([`crate::api::SceneInput::set`]) may name,
+/// characters (the scenario's keys are under 60).
+pub const MAX_KEY_CHARS: usize = 256;
+/// Most dot-separated parts of a key path (the scenario's deepest keys have 6).
+pub const MAX_KEY_PARTS: usize = 16;
+/// Deepest nesting of a value set by key (an array in an array …): deeper, converting and
+/// checking it would exhaust the stack (a Python list that contains itself).
+pub const MAX_VALUE_DEPTH: usize = 32;
+/// Most entries of a value set by key, every level together (each array and table counts, and each
+/// of their entries).
+pub const MAX_VALUE_ENTRIES: usize = 100_000;
+/// Longest string of a value set by key, characters (the longest path Linux takes: a scenario's
+/// strings are names, paths and ratios).
+pub const MAX_STRING_CHARS: usize = 4096;
+/// Most characters of a value's strings together.
+pub const MAX_VALUE_CHARS: usize = 1_000_000;
+
+/// `Ok` if `key` is within [`MAX_KEY_CHARS`] and [`MAX_KEY_PARTS`]; else the problem (the key
+/// itself not repeated: the caller names it, [`clipped`]). Counted without splitting the key, so a
+/// key of a million parts costs nothing.
+pub fn check_key_path(key: &str) -> Result<(), String> {
+    let parts = key.matches('.').count() + 1;
+    if parts > MAX_KEY_PARTS {
+        return Err(format!(
+            "a key path of {parts} parts: at most {MAX_KEY_PARTS} parts (dot-separated, `simulation.integrator.rtol`) and {MAX_KEY_CHARS} characters"
+        ));
+    }
+    let chars = key.chars().count();
+    if chars > MAX_KEY_CHARS {
+        return Err(format!(
+            "a key path of {chars} characters: at most {MAX_KEY_CHARS} characters and {MAX_KEY_PARTS} parts (`simulation.integrator.rtol`)"
+        ));
+    }
+    Ok(())
+}
+
+/// `Ok` if `value` is within [`MAX_VALUE_DEPTH`], [`MAX_VALUE_ENTRIES`], [`MAX_STRING_CHARS`] and
+/// [`MAX_VALUE_CHARS`]; else the problem. Walks at most [`MAX_VALUE_DEPTH`] levels deep, whatever
+/// the value.
+pub fn check_value(value: &Value) -> Result<(), String> {
+    fn text(chars: &mut usize, n: usize) -> Result<(), String> {
+        if n > MAX_STRING_CHARS {
+            return Err(format!("a string of {n} characters: at most {MAX_STRING_CHARS}"));
+        }
+        *chars += n;
+        if *chars > MAX_VALUE_CHARS {
+            return Err(format!(
+                "strings of more than {MAX_VALUE_CHARS} characters in all: at most {MAX_VALUE_CHARS}"
+            ));
+        }
+        Ok(())
+    }
+    fn walk(v: &Value, depth: usize, entries: &mut usize, chars: &mut usize) -> Result<(), String> {
+        if depth > MAX_VALUE_DEPTH {
+            return Err(format!(
+                "a value nested deeper than {MAX_VALUE_DEPTH} levels (arrays in arrays): at most {MAX_VALUE_DEPTH}"
+            ));
+        }
+        *entries += 1;
+        let n = match v {
+            Value::String(s) => return text(chars, s.chars().count()),
+            Value::Array(a) => a.len(),
+            Value::Table(t) => t.len(),
+            _ => 0,
+        };
+        if *entries + n > MAX_VALUE_ENTRIES {
+            return Err(format!(
+                "a value of more than {MAX_VALUE_ENTRIES} entries in all (arrays and their entries): at most {MAX_VALUE_ENTRIES}"
+            ));
+        }
+        match v {
+            Value::Array(a) => a.iter().try_for_each(|x| walk(x, depth + 1, entries, chars)),
+            Value::Table(t) => t.iter().try_for_each(|(k, x)| {
+                text(chars, k.chars().count())?;
+                walk(x, depth + 1, entries, chars)
+            }),
+            _ => Ok(()),
+        }
+    }
+    walk(value, 1, &mut 0, &mut 0)
+}
+
+/// Drops `value` level by level, without recursion: a value nested deeper than the stack allows
+/// (one [`check_value`] refused) is taken apart here instead of overflowing the stack.
+pub fn drop_flat(value: Value) {
+    let mut pending = vec![value];
+    while let Some(v) = pending.pop() {
+        match v {
+            Value::Array(a) => pending.extend(a),
+            Value::Table(t) => pending.extend(t.into_iter().map(|(_, v)| v)),
+            _ => {}
+        }
+    }
+}
+
+/// `text` for a message: whole up to `max` characters, else its first `max` and how long it is
+/// (a key or a value as the user gave it, which may be megabytes).
+pub fn clipped(text: &str, max: usize) -> std::borrow::Cow<'_, str> {
+    match text.char_indices().nth(max) {
+        None => text.into(),
+        Some((end, _)) => format!("{}… ({} characters)", &text[..end], text.chars().count()).into(),
+    }
+}
+
 /// Sets `key` (dot-separated; array entries by index) in `table`, making the tables on the way.
+/// The key and the value are bounded first ([`check_key_path`], [`check_value`]).
 pub fn set_key(table: &mut Table, key: &str, value: Value) -> Result<(), String> {
+    check_key_path(key)?;
+    check_value(&value)?;
     let parts: Vec<&str> = key.split('.').collect();
     if parts.iter().any(|p| p.is_empty()) {
         return Err("an empty part in the key path".into());
@@ -837,5 +945,85 @@ impl Fnv {
     }
     pub(crate) fn finish(&self) -> u64 {
         self.0
+    }
+}
+
+#[cfg(test)]
+mod key_limit_tests {
+    use super::*;
+
+    fn study_with_axis(key: &str, values: &str) -> Result<Study, StudyError> {
+        let text = format!(
+            "schema_version = 1\nname = \"limits\"\nscenario = \"../scenes/wheelset_critical_speed.toml\"\nextract = [\"max_abs_y_mm\"]\n\n[[axis]]\nkey = \"{key}\"\nvalues = {values}\n"
+        );
+        Study::parse(
+            &text,
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/studies/limits.toml"),
+        )
+    }
+
+    /// A key path of 50 000 parts (which built 50 000 nested tables and aborted the process on
+    /// the stack) is refused before anything is built, its message short.
+    #[test]
+    fn a_key_of_many_parts_or_characters_is_refused_with_the_limit() {
+        let mut table = Table::new();
+        let many = vec!["a"; 50_000].join(".");
+        let e = set_key(&mut table, &many, Value::Float(1.0)).unwrap_err();
+        assert!(e.contains("50000 parts") && e.contains("at most 16"), "{e}");
+        assert!(table.is_empty());
+        let long = "x".repeat(300);
+        let e = set_key(&mut table, &long, Value::Float(1.0)).unwrap_err();
+        assert!(e.contains("300 characters") && e.contains("at most 256"), "{e}");
+        // At the limits: set.
+        let sixteen = vec!["b"; 16].join(".");
+        set_key(&mut table, &sixteen, Value::Float(1.0)).unwrap();
+
+        let e = study_with_axis(&many, "[1.0]").unwrap_err().to_string();
+        assert!(e.contains("at most 16 parts") && e.contains("line 7"), "{e}");
+        assert!(e.len() < 600, "{} characters", e.len());
+    }
+
+    /// A value nested 1e5 deep or of 1e6 entries is refused before it is walked in full.
+    #[test]
+    fn a_deep_or_huge_value_is_refused_with_the_limit() {
+        let mut deep = Value::Float(1.0);
+        for _ in 0..100_000 {
+            deep = Value::Array(vec![deep]);
+        }
+        let e = check_value(&deep).unwrap_err();
+        assert!(e.contains("deeper than 32 levels"), "{e}");
+        // (Dropping it would recurse 1e5 levels.)
+        drop_flat(deep);
+        let mut ok = Value::Float(1.0);
+        for _ in 0..31 {
+            ok = Value::Array(vec![ok]);
+        }
+        check_value(&ok).unwrap();
+        check_value(&Value::Array(vec![ok])).unwrap_err();
+        let huge = Value::Array(vec![Value::Float(0.5); 1_000_000]);
+        let e = check_value(&huge).unwrap_err();
+        assert!(e.contains("more than 100000 entries"), "{e}");
+        let long = Value::Array(vec![Value::String("x".repeat(1000)); 1001]);
+        let e = check_value(&long).unwrap_err();
+        assert!(e.contains("1000000 characters"), "{e}");
+        check_value(&Value::String("x".repeat(4096))).unwrap();
+        let e = check_value(&Value::String("x".repeat(4097))).unwrap_err();
+        assert!(e.contains("a string of 4097 characters: at most 4096"), "{e}");
+        let mut table = Table::new();
+        assert!(set_key(&mut table, "a.b", huge).is_err() && table.is_empty());
+        let e = study_with_axis(
+            "simulation.speed_m_s",
+            &format!("[{}]", "[".repeat(40) + &"]".repeat(40)),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.len() < 600, "{e}");
+    }
+
+    #[test]
+    fn clipped_keeps_short_text_and_says_how_long_long_text_is() {
+        assert_eq!(clipped("abc", 3), "abc");
+        assert_eq!(clipped("abcd", 3), "abc… (4 characters)");
+        assert_eq!(clipped("ééé", 2), "éé… (3 characters)");
     }
 }
