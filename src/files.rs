@@ -124,9 +124,9 @@ fn beside(target: &Path, suffix: &str) -> PathBuf {
     if full.len() <= NAME_MAX {
         return dir_of(target).join(full);
     }
-    let hash = name
-        .bytes()
-        .fold(0xcbf2_9ce4_8422_2325_u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+    let hash = name.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    });
     let tag = format!("~{hash:016x}");
     let mut keep = NAME_MAX.saturating_sub(1 + tag.len() + suffix.len());
     while !name.is_char_boundary(keep.min(name.len())) {
@@ -899,7 +899,10 @@ mod tests {
         assert_eq!(fs::read_to_string(&out).unwrap(), "first");
         b.commit().unwrap();
         assert_eq!(fs::read_to_string(&out).unwrap(), "second");
-        let left: Vec<_> = fs::read_dir(&d).unwrap().map(|e| e.unwrap().file_name()).collect();
+        let left: Vec<_> = fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
         assert_eq!(left, vec![std::ffi::OsString::from("r.csv")]);
         // A link planted at the first part name is left alone and never written through.
         #[cfg(unix)]
@@ -926,14 +929,24 @@ mod tests {
         let mut g = OutputGuard::new();
         g.output("--json", &out).unwrap();
         let lock = beside(&resolved(&out), ".kecsim-lock");
-        assert!(lock.file_name().unwrap().len() <= NAME_MAX && lock.exists(), "{lock:?}");
+        assert!(
+            lock.file_name().unwrap().len() <= NAME_MAX && lock.exists(),
+            "{lock:?}"
+        );
         assert!(side_file_name(&lock.file_name().unwrap().to_string_lossy()));
         let mut again = OutputGuard::new();
-        assert!(matches!(again.output("--json", &out), Err(GuardError::Locked { .. })));
+        assert!(matches!(
+            again.output("--json", &out),
+            Err(GuardError::Locked { .. })
+        ));
         write_atomic(&out, b"whole").unwrap();
         assert_eq!(fs::read_to_string(&out).unwrap(), "whole");
         let other = d.join(format!("{}.csv", "n".repeat(245) + "m"));
-        assert_ne!(beside(&other, ".kecsim-lock"), lock, "a different name, a different lock");
+        assert_ne!(
+            beside(&other, ".kecsim-lock"),
+            lock,
+            "a different name, a different lock"
+        );
         drop(g);
         fs::remove_dir_all(&d).ok();
     }

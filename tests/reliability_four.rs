@@ -114,20 +114,45 @@ fn a_closed_stderr_loses_nothing() {
         }
     };
     let args = [
-        "run", s(&sc), "--json", "a.json", "--csv", "csv", "--save", "a.rrd",
+        "run",
+        s(&sc),
+        "--json",
+        "a.json",
+        "--csv",
+        "csv",
+        "--save",
+        "a.rrd",
     ];
     let status = wait(start(&args), "run (stderr closed)");
     assert_eq!(status.code(), Some(0), "a completed run with stderr closed");
-    let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("a.json")).unwrap()).unwrap();
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("a.json")).unwrap()).unwrap();
     assert_eq!(j["outcome"], "completed", "{j}");
-    let rows = std::fs::read_to_string(dir.join("csv/wheelset_1.csv")).unwrap().lines().count() - 1;
-    assert_eq!(rows as u64, j["samples"].as_u64().unwrap(), "CSV rows vs JSON samples");
+    let rows = std::fs::read_to_string(dir.join("csv/wheelset_1.csv"))
+        .unwrap()
+        .lines()
+        .count()
+        - 1;
+    assert_eq!(
+        rows as u64,
+        j["samples"].as_u64().unwrap(),
+        "CSV rows vs JSON samples"
+    );
     common::rerun_verify(&dir.join("a.rrd"));
 
     // Interrupted with stderr closed (the handler's line dropped): exit 1, the files written.
     let long = scenario(&dir, "long.toml", &[("duration_s = 0.5", "duration_s = 20.0")]);
     let args = [
-        "run", s(&long), "--json", "b.json", "--csv", "csvb", "--save", "b.rrd", "--pace", "2",
+        "run",
+        s(&long),
+        "--json",
+        "b.json",
+        "--csv",
+        "csvb",
+        "--save",
+        "b.rrd",
+        "--pace",
+        "2",
     ];
     let child = start(&args);
     let part = dir.join(format!("csvb/.wheelset_1.csv.part-{}-1", child.id()));
@@ -137,10 +162,15 @@ fn a_closed_stderr_loses_nothing() {
         std::thread::sleep(Duration::from_millis(50));
     }
     let pid = child.id().to_string();
-    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+    assert!(Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap()
+        .success());
     let status = wait(child, "run (stderr closed, interrupted)");
     assert_eq!(status.code(), Some(1), "an interrupted run with stderr closed");
-    let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("b.json")).unwrap()).unwrap();
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("b.json")).unwrap()).unwrap();
     assert_eq!(j["stopped"], "interrupted", "{j}");
     assert!(dir.join("csvb/wheelset_1.csv").exists() && !part.exists());
     common::rerun_verify(&dir.join("b.rrd"));
@@ -188,7 +218,10 @@ ls -a "$D/full" > "$D/kept/ls"
         stderr.contains("No space left") || stderr.contains("disk is full"),
         "{stderr}"
     );
-    assert!(!stderr.contains("everything recorded up to it is written"), "{stderr}");
+    assert!(
+        !stderr.contains("everything recorded up to it is written"),
+        "{stderr}"
+    );
     assert_eq!(read("r.rrd"), "previous recording", "the old recording is kept");
     let j: serde_json::Value = serde_json::from_str(&read("j.json")).unwrap();
     assert_eq!(j["stopped"], "interrupted", "{j}");
@@ -223,9 +256,17 @@ fn spawn_waits_are_bounded_and_a_signal_ends_them() {
     ];
     let t = Instant::now();
     let child = spawn(&["run", s(&sc), "--spawn", "--json", "a.json"], &dir, &env);
-    let o = finish(child, Duration::from_secs(40), "run --spawn (a rerun holding its output)");
+    let o = finish(
+        child,
+        Duration::from_secs(40),
+        "run --spawn (a rerun holding its output)",
+    );
     assert!(o.ok, "{}", o.stderr);
-    assert!(o.stderr.contains("saving the recording to kecsim.rrd"), "{}", o.stderr);
+    assert!(
+        o.stderr.contains("saving the recording to kecsim.rrd"),
+        "{}",
+        o.stderr
+    );
     assert!(t.elapsed() < Duration::from_secs(30), "{:?}", t.elapsed());
     common::rerun_verify(&dir.join("kecsim.rrd"));
     std::fs::remove_file(dir.join("kecsim.rrd")).unwrap();
@@ -244,7 +285,11 @@ fn spawn_waits_are_bounded_and_a_signal_ends_them() {
         .status()
         .unwrap()
         .success());
-    let o = finish(child, Duration::from_secs(40), "run --spawn (SIGTERM while waiting)");
+    let o = finish(
+        child,
+        Duration::from_secs(40),
+        "run --spawn (SIGTERM while waiting)",
+    );
     assert!(
         t.elapsed() < Duration::from_secs(10),
         "the wait went on {:?} after SIGTERM:\n{}",
@@ -254,7 +299,10 @@ fn spawn_waits_are_bounded_and_a_signal_ends_them() {
     assert!(!o.ok, "a stopped run says so in its exit status:\n{}", o.stdout);
     assert!(o.stderr.contains("stopped while waiting"), "{}", o.stderr);
     assert!(o.stderr.contains("interrupted"), "{}", o.stderr);
-    assert!(dir.join("b.json").exists(), "the JSON of the stopped run is written");
+    assert!(
+        dir.join("b.json").exists(),
+        "the JSON of the stopped run is written"
+    );
 }
 
 /// From class 14: `--tab` on a scene without a `[simulation]` (it records the profiles and the

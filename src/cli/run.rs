@@ -229,7 +229,13 @@ fn simulate(scene: &Scene, a: RunArgs) -> Result<()> {
     let world = kecsim::inspect::world3d::World3dSettings {
         exaggerate: a.exaggerate,
     };
-    let mut recorder = LiveRecorder::open_on(&sink, scene, &names, &world, a.tab.unwrap_or(kecsim::inspect::run::RunTab::Overview))?;
+    let mut recorder = LiveRecorder::open_on(
+        &sink,
+        scene,
+        &names,
+        &world,
+        a.tab.unwrap_or(kecsim::inspect::run::RunTab::Overview),
+    )?;
     let mut progress = Progress::new();
     let mut pace = a.pace.map(|x| Pace::new(x, cancel.clone()));
     let out = {

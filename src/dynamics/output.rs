@@ -490,12 +490,16 @@ pub struct CsvWriter {
     writers: Vec<(PathBuf, Option<csv::Writer<AtomicFile>>)>,
     /// Per carbody: its name, its CSV ([`CARBODY_CSV_COLUMNS`]) and the indices of its floor
     /// points in [`OutputSample::floor`] (from the run's start).
-    carbodies: Vec<(String, PathBuf, Option<csv::Writer<AtomicFile>>, Vec<usize>)>,
+    carbodies: Vec<CarbodyCsv>,
     /// The floor points (from the run's start).
     floor_points: Vec<super::system::FloorPoint>,
     /// The files renamed into place at the run's end.
     committed: Vec<PathBuf>,
 }
+
+/// A carbody's CSV in [`CsvWriter`]: its name, its path, its writer (None once committed) and
+/// the indices of its floor points.
+type CarbodyCsv = (String, PathBuf, Option<csv::Writer<AtomicFile>>, Vec<usize>);
 
 /// The columns of a carbody's CSV (`--csv DIR` writes `DIR/CARBODY.csv` beside the wheelsets'
 /// for each carbody with floor points; a documented interface): one row per sample and floor
@@ -511,7 +515,9 @@ impl CsvWriter {
     /// ([`crate::vehicle::VehicleSpec::csv_files`]) are all it writes.
     pub fn create(dir: &Path, wheelsets: &[String], carbodies: &[String]) -> Result<CsvWriter, csv::Error> {
         std::fs::create_dir_all(dir)?;
-        let open = |name: &String, header: &[&str]| -> Result<(PathBuf, Option<csv::Writer<AtomicFile>>), csv::Error> {
+        let open = |name: &String,
+                    header: &[&str]|
+         -> Result<(PathBuf, Option<csv::Writer<AtomicFile>>), csv::Error> {
             let path = dir.join(format!("{name}.csv"));
             let mut w = crate::files::csv_writer(&path)?;
             w.write_record(header.iter())?;
@@ -572,7 +578,11 @@ impl RunObserver for CsvWriter {
                     "the floor point {} of carbody {} has no CSV (the carbodies announced: {}); a kecsim bug",
                     p.point,
                     p.carbody,
-                    self.carbodies.iter().map(|(n, ..)| n.as_str()).collect::<Vec<_>>().join(", ")
+                    self.carbodies
+                        .iter()
+                        .map(|(n, ..)| n.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )
                 .into());
             };

@@ -182,7 +182,9 @@ pub fn spawn_viewer_until(stop: &dyn Fn() -> bool) -> Result<String, String> {
                 }
             }
             Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
-                return Err("the Rerun viewer's start failed (the SDK's thread ended without an answer)".into())
+                return Err(
+                    "the Rerun viewer's start failed (the SDK's thread ended without an answer)".into(),
+                )
             }
         }
     };

@@ -516,7 +516,7 @@ pub const MAX_CASE_CSV_BYTES: u64 = 4 << 30;
 
 /// A case's first wheelset's (t, y): s and mm, from its CSV (empty where the case has no
 /// wheelset or its CSV was removed). The CSV is read as a study file is: its name checked as a
-/// name ([`check_name`]: never a path out of the case's folder), a regular file only (a FIFO, a
+/// name (`case::check_name`: never a path out of the case's folder), a regular file only (a FIFO, a
 /// device or a link at it is an error naming it, never a hang), at most
 /// [`MAX_CASE_CSV_BYTES`]; a row that does not read is an error naming the file, the line and
 /// the value.
