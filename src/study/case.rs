@@ -110,10 +110,7 @@ pub fn check_name(name: &str) -> Result<(), String> {
     if name.starts_with('.') {
         return Err("starts with '.' (a hidden file, or `..`: outside the case's folder)".into());
     }
-    if let Some(c) = name
-        .chars()
-        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
-    {
+    if let Some(c) = name.chars().find(|&c| !crate::files::is_plain_name_char(c)) {
         return Err(format!(
             "holds {}: expected ASCII letters, digits, '_', '-' or '.' (a name, never a path)",
             shown(&c.to_string())
