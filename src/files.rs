@@ -108,18 +108,6 @@ pub fn resolved(p: &Path) -> PathBuf {
     }
 }
 
-/// Whether `name` is a plain file name as kecsim makes names into files (a body's or wheelset's
-/// `NAME.csv`, a designed profile's): ASCII letters, digits, `_`, `-` and `.`, not empty, not
-/// `.` first — so no `/`, no `..`, no hidden file, no control character.
-pub fn is_plain_name(name: &str) -> bool {
-    !name.is_empty() && !name.starts_with('.') && name.chars().all(is_plain_name_char)
-}
-
-/// A character of a plain file name ([`is_plain_name`]).
-pub fn is_plain_name_char(c: char) -> bool {
-    c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')
-}
-
 /// The longest file name most file systems take (ext4, xfs, btrfs, tmpfs: 255 bytes).
 const NAME_MAX: usize = 255;
 

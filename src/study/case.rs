@@ -110,7 +110,10 @@ pub fn check_name(name: &str) -> Result<(), String> {
     if name.starts_with('.') {
         return Err("starts with '.' (a hidden file, or `..`: outside the case's folder)".into());
     }
-    if let Some(c) = name.chars().find(|&c| !crate::files::is_plain_name_char(c)) {
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
+    {
         return Err(format!(
             "holds {}: expected ASCII letters, digits, '_', '-' or '.' (a name, never a path)",
             shown(&c.to_string())

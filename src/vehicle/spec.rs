@@ -780,7 +780,12 @@ impl MultibodySpec {
                 p.push(format!("vehicle: body name \"{n}\" is reserved or used twice"));
             }
             // Names become file names (`--csv DIR/NAME.csv`) and entity paths.
-            if !crate::files::is_plain_name(n) {
+            if n.is_empty()
+                || n.starts_with('.')
+                || !n
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
+            {
                 p.push(format!(
                     "vehicle: body name \"{n}\": expected letters, digits, '_', '-' or '.' (not first): names become file names"
                 ));

@@ -111,7 +111,13 @@ pub fn parse_target(text: &str, origin: &str) -> Result<(DesignTarget, Placement
         output_step_m: f.output_step_mm * 1e-3,
     };
     let mut problems = Vec::new();
-    if !crate::files::is_plain_name(&f.name) {
+    if f.name.is_empty()
+        || f.name.starts_with('.')
+        || !f
+            .name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+    {
         problems.push(format!(
             "line {}: name = {:?}: expected letters, digits, '-', '_' and '.' only, not starting with '.' (it names the profile and its file, NAME.csv)",
             line_of(text, text.find("name").unwrap_or(0)),
